@@ -1,0 +1,45 @@
+#pragma once
+// Renders a synthetic scene along a trajectory into a TUM-layout folder: rgb/*.png (8-bit),
+// depth/*.png (16-bit, 5000 per metre), rgb.txt, depth.txt, groundtruth.txt and camera.yaml.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "vocal/core/depth_sensor_model.h"
+#include "vocal/core/pinhole_camera.h"
+#include "vocal/core/rgbd_frame.h"
+#include "vocal/core/synthetic_scene.h"
+#include "vocal/core/synthetic_trajectory.h"
+
+namespace vocal {
+
+struct SyntheticSequenceOptions {
+  SceneVariant scene = SceneVariant::kIndoorRoom;
+  int width = 640;
+  int height = 480;
+  SyntheticTrajectoryOptions trajectory;
+  // When set, poses come from this TUM trajectory file instead of being generated.
+  std::string trajectory_path;
+  DepthSensorModel depth_model;  // ideal depth unless noise / drop-outs are switched on
+};
+
+// Kinect-like noise, quantisation and drop-outs, as the command-line --kinect-noise switch sets them.
+DepthSensorModel kinectLikeDepthModel(double missing_fraction = 0.02);
+
+// Renders one frame; `noise_seed` makes the depth model reproducible.
+RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
+                               const StampedPose& world_from_camera, const DepthSensorModel& depth_model,
+                               std::uint32_t noise_seed);
+
+struct SyntheticSequence {
+  PinholeCamera camera;
+  Trajectory ground_truth;
+};
+
+// Creates `folder` (and rgb/, depth/) if needed and writes every file; `progress(done, total)` is
+// called after each frame. Throws InputError for bad options or files that cannot be written.
+SyntheticSequence writeSyntheticSequence(const std::string& folder, const SyntheticSequenceOptions& options,
+                                         const std::function<void(int, int)>& progress = nullptr);
+
+}  // namespace vocal

@@ -1,0 +1,48 @@
+#include "vocal/core/procedural_texture.h"
+
+#include <cmath>
+
+namespace vocal {
+
+namespace {
+double latticeValue(std::int64_t ix, std::int64_t iy, std::uint32_t seed) {
+  // Integer hash (splitmix-style mixing): no visible period over any practical extent.
+  std::uint64_t h = static_cast<std::uint64_t>(ix) * 0x9E3779B97F4A7C15ULL ^
+                    static_cast<std::uint64_t>(iy) * 0xC2B2AE3D27D4EB4FULL ^ (static_cast<std::uint64_t>(seed) << 32);
+  h ^= h >> 30;
+  h *= 0xBF58476D1CE4E5B9ULL;
+  h ^= h >> 27;
+  h *= 0x94D049BB133111EBULL;
+  h ^= h >> 31;
+  return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+double quintic(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+
+double valueNoise(double a, double b, std::uint32_t seed) {
+  const double fa = std::floor(a);
+  const double fb = std::floor(b);
+  const auto ia = static_cast<std::int64_t>(fa);
+  const auto ib = static_cast<std::int64_t>(fb);
+  const double sa = quintic(a - fa);
+  const double sb = quintic(b - fb);
+  const double v00 = latticeValue(ia, ib, seed);
+  const double v10 = latticeValue(ia + 1, ib, seed);
+  const double v01 = latticeValue(ia, ib + 1, seed);
+  const double v11 = latticeValue(ia + 1, ib + 1, seed);
+  return (v00 * (1 - sa) + v10 * sa) * (1 - sb) + (v01 * (1 - sa) + v11 * sa) * sb;
+}
+}  // namespace
+
+double fractalNoise(double a, double b, std::uint32_t seed) {
+  // Lattice frequencies in cells per metre and their weights (sum 1).
+  static const double kFrequency[] = {2.0, 5.0, 11.0, 17.0};
+  static const double kWeight[] = {0.4, 0.3, 0.2, 0.1};
+  double value = 0.0;
+  for (int octave = 0; octave < 4; ++octave) {
+    value += kWeight[octave] * valueNoise(a * kFrequency[octave], b * kFrequency[octave], seed + 7919u * octave);
+  }
+  return value;
+}
+
+}  // namespace vocal

@@ -1,0 +1,108 @@
+#include "vocal/core/synthetic_sequence.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "vocal/core/camera_yaml.h"
+#include "vocal/core/errors.h"
+#include "vocal/core/image_io.h"
+
+namespace vocal {
+
+namespace {
+// Creates the folder and its missing parents, like mkdir -p.
+void makeFolder(const std::string& path) {
+  for (std::size_t slash = path.find('/', 1); ; slash = path.find('/', slash + 1)) {
+    const std::string prefix = path.substr(0, slash);
+    if (::mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
+      throw InputError(prefix + ": cannot create folder (" + std::strerror(errno) + ")");
+    }
+    if (slash == std::string::npos) break;
+  }
+}
+
+std::string stampName(double stamp) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.6f", stamp);
+  return buffer;
+}
+}  // namespace
+
+DepthSensorModel kinectLikeDepthModel(double missing_fraction) {
+  DepthSensorModel model;
+  model.axial_noise = true;
+  model.quantize_disparity = true;
+  model.missing_fraction = missing_fraction;
+  model.drop_discontinuities = true;
+  return model;
+}
+
+RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
+                               const StampedPose& world_from_camera, const DepthSensorModel& depth_model,
+                               std::uint32_t noise_seed) {
+  RenderedView view = scene.render(camera, world_from_camera.pose);
+  applyDepthSensorModel(depth_model, camera, noise_seed, &view.depth);
+  RgbdFrame frame;
+  frame.stamp = world_from_camera.stamp;
+  frame.color = std::move(view.color);
+  frame.depth = std::move(view.depth);
+  return frame;
+}
+
+SyntheticSequence writeSyntheticSequence(const std::string& folder, const SyntheticSequenceOptions& options,
+                                         const std::function<void(int, int)>& progress) {
+  if (options.width < 8 || options.height < 8) {
+    throw InputError("synthetic sequence: image size " + std::to_string(options.width) + "x" +
+                     std::to_string(options.height) + " is too small (at least 8x8)");
+  }
+  if (!(options.depth_model.missing_fraction >= 0.0 && options.depth_model.missing_fraction < 1.0)) {
+    throw InputError("synthetic sequence: missing fraction " + std::to_string(options.depth_model.missing_fraction) +
+                     " must be in [0, 1)");
+  }
+  const SyntheticScene scene = SyntheticScene::make(options.scene);
+  SyntheticSequence sequence;
+  sequence.camera = defaultKinectCamera(options.width, options.height);
+  sequence.ground_truth = options.trajectory_path.empty()
+                              ? generateSyntheticTrajectory(scene.workspace(), options.trajectory)
+                              : readTumTrajectory(options.trajectory_path);
+  if (sequence.ground_truth.empty()) {
+    throw InputError(options.trajectory_path + ": trajectory has no poses");
+  }
+
+  makeFolder(folder);
+  makeFolder(folder + "/rgb");
+  makeFolder(folder + "/depth");
+  writeCameraYaml(folder + "/camera.yaml", sequence.camera, "vocal_synthetic_" + sceneVariantName(options.scene));
+  writeTumTrajectory(folder + "/groundtruth.txt", sequence.ground_truth);
+
+  std::ofstream rgb_list(folder + "/rgb.txt");
+  std::ofstream depth_list(folder + "/depth.txt");
+  if (!rgb_list || !depth_list) {
+    throw InputError(folder + ": cannot write rgb.txt / depth.txt");
+  }
+  const std::string header = "# vocal synthetic sequence, scene " + sceneVariantName(options.scene) + "\n";
+  rgb_list << header << "# timestamp filename\n";
+  depth_list << header << "# timestamp filename\n";
+  const int total = static_cast<int>(sequence.ground_truth.size());
+  for (int i = 0; i < total; ++i) {
+    const StampedPose& pose = sequence.ground_truth[i];
+    const RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.depth_model,
+                                                 options.trajectory.seed * 100003u + static_cast<std::uint32_t>(i));
+    const std::string name = stampName(pose.stamp) + ".png";
+    writeColorPng(folder + "/rgb/" + name, frame.color);
+    writeDepthPng(folder + "/depth/" + name, frame.depth, sequence.camera.depth_scale);
+    rgb_list << stampName(pose.stamp) << " rgb/" << name << "\n";
+    depth_list << stampName(pose.stamp) << " depth/" << name << "\n";
+    if (progress) progress(i + 1, total);
+  }
+  if (!rgb_list.flush() || !depth_list.flush()) {
+    throw InputError(folder + ": write error on rgb.txt / depth.txt");
+  }
+  return sequence;
+}
+
+}  // namespace vocal

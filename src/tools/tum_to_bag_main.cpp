@@ -1,0 +1,36 @@
+// tum_to_bag TUM_FOLDER OUTPUT.bag: a TUM-layout folder as a bag in the benchmark's own bag layout.
+
+#include <cstdio>
+
+#include "vocal/tools/command_line.h"
+#include "vocal/tools/tum_bag_writer.h"
+
+namespace {
+const char kUsage[] =
+    "usage: tum_to_bag TUM_FOLDER OUTPUT.bag [--max-difference S] [--quiet]\n"
+    "  topics: /camera/rgb/image_color (rgb8), /camera/depth/image (32FC1 m), /camera/rgb/camera_info,\n"
+    "          /camera/depth/camera_info, /tf world -> kinect (ground truth), /tf_static\n";
+
+int run(const vocal::CommandLine& args) {
+  vocal::TumSequenceOptions options;
+  options.max_time_difference = args.number("max-difference", options.max_time_difference);
+  const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0], options);
+  std::fprintf(stderr, "%zu associated frames, intrinsics from %s\n", sequence.size(), sequence.cameraSource().c_str());
+  if (!sequence.hasGroundTruth()) {
+    std::fprintf(stderr, "no groundtruth.txt: the bag will have no world -> kinect transforms\n");
+  }
+  const bool quiet = args.has("quiet");
+  const vocal::TumBagSummary summary =
+      vocal::writeTumBag(sequence, args.positional()[1], [quiet](std::size_t done, std::size_t total) {
+        if (!quiet) std::fprintf(stderr, "\rwriting frame %zu/%zu", done, total);
+      });
+  if (!quiet) std::fprintf(stderr, "\n");
+  std::printf("wrote %zu frames and %zu ground-truth poses to %s\n", summary.frames, summary.ground_truth_poses,
+              args.positional()[1].c_str());
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return vocal::runTool("tum_to_bag", kUsage, run, argc, argv, {"max-difference"}, {"quiet"}, 2);
+}

@@ -1,0 +1,45 @@
+#pragma once
+// Helpers shared by the tests: temporary folders and small synthetic sequences.
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "vocal/core/synthetic_sequence.h"
+
+namespace vocal_test {
+
+// A fresh empty folder under the test temp dir.
+inline std::string makeTempFolder(const std::string& name) {
+  const std::string path = ::testing::TempDir() + "/vocal_" + name + "_" + std::to_string(::getpid());
+  const std::string command = "rm -rf '" + path + "' && mkdir -p '" + path + "'";
+  if (std::system(command.c_str()) != 0) {
+    ADD_FAILURE() << "cannot create " << path;
+  }
+  return path;
+}
+
+inline void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+inline vocal::SyntheticSequenceOptions smallSequenceOptions(int frames = 8) {
+  vocal::SyntheticSequenceOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.trajectory.frames = frames;
+  return options;
+}
+
+// Path of the real TUM data beside the repository, or "" (with a loud note) when it is not there.
+inline std::string tumDataFolder() {
+  const std::string folder = std::string(VOCAL_TUM_DATA_DIR) + "/rgbd_dataset_freiburg1_xyz_first300";
+  std::ifstream probe(folder + "/rgb.txt");
+  if (!probe) {
+    std::cerr << "\n*** TUM data not found at " << folder << ": real-data checks are SKIPPED ***\n\n";
+    return "";
+  }
+  return folder;
+}
+
+}  // namespace vocal_test

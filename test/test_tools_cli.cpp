@@ -1,0 +1,104 @@
+// The installed command-line tools, run as a user runs them: output format, exit codes, messages.
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "test_support.h"
+#include "vocal/core/se3.h"
+#include "vocal/core/trajectory_evaluation.h"
+#include "vocal/core/tum_trajectory.h"
+
+namespace {
+struct RunResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+RunResult runTool(const std::string& arguments) {
+  const std::string command = std::string(VOCAL_TOOLS_DIR) + "/" + arguments + " 2>&1";
+  RunResult result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) result.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::map<std::string, double> parseMetrics(const std::string& output) {
+  std::map<std::string, double> metrics;
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);) {
+    const auto colon = line.find(": ");
+    if (colon != std::string::npos && line.find(' ') == colon + 1) {
+      metrics[line.substr(0, colon)] = std::stod(line.substr(colon + 2));
+    }
+  }
+  return metrics;
+}
+}  // namespace
+
+TEST(ToolsCli, GenerateEvaluateAndConvert) {
+  const std::string folder = vocal_test::makeTempFolder("cli");
+  RunResult r = runTool("generate_synthetic_sequence " + folder + "/seq --frames 40 --width 160 --height 120 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote 40 frames (160x120, scene room)"), std::string::npos) << r.output;
+
+  // An estimate with a known drift of 0.02 m/s along x.
+  vocal::Trajectory truth = vocal::readTumTrajectory(folder + "/seq/groundtruth.txt");
+  vocal::Trajectory estimate = truth;
+  for (vocal::StampedPose& p : estimate) p.pose.translation().x() += 0.02 * (p.stamp - truth.front().stamp);
+  vocal::writeTumTrajectory(folder + "/estimate.txt", estimate);
+
+  r = runTool("evaluate_trajectory " + folder + "/seq/groundtruth.txt " + folder + "/estimate.txt --plot " + folder +
+              "/plot.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto metrics = parseMetrics(r.output);
+  for (const char* name : {"ate_rmse_m", "ate_median_m", "ate_max_m", "rpe_trans_m_per_s", "rpe_rot_deg_per_s"}) {
+    ASSERT_EQ(metrics.count(name), 1u) << name << " missing in:\n" << r.output;
+  }
+  const vocal::AteResult ate = vocal::computeAte(truth, estimate);
+  EXPECT_NEAR(metrics.at("ate_rmse_m"), ate.rmse, 1e-6);
+  EXPECT_NEAR(metrics.at("rpe_trans_m_per_s"), 0.02, 1e-6);
+  const cv::Mat plot = cv::imread(folder + "/plot.png");
+  EXPECT_EQ(plot.cols, 1400);
+  EXPECT_EQ(plot.rows, 710);
+
+  r = runTool("tum_to_bag " + folder + "/seq " + folder + "/seq.bag --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wrote 40 frames and 40 ground-truth poses"), std::string::npos) << r.output;
+}
+
+TEST(ToolsCli, BadInputGivesOneClearLine) {
+  const std::string folder = vocal_test::makeTempFolder("cli_errors");
+  vocal_test::writeText(folder + "/gt.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0\n");
+  RunResult r = runTool("evaluate_trajectory " + folder + "/gt.txt " + folder + "/gt.txt");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "evaluate_trajectory: error: " + folder +
+                          "/gt.txt:2: expected 8 fields 'timestamp tx ty tz qx qy qz qw', found 7\n");
+
+  r = runTool("tum_to_bag " + folder + "/missing " + folder + "/out.bag");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "tum_to_bag: error: " + folder + "/missing/rgb.txt: cannot open file (No such file or directory)\n");
+
+  r = runTool("generate_synthetic_sequence " + folder + "/x --scene garden");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "generate_synthetic_sequence: error: scene 'garden' is unknown: expected room, wall or bare_room\n");
+
+  r = runTool("generate_synthetic_sequence " + folder + "/x --frames many");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "generate_synthetic_sequence: error: option --frames: 'many' is not an integer\n");
+
+  r = runTool("evaluate_trajectory only_one_argument");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.output.rfind("evaluate_trajectory: error: expected 2 argument(s), got 1\nusage:", 0), 0u) << r.output;
+}
