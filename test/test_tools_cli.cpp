@@ -73,6 +73,15 @@ TEST(ToolsCli, GenerateEvaluateAndConvert) {
   EXPECT_EQ(plot.cols, 1400);
   EXPECT_EQ(plot.rows, 710);
 
+  // Rendering along a given trajectory reproduces it as the ground truth.
+  r = runTool("generate_synthetic_sequence " + folder + "/again --trajectory " + folder +
+              "/estimate.txt --width 64 --height 48 --scene wall --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const vocal::Trajectory again = vocal::readTumTrajectory(folder + "/again/groundtruth.txt");
+  ASSERT_EQ(again.size(), estimate.size());
+  EXPECT_EQ(again.back().stamp, estimate.back().stamp);
+  EXPECT_EQ(again.back().pose.translation(), estimate.back().pose.translation());
+
   r = runTool("tum_to_bag " + folder + "/seq " + folder + "/seq.bag --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("wrote 40 frames and 40 ground-truth poses"), std::string::npos) << r.output;
