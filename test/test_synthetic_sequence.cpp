@@ -44,7 +44,7 @@ TEST(SyntheticSequence, ReloadsExactly) {
 
     const vocal::RgbdFrame loaded = sequence.loadFrame(i);
     const vocal::RgbdFrame rendered =
-        vocal::renderSyntheticFrame(scene, written.camera, truth, options.depth_model, 0);
+        vocal::renderSyntheticFrame(scene, written.camera, truth, options.sensor_model, 0);
     EXPECT_EQ(loaded.color.pixels().size(), rendered.color.pixels().size());
     EXPECT_TRUE(loaded.color.pixels() == rendered.color.pixels()) << "colour of frame " << i;
     int valid = 0;
@@ -122,7 +122,7 @@ TEST(SyntheticSequence, KinectNoiseGrowsWithDepthSquared) {
   const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
   const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), {});
-  vocal::DepthSensorModel noise_only;
+  vocal::RgbdSensorModel noise_only;
   noise_only.axial_noise = true;
   // Bins of depth: measured standard deviation of (noisy - ideal) against the model's sigma(z).
   std::vector<double> sum_sq(10, 0.0), sigma_sum(10, 0.0);
@@ -135,7 +135,7 @@ TEST(SyntheticSequence, KinectNoiseGrowsWithDepthSquared) {
       if (!vocal::isValidDepth(noisy.depth.pixels()[p])) continue;
       const int bin = std::min(9, static_cast<int>(z));
       sum_sq[bin] += std::pow(noisy.depth.pixels()[p] - z, 2);
-      sigma_sum[bin] += vocal::DepthSensorModel::axialSigma(z);
+      sigma_sum[bin] += vocal::RgbdSensorModel::axialSigma(z);
       ++count[bin];
     }
   }
@@ -150,7 +150,7 @@ TEST(SyntheticSequence, KinectNoiseGrowsWithDepthSquared) {
   EXPECT_GE(bins_checked, 2);
 
   // Drop-outs: about the requested fraction plus the depth edges; quantisation leaves discrete depths.
-  const vocal::DepthSensorModel kinect = vocal::kinectLikeDepthModel(0.1);
+  const vocal::RgbdSensorModel kinect = vocal::kinectLikeSensorModel(0.1);
   const vocal::RgbdFrame frame = vocal::renderSyntheticFrame(scene, camera, path[0], kinect, 5);
   const double missing = std::count(frame.depth.pixels().begin(), frame.depth.pixels().end(), 0.0f) /
                          static_cast<double>(frame.depth.size());
@@ -215,7 +215,7 @@ TEST(SyntheticTrajectory, MovesAtTheRequestedSpeedAndRate) {
 
 TEST(SyntheticSequence, BadOptionsAreErrors) {
   vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(2);
-  options.depth_model.missing_fraction = 1.5;
+  options.sensor_model.missing_fraction = 1.5;
   try {
     vocal::writeSyntheticSequence(makeTempFolder("bad_options"), options);
     FAIL() << "expected an error";

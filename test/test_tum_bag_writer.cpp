@@ -19,7 +19,7 @@ using T = vocal::TumBagTopics;
 TEST(TumBagWriter, WritesTheBenchmarkLayout) {
   const std::string folder = vocal_test::makeTempFolder("bag");
   vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(5);
-  options.depth_model.missing_fraction = 0.05;  // so NaN depth is exercised
+  options.sensor_model.missing_fraction = 0.05;  // so NaN depth is exercised
   vocal::writeSyntheticSequence(folder + "/seq", options);
   const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
   const vocal::TumBagSummary summary = vocal::writeTumBag(sequence, folder + "/seq.bag");

@@ -32,8 +32,9 @@ std::string stampName(double stamp) {
 }
 }  // namespace
 
-DepthSensorModel kinectLikeDepthModel(double missing_fraction) {
-  DepthSensorModel model;
+RgbdSensorModel kinectLikeSensorModel(double missing_fraction) {
+  RgbdSensorModel model;
+  model.color_noise_sigma = 2.0;
   model.axial_noise = true;
   model.quantize_disparity = true;
   model.missing_fraction = missing_fraction;
@@ -42,10 +43,11 @@ DepthSensorModel kinectLikeDepthModel(double missing_fraction) {
 }
 
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
-                               const StampedPose& world_from_camera, const DepthSensorModel& depth_model,
+                               const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
                                std::uint32_t noise_seed) {
   RenderedView view = scene.render(camera, world_from_camera.pose);
-  applyDepthSensorModel(depth_model, camera, noise_seed, &view.depth);
+  applyDepthSensorModel(sensor_model, noise_seed, &view.depth);
+  applyColorSensorModel(sensor_model, noise_seed, &view.color);
   RgbdFrame frame;
   frame.stamp = world_from_camera.stamp;
   frame.color = std::move(view.color);
@@ -59,8 +61,8 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
     throw InputError("synthetic sequence: image size " + std::to_string(options.width) + "x" +
                      std::to_string(options.height) + " is too small (at least 8x8)");
   }
-  if (!(options.depth_model.missing_fraction >= 0.0 && options.depth_model.missing_fraction < 1.0)) {
-    throw InputError("synthetic sequence: missing fraction " + std::to_string(options.depth_model.missing_fraction) +
+  if (!(options.sensor_model.missing_fraction >= 0.0 && options.sensor_model.missing_fraction < 1.0)) {
+    throw InputError("synthetic sequence: missing fraction " + std::to_string(options.sensor_model.missing_fraction) +
                      " must be in [0, 1)");
   }
   const SyntheticScene scene = SyntheticScene::make(options.scene);
@@ -90,7 +92,7 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   const int total = static_cast<int>(sequence.ground_truth.size());
   for (int i = 0; i < total; ++i) {
     const StampedPose& pose = sequence.ground_truth[i];
-    const RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.depth_model,
+    const RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.sensor_model,
                                                  options.trajectory.seed * 100003u + static_cast<std::uint32_t>(i));
     const std::string name = stampName(pose.stamp) + ".png";
     writeColorPng(folder + "/rgb/" + name, frame.color);

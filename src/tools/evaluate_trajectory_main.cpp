@@ -6,6 +6,7 @@
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/tools/command_line.h"
 #include "vocal/tools/trajectory_plot.h"
+#include "vocal/tools/trajectory_report.h"
 
 namespace {
 const char kUsage[] =
@@ -22,11 +23,7 @@ int run(const vocal::CommandLine& args) {
   const double max_difference = args.number("max-difference", 0.02);
   const vocal::AteResult ate = vocal::computeAte(truth, estimate, max_difference);
   const vocal::RpeResult rpe = vocal::computeRpe(truth, estimate, args.number("delta", 1.0), max_difference);
-  std::printf("ate_rmse_m: %.6f\nate_median_m: %.6f\nate_max_m: %.6f\n", ate.rmse, ate.median, ate.max);
-  std::printf("rpe_trans_m_per_s: %.6f\nrpe_rot_deg_per_s: %.6f\n", rpe.translation_rmse_m_per_s,
-              rpe.rotation_rmse_deg_per_s);
-  std::fprintf(stderr, "(%zu poses associated for ATE, %zu pairs %.3g s apart for RPE)\n", ate.pairs, rpe.pairs,
-               rpe.delta);
+  vocal::printTrajectoryMetrics(stdout, ate, rpe);
   if (args.has("plot")) {
     vocal::writeTrajectoryPlot(args.text("plot", ""), ate, estimate_path + " vs " + truth_path);
   }

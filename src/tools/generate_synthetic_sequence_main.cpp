@@ -17,8 +17,10 @@ const char kUsage[] =
     "  --speed M_PER_S              mean camera speed (default 0.25)\n"
     "  --seed S                     motion and noise seed (default 1)\n"
     "  --trajectory FILE            render along this TUM trajectory instead of a generated one\n"
-    "  --kinect-noise               Kinect-like depth: noise growing with z^2, disparity quantisation,\n"
+    "  --kinect-noise               Kinect-like sensor: colour noise (2 levels); depth noise growing\n"
+    "                               with z^2, disparity quantisation,\n"
     "                               drop-outs at depth edges and --missing of the pixels\n"
+    "  --axial-noise, --quantize    only the noise, or only the quantisation, of --kinect-noise\n"
     "  --missing F                  fraction of randomly missing depth pixels (default 0.02 with\n"
     "                               --kinect-noise, else 0)\n"
     "  --quiet                      no progress line\n";
@@ -34,9 +36,11 @@ int run(const vocal::CommandLine& args) {
   options.trajectory.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   options.trajectory_path = args.text("trajectory", "");
   if (args.has("kinect-noise")) {
-    options.depth_model = vocal::kinectLikeDepthModel(args.number("missing", 0.02));
+    options.sensor_model = vocal::kinectLikeSensorModel(args.number("missing", 0.02));
   } else {
-    options.depth_model.missing_fraction = args.number("missing", 0.0);
+    options.sensor_model.missing_fraction = args.number("missing", 0.0);
+    options.sensor_model.axial_noise = args.has("axial-noise");
+    options.sensor_model.quantize_disparity = args.has("quantize");
   }
   const bool quiet = args.has("quiet");
   const std::string folder = args.positional()[0];
@@ -55,5 +59,5 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("generate_synthetic_sequence", kUsage, run, argc, argv,
                         {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing"},
-                        {"kinect-noise", "quiet"}, 1);
+                        {"kinect-noise", "axial-noise", "quantize", "quiet"}, 1);
 }

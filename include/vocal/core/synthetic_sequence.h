@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "vocal/core/depth_sensor_model.h"
+#include "vocal/core/rgbd_sensor_model.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/synthetic_scene.h"
@@ -21,15 +21,16 @@ struct SyntheticSequenceOptions {
   SyntheticTrajectoryOptions trajectory;
   // When set, poses come from this TUM trajectory file instead of being generated.
   std::string trajectory_path;
-  DepthSensorModel depth_model;  // ideal depth unless noise / drop-outs are switched on
+  RgbdSensorModel sensor_model;  // ideal images unless noise / drop-outs are switched on
 };
 
-// Kinect-like noise, quantisation and drop-outs, as the command-line --kinect-noise switch sets them.
-DepthSensorModel kinectLikeDepthModel(double missing_fraction = 0.02);
+// Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
+// command-line --kinect-noise switch sets them.
+RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
 
 // Renders one frame; `noise_seed` makes the depth model reproducible.
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
-                               const StampedPose& world_from_camera, const DepthSensorModel& depth_model,
+                               const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
                                std::uint32_t noise_seed);
 
 struct SyntheticSequence {

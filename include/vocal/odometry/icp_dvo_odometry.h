@@ -1,0 +1,64 @@
+#pragma once
+// Frame-to-frame RGB-D odometry: point-to-plane ICP and dense photometric odometry (DVO) fused in one
+// weighted 6x6 system per iteration, solved coarse to fine (Whelan et al. 2013).
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "vocal/core/pinhole_camera.h"
+#include "vocal/core/rgbd_frame.h"
+#include "vocal/core/se3.h"
+#include "vocal/odometry/odometry_backend.h"
+#include "vocal/odometry/odometry_config.h"
+
+namespace vocal {
+
+struct OdometryQuality {
+  int icp_inliers = 0;        // at the finest level, last iteration
+  int rgb_inliers = 0;
+  double icp_rmse = 0.0;      // metres
+  double rgb_rmse = 0.0;      // intensity units
+  int iterations = 0;         // solver steps over all levels
+  double condition = 0.0;     // of the final system (largest / smallest eigenvalue)
+  double weakest_information = 0.0;  // smallest eigenvalue of the final system per inlier
+  bool trusted = false;       // the increment passed every check and was applied
+};
+
+struct OdometryResult {
+  bool first_frame = false;  // the first frame (or the first after a reset) only sets the reference
+  Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();  // previous camera <- current camera
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();       // odometry frame <- current camera
+  Matrix6d covariance = Matrix6d::Identity();                   // of the increment's twist [v; w]
+  OdometryQuality quality;
+  std::string failure;  // why tracking was not trusted; empty when it was
+};
+
+class IcpDvoOdometry {
+ public:
+  // Throws InputError for an invalid camera or config, or when the backend cannot be made.
+  IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
+                 std::unique_ptr<OdometryBackend> backend = nullptr);
+
+  // Estimates the motion since the previous frame. Throws InputError when the frame does not fit the
+  // camera (size, colour vs depth); bad content (no valid depth, no texture or structure, a jump)
+  // is reported in the result, the increment then is not applied.
+  OdometryResult track(const RgbdFrame& frame);
+
+  // Forgets the reference frame; the next frame starts again at `pose`.
+  void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
+
+  const Eigen::Isometry3d& pose() const { return pose_; }
+  const OdometryBackend& backend() const { return *backend_; }
+  const OdometryConfig& config() const { return config_; }
+
+ private:
+  PinholeCamera camera_;
+  OdometryConfig config_;
+  std::unique_ptr<OdometryBackend> backend_;
+  bool has_reference_ = false;
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace vocal

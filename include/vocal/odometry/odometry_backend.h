@@ -1,0 +1,49 @@
+#pragma once
+// What the estimator needs from a compute backend: keep a reference and a current frame preprocessed
+// into pyramids, and build the ICP and DVO normal equations of one pyramid level for a given motion.
+// The CPU reference and the OpenCL backend implement the same math (parity-tested).
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "vocal/core/pinhole_camera.h"
+#include "vocal/core/rgbd_frame.h"
+#include "vocal/odometry/normal_equations.h"
+#include "vocal/odometry/odometry_config.h"
+
+namespace vocal {
+
+class OdometryBackend {
+ public:
+  virtual ~OdometryBackend() = default;
+
+  // Human-readable backend and device, e.g. "opencl: NVIDIA H100 (NVIDIA CUDA)".
+  virtual std::string name() const = 0;
+
+  // Preprocesses `frame` (intensity, depth pyramid, vertex and normal maps, gradients) as the new
+  // current frame; the previous current frame becomes the reference. The frame must match the camera
+  // the backend was made for (the estimator checks).
+  virtual void pushFrame(const RgbdFrame& frame) = 0;
+
+  // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T).
+  virtual NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) = 0;
+  virtual NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
+                                    double huber_threshold) = 0;
+
+  // Bytes of frame buffers the backend holds (both frames, all levels).
+  virtual std::size_t memoryBytes() const = 0;
+};
+
+// Camera of pyramid level `level`: samples sit at (2^level x, 2^level y) of the input, so the
+// intrinsics simply scale by 2^-level.
+PinholeCamera pyramidLevelCamera(const PinholeCamera& camera, int level);
+
+// Makes the backend the config asks for. kAuto: OpenCL when a usable device exists, else the CPU
+// reference (a note goes to `notice`). kOpenCl throws InputError naming what was found when nothing
+// usable is there.
+std::unique_ptr<OdometryBackend> makeOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
+                                                     std::string* notice = nullptr);
+
+}  // namespace vocal

@@ -1,0 +1,67 @@
+#pragma once
+// Settings of the ICP + DVO estimator. Defaults are the reference values of the public
+// implementations (Whelan et al. 2013, Kintinuous / ElasticFusion) unless docs/benchmarks.md says a
+// measurement chose otherwise.
+
+#include <string>
+#include <vector>
+
+namespace vocal {
+
+enum class OdometryMode { kIcp, kRgb, kFused };
+enum class OdometryBackendKind { kAuto, kCpu, kOpenCl };
+
+struct OdometryConfig {
+  OdometryMode mode = OdometryMode::kFused;
+
+  // Pyramid: level 0 is the input resolution, each further level halves it. Iterations are listed from
+  // the finest level to the coarsest (the solver runs coarse to fine).
+  int levels = 3;
+  std::vector<int> iterations = {10, 5, 4};
+
+  // ICP: projective association, then rejection of far or differently oriented pairs.
+  double icp_max_distance = 0.10;        // metres
+  double icp_max_angle_deg = 20.0;
+  double depth_pyramid_sigma = 0.03;     // metres; 5x5 averaging keeps neighbours within 3 sigma
+  // Edge-preserving smoothing of the input depth before vertex and normal maps: the average of the
+  // neighbours within `radius` pixels whose depth is within factor * z^2 of the centre (0 = off).
+  // Removes structured-light noise and disparity steps that otherwise bias point-to-plane ICP.
+  int depth_smoothing_radius = 3;
+  double depth_smoothing_factor = 0.03;   // 1 / metres
+
+  // DVO: photometric residuals on intensity in [0, 1].
+  double rgb_max_depth = 6.0;            // metres
+  double rgb_max_depth_difference = 0.07;  // warped depth vs reference depth, metres
+  std::vector<double> rgb_min_gradient = {0.012, 0.008, 0.004};  // per level, intensity per pixel
+  double rgb_huber_factor = 1.345;       // Huber threshold in units of the residual's standard deviation
+
+  // Fusion: A = A_icp / var_icp + rgb_weight * A_rgb / var_rgb (b likewise), each term scaled by the
+  // variance of its residuals in that iteration: 1 trusts both by their measured noise.
+  double rgb_weight = 1.0;
+
+  // Depth outside this range is treated as missing.
+  double min_depth = 0.3;
+  double max_depth = 8.0;
+
+  // Result checks.
+  double max_translation = 0.3;          // metres per frame; larger increments are rejected
+  double max_rotation_deg = 30.0;        // degrees per frame
+  int min_icp_inliers = 500;             // at level 0, scaled by 1/4 per level
+  int min_rgb_inliers = 500;
+  double max_condition = 1e5;            // of the final 6x6 system; a plane alone gives ~1e7
+
+  OdometryBackendKind backend = OdometryBackendKind::kAuto;
+  // OpenCL device choice: empty = first GPU, else first CPU device. Matched as substrings of the
+  // platform and device names.
+  std::string opencl_platform;
+  std::string opencl_device;
+
+  // Throws InputError naming the setting when a value is unusable.
+  void validate() const;
+};
+
+OdometryMode parseOdometryMode(const std::string& name);         // icp, rgb, fused
+std::string odometryModeName(OdometryMode mode);
+OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, opencl
+
+}  // namespace vocal

@@ -1,0 +1,110 @@
+#include "vocal/odometry/cpu_backend.h"
+
+#include <cmath>
+
+namespace vocal {
+
+namespace {
+float bilinear(const Image<float>& image, float u, float v) {
+  const int x = static_cast<int>(u), y = static_cast<int>(v);
+  const float a = u - x, b = v - y;
+  return (1 - b) * ((1 - a) * image(x, y) + a * image(x + 1, y)) + b * ((1 - a) * image(x, y + 1) + a * image(x + 1, y + 1));
+}
+}  // namespace
+
+CpuOdometryBackend::CpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config)
+    : camera_(camera), config_(config) {}
+
+void CpuOdometryBackend::pushFrame(const RgbdFrame& frame) {
+  reference_ = std::move(current_);
+  current_ = buildFramePyramid(frame, camera_, config_);
+}
+
+NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {
+  const PyramidLevel& cur = current_.at(level);
+  const PyramidLevel& ref = reference_.at(level);
+  const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
+  const Eigen::Vector3f t = reference_from_current.translation().cast<float>();
+  const float fx = static_cast<float>(ref.camera.fx), fy = static_cast<float>(ref.camera.fy);
+  const float cx = static_cast<float>(ref.camera.cx), cy = static_cast<float>(ref.camera.cy);
+  const float max_distance = static_cast<float>(config_.icp_max_distance);
+  const float min_cos = static_cast<float>(std::cos(config_.icp_max_angle_deg * M_PI / 180.0));
+  NormalEquations system;
+  for (int y = 0; y < cur.vertices.height(); ++y) {
+    for (int x = 0; x < cur.vertices.width(); ++x) {
+      const Eigen::Vector3f& vc = cur.vertices(x, y);
+      const Eigen::Vector3f& nc = cur.normals(x, y);
+      if (std::isnan(vc.z()) || std::isnan(nc.z())) continue;
+      const Eigen::Vector3f p = R * vc + t;
+      if (!(p.z() > 0.0f)) continue;
+      // Projective data association: the reference pixel the point falls into.
+      const int u = static_cast<int>(std::floor(fx * p.x() / p.z() + cx + 0.5f));
+      const int v = static_cast<int>(std::floor(fy * p.y() / p.z() + cy + 0.5f));
+      if (u < 0 || v < 0 || u >= ref.vertices.width() || v >= ref.vertices.height()) continue;
+      const Eigen::Vector3f& vr = ref.vertices(u, v);
+      const Eigen::Vector3f& nr = ref.normals(u, v);
+      if (std::isnan(vr.z()) || std::isnan(nr.z())) continue;
+      if ((p - vr).norm() > max_distance || (R * nc).dot(nr) < min_cos) continue;
+      const float r = nr.dot(p - vr);
+      Vector6d J;
+      J.head<3>() = nr.cast<double>();
+      J.tail<3>() = p.cross(nr).cast<double>();
+      system.addRow(J, r, 1.0);
+    }
+  }
+  return system;
+}
+
+NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
+                                              double huber_threshold) {
+  const PyramidLevel& cur = current_.at(level);
+  const PyramidLevel& ref = reference_.at(level);
+  const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
+  const Eigen::Vector3f t = reference_from_current.translation().cast<float>();
+  const float fx = static_cast<float>(ref.camera.fx), fy = static_cast<float>(ref.camera.fy);
+  const float cx = static_cast<float>(ref.camera.cx), cy = static_cast<float>(ref.camera.cy);
+  const float max_depth = static_cast<float>(config_.rgb_max_depth);
+  const float max_depth_difference = static_cast<float>(config_.rgb_max_depth_difference);
+  const float min_gradient = static_cast<float>(config_.rgb_min_gradient.at(level));
+  const float huber = static_cast<float>(huber_threshold);
+  const int w = ref.depth.width(), h = ref.depth.height();
+  NormalEquations system;
+  for (int y = 0; y < cur.depth.height(); ++y) {
+    for (int x = 0; x < cur.depth.width(); ++x) {
+      const Eigen::Vector3f& vc = cur.vertices(x, y);
+      if (std::isnan(vc.z()) || vc.z() > max_depth) continue;
+      // Warp the current pixel with its depth into the reference image.
+      const Eigen::Vector3f p = R * vc + t;
+      if (!(p.z() > 0.0f)) continue;
+      const float qu = fx * p.x() / p.z() + cx, qv = fy * p.y() / p.z() + cy;
+      if (!(qu >= 0.0f && qv >= 0.0f && qu < w - 1 && qv < h - 1)) continue;
+      const float zr = ref.depth(static_cast<int>(qu + 0.5f), static_cast<int>(qv + 0.5f));
+      if (!(zr > 0.0f) || zr > max_depth || std::fabs(zr - p.z()) > max_depth_difference) continue;
+      const float gx = bilinear(ref.gradient_x, qu, qv), gy = bilinear(ref.gradient_y, qu, qv);
+      if (gx * gx + gy * gy < min_gradient * min_gradient) continue;
+      const float r = bilinear(ref.intensity, qu, qv) - cur.intensity(x, y);
+      // d r / d p of the projection, then d p / d twist = [I, -[p]x].
+      const float z_inv = 1.0f / p.z();
+      const Eigen::Vector3f a(gx * fx * z_inv, gy * fy * z_inv, -(gx * fx * p.x() + gy * fy * p.y()) * z_inv * z_inv);
+      Vector6d J;
+      J.head<3>() = a.cast<double>();
+      J.tail<3>() = p.cross(a).cast<double>();
+      const float abs_r = std::fabs(r);
+      const double weight = abs_r <= huber ? 1.0 : huber / abs_r;
+      system.addRow(J, r, weight);
+    }
+  }
+  return system;
+}
+
+std::size_t CpuOdometryBackend::memoryBytes() const {
+  std::size_t bytes = 0;
+  for (const FramePyramid* pyramid : {&reference_, &current_}) {
+    for (const PyramidLevel& l : *pyramid) {
+      bytes += l.depth.size() * sizeof(float) * 4 + l.vertices.size() * sizeof(Eigen::Vector3f) * 2;
+    }
+  }
+  return bytes;
+}
+
+}  // namespace vocal

@@ -1,0 +1,128 @@
+#include "vocal/odometry/icp_dvo_odometry.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+// Floors of the residual variances used to weight the terms: a noise-free synthetic frame must not
+// make one term infinitely trusted.
+constexpr double kMinIcpVariance = 1e-3 * 1e-3;          // (1 mm)^2
+constexpr double kMinRgbVariance = (1.0 / 255) * (1.0 / 255);  // one 8-bit level
+}  // namespace
+
+IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
+                               std::unique_ptr<OdometryBackend> backend)
+    : camera_(camera), config_(config), backend_(std::move(backend)) {
+  camera_.validate("odometry camera");
+  config_.validate();
+  if ((camera_.width >> (config_.levels - 1)) < 8 || (camera_.height >> (config_.levels - 1)) < 8) {
+    throw InputError("odometry config: " + std::to_string(config_.levels) + " pyramid levels leave less than 8x8 pixels of a " +
+                     std::to_string(camera_.width) + "x" + std::to_string(camera_.height) + " image");
+  }
+  if (!backend_) backend_ = makeOdometryBackend(camera_, config_);
+}
+
+void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
+  has_reference_ = false;
+  pose_ = pose;
+}
+
+OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
+  frame.validate("odometry frame");
+  if (!frame.color.sameSize(camera_.width, camera_.height)) {
+    std::ostringstream message;
+    message << "odometry frame: images are " << frame.color.width() << "x" << frame.color.height()
+            << " but the camera is " << camera_.width << "x" << camera_.height;
+    throw InputError(message.str());
+  }
+  backend_->pushFrame(frame);
+  OdometryResult result;
+  result.pose = pose_;
+  if (!has_reference_) {
+    has_reference_ = true;
+    result.first_frame = true;
+    result.quality.trusted = true;
+    return result;
+  }
+
+  const bool use_icp = config_.mode != OdometryMode::kRgb;
+  const bool use_rgb = config_.mode != OdometryMode::kIcp;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
+  NormalEquations last_icp, last_rgb;
+  Matrix6d last_A = Matrix6d::Zero();
+  double last_count = 0.0;
+  int steps = 0;
+  for (int level = config_.levels - 1; level >= 0; --level) {
+    for (int iteration = 0; iteration < config_.iterations[level]; ++iteration) {
+      NormalEquations icp, rgb;
+      if (use_icp) icp = backend_->icpSystem(level, T);
+      if (use_rgb) {
+        rgb = backend_->rgbSystem(level, T, config_.rgb_huber_factor * rgb_sigma);
+        if (rgb.count > 0) rgb_sigma = rgb.rmse();
+      }
+      // Each term is scaled by the inverse variance of its residuals (the fused system is then the
+      // information of both); rgb_weight scales the photometric term on top.
+      const double icp_scale = use_icp && icp.count > 0 ? 1.0 / std::max(icp.squared_residual_sum / icp.count, kMinIcpVariance) : 0.0;
+      const double rgb_scale = use_rgb && rgb.count > 0
+                                   ? (use_icp ? config_.rgb_weight : 1.0) / std::max(rgb.squared_residual_sum / rgb.count, kMinRgbVariance)
+                                   : 0.0;
+      const Matrix6d A = icp_scale * icp.A + rgb_scale * rgb.A;
+      const Vector6d b = icp_scale * icp.b + rgb_scale * rgb.b;
+      last_icp = icp;
+      last_rgb = rgb;
+      last_A = A;
+      last_count = icp.count + rgb.count;
+      if (last_count < 6) break;  // nothing to solve at this level
+      const Vector6d x = A.ldlt().solve(b);
+      if (!x.allFinite()) break;
+      T = se3Exp(x) * T;
+      ++steps;
+    }
+  }
+
+  OdometryQuality& q = result.quality;
+  q.icp_inliers = static_cast<int>(last_icp.count);
+  q.rgb_inliers = static_cast<int>(last_rgb.count);
+  q.icp_rmse = last_icp.rmse();
+  q.rgb_rmse = last_rgb.rmse();
+  q.iterations = steps;
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(last_A, Eigen::EigenvaluesOnly);
+  const double smallest = eigen.eigenvalues()[0], largest = eigen.eigenvalues()[5];
+  q.condition = smallest > 0.0 ? largest / smallest : std::numeric_limits<double>::infinity();
+  q.weakest_information = last_count > 0.0 ? smallest / last_count : 0.0;
+
+  std::ostringstream failure;
+  if (use_icp && q.icp_inliers < config_.min_icp_inliers) {
+    failure << "too few ICP inliers (" << q.icp_inliers << " < " << config_.min_icp_inliers << ")";
+  } else if (use_rgb && q.rgb_inliers < config_.min_rgb_inliers) {
+    failure << "too few photometric inliers (" << q.rgb_inliers << " < " << config_.min_rgb_inliers << ")";
+  } else if (!(q.condition <= config_.max_condition)) {
+    failure << "the system is degenerate (condition " << q.condition << " > " << config_.max_condition
+            << "): the scene does not constrain every degree of freedom";
+  } else if (T.translation().norm() > config_.max_translation) {
+    failure << "implausible jump of " << T.translation().norm() << " m (> " << config_.max_translation << " m)";
+  } else if (rotationAngle(T) * 180.0 / M_PI > config_.max_rotation_deg) {
+    failure << "implausible rotation of " << rotationAngle(T) * 180.0 / M_PI << " deg (> " << config_.max_rotation_deg
+            << " deg)";
+  }
+  result.failure = failure.str();
+  if (!result.failure.empty()) {
+    return result;  // increment stays identity, the pose is not moved
+  }
+  q.trusted = true;
+  result.increment = T;
+  result.covariance = last_A.inverse();
+  pose_ = pose_ * T;
+  result.pose = pose_;
+  return result;
+}
+
+}  // namespace vocal

@@ -1,0 +1,51 @@
+#include "vocal/odometry/odometry_config.h"
+
+#include <cmath>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+void OdometryConfig::validate() const {
+  auto fail = [](const std::string& what) { throw InputError("odometry config: " + what); };
+  if (levels < 1 || levels > 6) fail("levels must be in [1, 6], got " + std::to_string(levels));
+  if (static_cast<int>(iterations.size()) != levels)
+    fail("iterations lists " + std::to_string(iterations.size()) + " values for " + std::to_string(levels) + " levels");
+  if (static_cast<int>(rgb_min_gradient.size()) != levels)
+    fail("rgb_min_gradient lists " + std::to_string(rgb_min_gradient.size()) + " values for " +
+         std::to_string(levels) + " levels");
+  for (int n : iterations)
+    if (n < 0) fail("iterations must not be negative");
+  if (!(icp_max_distance > 0.0)) fail("icp_max_distance must be positive");
+  if (!(icp_max_angle_deg > 0.0 && icp_max_angle_deg <= 180.0)) fail("icp_max_angle_deg must be in (0, 180]");
+  if (!(rgb_weight >= 0.0 && std::isfinite(rgb_weight))) fail("rgb_weight must be finite and >= 0");
+  if (!(min_depth >= 0.0 && max_depth > min_depth)) fail("depth range [min_depth, max_depth] is empty");
+  if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
+  if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
+  if (!(max_translation > 0.0)) fail("max_translation must be positive");
+}
+
+OdometryMode parseOdometryMode(const std::string& name) {
+  if (name == "icp") return OdometryMode::kIcp;
+  if (name == "rgb") return OdometryMode::kRgb;
+  if (name == "fused") return OdometryMode::kFused;
+  throw InputError("odometry mode '" + name + "' is unknown: expected icp, rgb or fused");
+}
+
+std::string odometryModeName(OdometryMode mode) {
+  switch (mode) {
+    case OdometryMode::kIcp: return "icp";
+    case OdometryMode::kRgb: return "rgb";
+    case OdometryMode::kFused: return "fused";
+  }
+  return "unknown";
+}
+
+OdometryBackendKind parseOdometryBackend(const std::string& name) {
+  if (name == "auto") return OdometryBackendKind::kAuto;
+  if (name == "cpu") return OdometryBackendKind::kCpu;
+  if (name == "opencl") return OdometryBackendKind::kOpenCl;
+  throw InputError("odometry backend '" + name + "' is unknown: expected auto, cpu or opencl");
+}
+
+}  // namespace vocal

@@ -1,0 +1,71 @@
+#include "vocal/odometry/odometry_config_yaml.h"
+
+#include <functional>
+#include <map>
+
+#include <yaml-cpp/yaml.h>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+OdometryConfig readOdometryConfigYaml(const std::string& path, const OdometryConfig& defaults) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open odometry config");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": not valid YAML (" + e.what() + ")");
+  }
+  OdometryConfig config = defaults;
+  using Setter = std::function<void(const YAML::Node&)>;
+  const std::map<std::string, Setter> setters = {
+      {"mode", [&](const YAML::Node& n) { config.mode = parseOdometryMode(n.as<std::string>()); }},
+      {"levels", [&](const YAML::Node& n) { config.levels = n.as<int>(); }},
+      {"iterations", [&](const YAML::Node& n) { config.iterations = n.as<std::vector<int>>(); }},
+      {"icp_max_distance", [&](const YAML::Node& n) { config.icp_max_distance = n.as<double>(); }},
+      {"icp_max_angle_deg", [&](const YAML::Node& n) { config.icp_max_angle_deg = n.as<double>(); }},
+      {"depth_pyramid_sigma", [&](const YAML::Node& n) { config.depth_pyramid_sigma = n.as<double>(); }},
+      {"depth_smoothing_radius", [&](const YAML::Node& n) { config.depth_smoothing_radius = n.as<int>(); }},
+      {"depth_smoothing_factor", [&](const YAML::Node& n) { config.depth_smoothing_factor = n.as<double>(); }},
+      {"rgb_max_depth", [&](const YAML::Node& n) { config.rgb_max_depth = n.as<double>(); }},
+      {"rgb_max_depth_difference", [&](const YAML::Node& n) { config.rgb_max_depth_difference = n.as<double>(); }},
+      {"rgb_min_gradient", [&](const YAML::Node& n) { config.rgb_min_gradient = n.as<std::vector<double>>(); }},
+      {"rgb_huber_factor", [&](const YAML::Node& n) { config.rgb_huber_factor = n.as<double>(); }},
+      {"rgb_weight", [&](const YAML::Node& n) { config.rgb_weight = n.as<double>(); }},
+      {"min_depth", [&](const YAML::Node& n) { config.min_depth = n.as<double>(); }},
+      {"max_depth", [&](const YAML::Node& n) { config.max_depth = n.as<double>(); }},
+      {"max_translation", [&](const YAML::Node& n) { config.max_translation = n.as<double>(); }},
+      {"max_rotation_deg", [&](const YAML::Node& n) { config.max_rotation_deg = n.as<double>(); }},
+      {"min_icp_inliers", [&](const YAML::Node& n) { config.min_icp_inliers = n.as<int>(); }},
+      {"min_rgb_inliers", [&](const YAML::Node& n) { config.min_rgb_inliers = n.as<int>(); }},
+      {"max_condition", [&](const YAML::Node& n) { config.max_condition = n.as<double>(); }},
+      {"backend", [&](const YAML::Node& n) { config.backend = parseOdometryBackend(n.as<std::string>()); }},
+      {"opencl_platform", [&](const YAML::Node& n) { config.opencl_platform = n.as<std::string>(); }},
+      {"opencl_device", [&](const YAML::Node& n) { config.opencl_device = n.as<std::string>(); }},
+  };
+  if (!root.IsMap() && !root.IsNull()) {
+    throw InputError(path + ": expected a map of odometry settings");
+  }
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    const auto setter = setters.find(key);
+    if (setter == setters.end()) throw InputError(path + ": unknown odometry setting '" + key + "'");
+    try {
+      setter->second(entry.second);
+    } catch (const YAML::Exception& e) {
+      throw InputError(path + ": setting '" + key + "' is malformed (" + e.what() + ")");
+    } catch (const InputError& e) {
+      throw InputError(path + ": " + e.what());
+    }
+  }
+  try {
+    config.validate();
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return config;
+}
+
+}  // namespace vocal

@@ -1,0 +1,383 @@
+#include "vocal/odometry/opencl_backend.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include "vocal/core/errors.h"
+#include "vocal/odometry/opencl_context.h"
+
+namespace vocal {
+
+extern const char* const kOdometryKernelSource;  // cl_kernels/odometry.cl, embedded at build time
+
+bool openClBackendBuilt() { return true; }
+
+namespace {
+void check(cl_int status, const char* call) {
+  if (status != CL_SUCCESS) {
+    throw std::runtime_error(std::string("OpenCL: ") + call + " failed with error " + std::to_string(status));
+  }
+}
+
+// Owns one cl_mem.
+struct Buffer {
+  cl_mem mem = nullptr;
+  std::size_t bytes = 0;
+  Buffer() = default;
+  Buffer(cl_context context, std::size_t size, cl_mem_flags flags = CL_MEM_READ_WRITE) : bytes(size) {
+    cl_int status = CL_SUCCESS;
+    mem = clCreateBuffer(context, flags, size, nullptr, &status);
+    check(status, "clCreateBuffer");
+  }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  Buffer(Buffer&& other) noexcept : mem(other.mem), bytes(other.bytes) { other.mem = nullptr; }
+  Buffer& operator=(Buffer&& other) noexcept {
+    std::swap(mem, other.mem);
+    std::swap(bytes, other.bytes);
+    return *this;
+  }
+  ~Buffer() {
+    if (mem) clReleaseMemObject(mem);
+  }
+};
+
+struct LevelBuffers {
+  int width = 0, height = 0;
+  Buffer depth, intensity, gradient_x, gradient_y, vertices, normals;
+};
+
+struct FrameBuffers {
+  Buffer rgb, raw_depth, smoothed_depth, smoothed_vertices;
+  std::vector<LevelBuffers> levels;
+};
+
+template <typename T>
+void setArg(cl_kernel kernel, cl_uint index, const T& value) {
+  check(clSetKernelArg(kernel, index, sizeof(T), &value), "clSetKernelArg");
+}
+void setArg(cl_kernel kernel, cl_uint index, const Buffer& buffer) { setArg(kernel, index, buffer.mem); }
+
+std::size_t roundUp(std::size_t value, std::size_t multiple) { return (value + multiple - 1) / multiple * multiple; }
+}  // namespace
+
+struct OpenClOdometryBackend::State {
+  PinholeCamera camera;
+  OdometryConfig config;
+  OpenClDeviceInfo device_info;
+  cl_context context = nullptr;
+  cl_command_queue queue = nullptr;
+  cl_program program = nullptr;
+  cl_kernel intensity_from_rgb = nullptr, sanitize_depth = nullptr, smooth_depth = nullptr, downsample_depth = nullptr,
+            downsample_intensity = nullptr, gradients = nullptr, vertex_map = nullptr, normal_map = nullptr,
+            icp_rows = nullptr, dvo_rows = nullptr;
+  std::array<FrameBuffers, 2> frames;
+  int current = 0;
+  Buffer pose, partials;
+  std::size_t local_size = 128, groups = 64;
+  std::vector<float> partials_host;
+
+  ~State() {
+    for (cl_kernel k : {intensity_from_rgb, sanitize_depth, smooth_depth, downsample_depth, downsample_intensity,
+                        gradients, vertex_map, normal_map, icp_rows, dvo_rows}) {
+      if (k) clReleaseKernel(k);
+    }
+    frames = {};
+    pose = Buffer();
+    partials = Buffer();
+    if (program) clReleaseProgram(program);
+    if (queue) clReleaseCommandQueue(queue);
+    if (context) clReleaseContext(context);
+  }
+
+  void run2d(cl_kernel kernel, int width, int height) {
+    const std::size_t global[2] = {roundUp(width, 16), roundUp(height, 16)};
+    const std::size_t local[2] = {16, 16};
+    check(clEnqueueNDRangeKernel(queue, kernel, 2, nullptr, global, local, 0, nullptr, nullptr), "clEnqueueNDRangeKernel");
+  }
+
+  void run1d(cl_kernel kernel, std::size_t items) {
+    const std::size_t global = roundUp(items, 256);
+    check(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &global, nullptr, 0, nullptr, nullptr),
+          "clEnqueueNDRangeKernel");
+  }
+
+  cl_kernel makeKernel(const char* name) {
+    cl_int status = CL_SUCCESS;
+    cl_kernel kernel = clCreateKernel(program, name, &status);
+    check(status, name);
+    return kernel;
+  }
+
+  void uploadPose(const Eigen::Isometry3d& T) {
+    std::array<float, 12> values{};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) values[r * 3 + c] = static_cast<float>(T.linear()(r, c));
+      values[9 + r] = static_cast<float>(T.translation()[r]);
+    }
+    check(clEnqueueWriteBuffer(queue, pose.mem, CL_TRUE, 0, sizeof(values), values.data(), 0, nullptr, nullptr),
+          "clEnqueueWriteBuffer(pose)");
+  }
+
+  cl_float4 levelCamera(int level) const {
+    const PinholeCamera c = pyramidLevelCamera(camera, level);
+    return cl_float4{{static_cast<float>(c.fx), static_cast<float>(c.fy), static_cast<float>(c.cx), static_cast<float>(c.cy)}};
+  }
+
+  // Runs a row kernel over `items` pixels and adds the groups' partial sums in double.
+  NormalEquations reduce(cl_kernel kernel, std::size_t items) {
+    const std::size_t used_groups = std::min(groups, std::max<std::size_t>(1, (items + local_size - 1) / local_size));
+    const std::size_t global = used_groups * local_size;
+    check(clEnqueueNDRangeKernel(queue, kernel, 1, nullptr, &global, &local_size, 0, nullptr, nullptr),
+          "clEnqueueNDRangeKernel(rows)");
+    check(clEnqueueReadBuffer(queue, partials.mem, CL_TRUE, 0, used_groups * kReductionValues * sizeof(float),
+                              partials_host.data(), 0, nullptr, nullptr),
+          "clEnqueueReadBuffer(partials)");
+    std::array<double, kReductionValues> total{};
+    for (std::size_t g = 0; g < used_groups; ++g) {
+      for (int k = 0; k < kReductionValues; ++k) total[k] += partials_host[g * kReductionValues + k];
+    }
+    return NormalEquations::fromPacked(total.data());
+  }
+};
+
+OpenClOdometryBackend::OpenClOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config)
+    : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  s.camera = camera;
+  s.config = config;
+  const std::vector<OpenClDeviceInfo> devices = listOpenClDevices();
+  const std::size_t chosen = chooseOpenClDevice(devices, config.opencl_platform, config.opencl_device);
+  s.device_info = devices[chosen];
+
+  // Find the chosen device's handles again (listOpenClDevices keeps no handles).
+  cl_uint platform_count = 0;
+  check(clGetPlatformIDs(0, nullptr, &platform_count), "clGetPlatformIDs");
+  std::vector<cl_platform_id> platforms(platform_count);
+  check(clGetPlatformIDs(platform_count, platforms.data(), nullptr), "clGetPlatformIDs");
+  cl_device_id device = nullptr;
+  std::size_t index = 0;
+  for (cl_platform_id platform : platforms) {
+    cl_uint count = 0;
+    if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &count) != CL_SUCCESS) continue;
+    std::vector<cl_device_id> ids(count);
+    clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, count, ids.data(), nullptr);
+    for (cl_device_id id : ids) {
+      if (index++ == chosen) device = id;
+    }
+  }
+  if (!device) throw InputError("OpenCL: the chosen device disappeared while opening it");
+
+  cl_int status = CL_SUCCESS;
+  s.context = clCreateContext(nullptr, 1, &device, nullptr, nullptr, &status);
+  check(status, "clCreateContext");
+  s.queue = clCreateCommandQueue(s.context, device, 0, &status);
+  check(status, "clCreateCommandQueue");
+  const char* source = kOdometryKernelSource;
+  s.program = clCreateProgramWithSource(s.context, 1, &source, nullptr, &status);
+  check(status, "clCreateProgramWithSource");
+  if (clBuildProgram(s.program, 1, &device, "-cl-std=CL1.2", nullptr, nullptr) != CL_SUCCESS) {
+    std::size_t log_size = 0;
+    clGetProgramBuildInfo(s.program, device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &log_size);
+    std::string log(log_size, '\0');
+    clGetProgramBuildInfo(s.program, device, CL_PROGRAM_BUILD_LOG, log_size, &log[0], nullptr);
+    throw InputError("OpenCL: cl_kernels/odometry.cl does not build on " + s.device_info.device + ":\n" + log);
+  }
+  s.intensity_from_rgb = s.makeKernel("intensity_from_rgb");
+  s.sanitize_depth = s.makeKernel("sanitize_depth");
+  s.smooth_depth = s.makeKernel("smooth_depth");
+  s.downsample_depth = s.makeKernel("downsample_depth");
+  s.downsample_intensity = s.makeKernel("downsample_intensity");
+  s.gradients = s.makeKernel("gradients");
+  s.vertex_map = s.makeKernel("vertex_map");
+  s.normal_map = s.makeKernel("normal_map");
+  s.icp_rows = s.makeKernel("icp_rows");
+  s.dvo_rows = s.makeKernel("dvo_rows");
+
+  std::size_t max_group = 0;
+  clGetKernelWorkGroupInfo(s.icp_rows, device, CL_KERNEL_WORK_GROUP_SIZE, sizeof(max_group), &max_group, nullptr);
+  while (s.local_size > max_group && s.local_size > 1) s.local_size /= 2;
+  cl_uint compute_units = 1;
+  clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof(compute_units), &compute_units, nullptr);
+  s.groups = std::max<std::size_t>(32, 8 * static_cast<std::size_t>(compute_units));
+
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
+  for (FrameBuffers& frame : s.frames) {
+    frame.rgb = Buffer(s.context, pixels * 3, CL_MEM_READ_ONLY);
+    frame.raw_depth = Buffer(s.context, pixels * sizeof(float), CL_MEM_READ_ONLY);
+    frame.smoothed_depth = Buffer(s.context, pixels * sizeof(float));
+    frame.smoothed_vertices = Buffer(s.context, pixels * sizeof(cl_float4));
+    frame.levels.resize(config.levels);
+    for (int level = 0; level < config.levels; ++level) {
+      LevelBuffers& l = frame.levels[level];
+      l.width = camera.width >> level;
+      l.height = camera.height >> level;
+      const std::size_t n = static_cast<std::size_t>(l.width) * l.height;
+      l.depth = Buffer(s.context, n * sizeof(float));
+      l.intensity = Buffer(s.context, n * sizeof(float));
+      l.gradient_x = Buffer(s.context, n * sizeof(float));
+      l.gradient_y = Buffer(s.context, n * sizeof(float));
+      l.vertices = Buffer(s.context, n * sizeof(cl_float4));
+      l.normals = Buffer(s.context, n * sizeof(cl_float4));
+    }
+  }
+  s.pose = Buffer(s.context, 12 * sizeof(float), CL_MEM_READ_ONLY);
+  s.partials = Buffer(s.context, s.groups * kReductionValues * sizeof(float));
+  s.partials_host.resize(s.groups * kReductionValues);
+}
+
+OpenClOdometryBackend::~OpenClOdometryBackend() = default;
+
+std::string OpenClOdometryBackend::name() const {
+  return "opencl: " + state_->device_info.device + " (" + state_->device_info.platform + ")";
+}
+
+void OpenClOdometryBackend::pushFrame(const RgbdFrame& frame) {
+  State& s = *state_;
+  s.current = 1 - s.current;
+  FrameBuffers& f = s.frames[s.current];
+  const int width = s.camera.width, height = s.camera.height;
+  const int pixels = width * height;
+  check(clEnqueueWriteBuffer(s.queue, f.rgb.mem, CL_TRUE, 0, f.rgb.bytes, frame.color.data(), 0, nullptr, nullptr),
+        "clEnqueueWriteBuffer(rgb)");
+  check(clEnqueueWriteBuffer(s.queue, f.raw_depth.mem, CL_TRUE, 0, f.raw_depth.bytes, frame.depth.data(), 0, nullptr,
+                             nullptr),
+        "clEnqueueWriteBuffer(depth)");
+
+  LevelBuffers& base = f.levels[0];
+  setArg(s.intensity_from_rgb, 0, f.rgb);
+  setArg(s.intensity_from_rgb, 1, base.intensity);
+  setArg(s.intensity_from_rgb, 2, pixels);
+  s.run1d(s.intensity_from_rgb, pixels);
+
+  setArg(s.sanitize_depth, 0, f.raw_depth);
+  setArg(s.sanitize_depth, 1, base.depth);
+  setArg(s.sanitize_depth, 2, static_cast<float>(s.config.min_depth));
+  setArg(s.sanitize_depth, 3, static_cast<float>(s.config.max_depth));
+  setArg(s.sanitize_depth, 4, pixels);
+  s.run1d(s.sanitize_depth, pixels);
+
+  for (int level = 0; level < s.config.levels; ++level) {
+    LevelBuffers& l = f.levels[level];
+    if (level > 0) {
+      LevelBuffers& above = f.levels[level - 1];
+      setArg(s.downsample_depth, 0, above.depth);
+      setArg(s.downsample_depth, 1, above.width);
+      setArg(s.downsample_depth, 2, above.height);
+      setArg(s.downsample_depth, 3, l.depth);
+      setArg(s.downsample_depth, 4, l.width);
+      setArg(s.downsample_depth, 5, l.height);
+      setArg(s.downsample_depth, 6, static_cast<float>(3.0 * s.config.depth_pyramid_sigma));
+      s.run2d(s.downsample_depth, l.width, l.height);
+      setArg(s.downsample_intensity, 0, above.intensity);
+      setArg(s.downsample_intensity, 1, above.width);
+      setArg(s.downsample_intensity, 2, above.height);
+      setArg(s.downsample_intensity, 3, l.intensity);
+      setArg(s.downsample_intensity, 4, l.width);
+      setArg(s.downsample_intensity, 5, l.height);
+      s.run2d(s.downsample_intensity, l.width, l.height);
+    }
+    setArg(s.gradients, 0, l.intensity);
+    setArg(s.gradients, 1, l.width);
+    setArg(s.gradients, 2, l.height);
+    setArg(s.gradients, 3, l.gradient_x);
+    setArg(s.gradients, 4, l.gradient_y);
+    s.run2d(s.gradients, l.width, l.height);
+    const PinholeCamera c = pyramidLevelCamera(s.camera, level);
+    setArg(s.vertex_map, 0, l.depth);
+    setArg(s.vertex_map, 1, l.width);
+    setArg(s.vertex_map, 2, l.height);
+    setArg(s.vertex_map, 3, static_cast<float>(1.0 / c.fx));
+    setArg(s.vertex_map, 4, static_cast<float>(1.0 / c.fy));
+    setArg(s.vertex_map, 5, static_cast<float>(c.cx));
+    setArg(s.vertex_map, 6, static_cast<float>(c.cy));
+    setArg(s.vertex_map, 7, l.vertices);
+    s.run2d(s.vertex_map, l.width, l.height);
+    const bool smooth_normals = level == 0 && s.config.depth_smoothing_radius > 0;
+    if (smooth_normals) {
+      // Normals from smoothed depth, points from raw depth (see frame_pyramid.cpp).
+      setArg(s.smooth_depth, 0, l.depth);
+      setArg(s.smooth_depth, 1, f.smoothed_depth);
+      setArg(s.smooth_depth, 2, l.width);
+      setArg(s.smooth_depth, 3, l.height);
+      setArg(s.smooth_depth, 4, s.config.depth_smoothing_radius);
+      setArg(s.smooth_depth, 5, static_cast<float>(s.config.depth_smoothing_factor));
+      s.run2d(s.smooth_depth, l.width, l.height);
+      setArg(s.vertex_map, 0, f.smoothed_depth);
+      setArg(s.vertex_map, 7, f.smoothed_vertices);
+      s.run2d(s.vertex_map, l.width, l.height);
+    }
+    setArg(s.normal_map, 0, smooth_normals ? f.smoothed_vertices : l.vertices);
+    setArg(s.normal_map, 1, l.width);
+    setArg(s.normal_map, 2, l.height);
+    setArg(s.normal_map, 3, l.normals);
+    s.run2d(s.normal_map, l.width, l.height);
+  }
+}
+
+NormalEquations OpenClOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {
+  State& s = *state_;
+  const LevelBuffers& cur = s.frames[s.current].levels.at(level);
+  const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
+  s.uploadPose(reference_from_current);
+  cl_kernel k = s.icp_rows;
+  setArg(k, 0, cur.vertices);
+  setArg(k, 1, cur.normals);
+  setArg(k, 2, ref.vertices);
+  setArg(k, 3, ref.normals);
+  setArg(k, 4, cur.width);
+  setArg(k, 5, cur.height);
+  setArg(k, 6, s.pose);
+  setArg(k, 7, s.levelCamera(level));
+  setArg(k, 8, static_cast<float>(s.config.icp_max_distance));
+  setArg(k, 9, static_cast<float>(std::cos(s.config.icp_max_angle_deg * M_PI / 180.0)));
+  check(clSetKernelArg(k, 10, kReductionValues * s.local_size * sizeof(float), nullptr), "clSetKernelArg(local)");
+  setArg(k, 11, s.partials);
+  return s.reduce(k, static_cast<std::size_t>(cur.width) * cur.height);
+}
+
+NormalEquations OpenClOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
+                                                 double huber_threshold) {
+  State& s = *state_;
+  const LevelBuffers& cur = s.frames[s.current].levels.at(level);
+  const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
+  s.uploadPose(reference_from_current);
+  cl_kernel k = s.dvo_rows;
+  setArg(k, 0, cur.vertices);
+  setArg(k, 1, cur.intensity);
+  setArg(k, 2, ref.depth);
+  setArg(k, 3, ref.intensity);
+  setArg(k, 4, ref.gradient_x);
+  setArg(k, 5, ref.gradient_y);
+  setArg(k, 6, cur.width);
+  setArg(k, 7, cur.height);
+  setArg(k, 8, s.pose);
+  setArg(k, 9, s.levelCamera(level));
+  const cl_float4 limits{{static_cast<float>(s.config.rgb_max_depth), static_cast<float>(s.config.rgb_max_depth_difference),
+                          static_cast<float>(s.config.rgb_min_gradient.at(level)), static_cast<float>(huber_threshold)}};
+  setArg(k, 10, limits);
+  check(clSetKernelArg(k, 11, kReductionValues * s.local_size * sizeof(float), nullptr), "clSetKernelArg(local)");
+  setArg(k, 12, s.partials);
+  return s.reduce(k, static_cast<std::size_t>(cur.width) * cur.height);
+}
+
+std::size_t OpenClOdometryBackend::memoryBytes() const {
+  std::size_t bytes = state_->pose.bytes + state_->partials.bytes;
+  for (const FrameBuffers& f : state_->frames) {
+    bytes += f.rgb.bytes + f.raw_depth.bytes + f.smoothed_depth.bytes + f.smoothed_vertices.bytes;
+    for (const LevelBuffers& l : f.levels) {
+      bytes += l.depth.bytes + l.intensity.bytes + l.gradient_x.bytes + l.gradient_y.bytes + l.vertices.bytes +
+               l.normals.bytes;
+    }
+  }
+  return bytes;
+}
+
+}  // namespace vocal

@@ -1,0 +1,185 @@
+// Accuracy of the estimator against synthetic ground truth, and its behaviour on bad input.
+// Uses the OpenCL backend (PoCL in CI) when a platform exists, else the CPU reference.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+#include "vocal/core/synthetic_sequence.h"
+#include "vocal/core/trajectory_evaluation.h"
+#include "vocal/odometry/icp_dvo_odometry.h"
+
+namespace {
+struct RunSummary {
+  vocal::Trajectory estimate, truth;
+  double worst_translation_error = 0.0;  // per frame, metres
+  double worst_rotation_error_deg = 0.0;
+  int untrusted = 0;
+  std::string first_failure;
+};
+
+RunSummary runOnScene(vocal::SceneVariant variant, vocal::OdometryMode mode, int frames, bool kinect_noise,
+                      int width = 320, int height = 240) {
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(variant);
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(width, height);
+  vocal::SyntheticTrajectoryOptions options;
+  options.frames = frames;
+  const vocal::Trajectory truth = vocal::generateSyntheticTrajectory(scene.workspace(), options);
+  vocal::OdometryConfig config;
+  config.mode = mode;
+  vocal::IcpDvoOdometry odometry(camera, config);
+  odometry.reset(truth.front().pose);
+  const vocal::RgbdSensorModel model = kinect_noise ? vocal::kinectLikeSensorModel() : vocal::RgbdSensorModel{};
+  RunSummary summary;
+  summary.truth = truth;
+  for (int i = 0; i < frames; ++i) {
+    const vocal::RgbdFrame frame = vocal::renderSyntheticFrame(scene, camera, truth[i], model, 100 + i);
+    const vocal::OdometryResult result = odometry.track(frame);
+    summary.estimate.push_back({frame.stamp, result.pose});
+    if (i == 0) continue;
+    if (!result.quality.trusted) {
+      if (summary.untrusted++ == 0) summary.first_failure = result.failure;
+      continue;
+    }
+    const Eigen::Isometry3d true_increment = truth[i - 1].pose.inverse() * truth[i].pose;
+    const Eigen::Isometry3d error = true_increment.inverse() * result.increment;
+    summary.worst_translation_error = std::max(summary.worst_translation_error, error.translation().norm());
+    summary.worst_rotation_error_deg = std::max(summary.worst_rotation_error_deg, vocal::rotationAngle(error) * 180 / M_PI);
+  }
+  return summary;
+}
+
+vocal::RgbdFrame wallFrame(const vocal::PinholeCamera& camera) {
+  const vocal::SyntheticScene wall = vocal::SyntheticScene::make(vocal::SceneVariant::kTexturedWall);
+  const vocal::Trajectory path = vocal::generateSyntheticTrajectory(wall.workspace(), {});
+  return vocal::renderSyntheticFrame(wall, camera, path[0], {}, 0);
+}
+}  // namespace
+
+TEST(OdometryAccuracy, NoiseFreeFramesAreExact) {
+  const RunSummary run = runOnScene(vocal::SceneVariant::kIndoorRoom, vocal::OdometryMode::kFused, 20, false);
+  EXPECT_EQ(run.untrusted, 0) << run.first_failure;
+  EXPECT_LT(run.worst_translation_error, 0.001);
+  EXPECT_LT(run.worst_rotation_error_deg, 0.05);
+  std::cout << "noise-free: worst per-frame error " << run.worst_translation_error * 1000 << " mm, "
+            << run.worst_rotation_error_deg << " deg\n";
+}
+
+TEST(OdometryAccuracy, KinectNoiseKeepsAteUnderOneCentimetre) {
+  const RunSummary run = runOnScene(vocal::SceneVariant::kIndoorRoom, vocal::OdometryMode::kFused, 100, true);
+  EXPECT_EQ(run.untrusted, 0) << run.first_failure;
+  const vocal::AteResult ate = vocal::computeAte(run.truth, run.estimate);
+  EXPECT_LT(ate.rmse, 0.01);
+  std::cout << "Kinect-like noise, 100 frames: ATE RMSE " << ate.rmse * 1000 << " mm\n";
+}
+
+TEST(OdometryAccuracy, DvoTracksAFlatWallWhereIcpIsDegenerate) {
+  const RunSummary rgb = runOnScene(vocal::SceneVariant::kTexturedWall, vocal::OdometryMode::kRgb, 30, false);
+  EXPECT_EQ(rgb.untrusted, 0) << rgb.first_failure;
+  EXPECT_LT(vocal::computeAte(rgb.truth, rgb.estimate).rmse, 0.005);
+  const RunSummary icp = runOnScene(vocal::SceneVariant::kTexturedWall, vocal::OdometryMode::kIcp, 30, false);
+  EXPECT_EQ(icp.untrusted, 29) << "ICP on one plane must report degeneracy, not a pose";
+  EXPECT_NE(icp.first_failure.find("degenerate"), std::string::npos) << icp.first_failure;
+  const RunSummary fused = runOnScene(vocal::SceneVariant::kTexturedWall, vocal::OdometryMode::kFused, 30, false);
+  EXPECT_EQ(fused.untrusted, 0) << fused.first_failure;
+  EXPECT_LT(vocal::computeAte(fused.truth, fused.estimate).rmse, 0.005);
+}
+
+TEST(OdometryAccuracy, IcpTracksAnUntexturedRoom) {
+  const RunSummary icp = runOnScene(vocal::SceneVariant::kBareRoom, vocal::OdometryMode::kIcp, 30, false);
+  EXPECT_EQ(icp.untrusted, 0) << icp.first_failure;
+  EXPECT_LT(vocal::computeAte(icp.truth, icp.estimate).rmse, 0.005);
+  const RunSummary fused = runOnScene(vocal::SceneVariant::kBareRoom, vocal::OdometryMode::kFused, 30, false);
+  EXPECT_EQ(fused.untrusted, 0) << fused.first_failure;
+  EXPECT_LT(vocal::computeAte(fused.truth, fused.estimate).rmse, 0.005);
+}
+
+TEST(OdometryBadInput, SizeMismatchesAreErrors) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  vocal::IcpDvoOdometry odometry(camera, vocal::OdometryConfig{});
+  vocal::RgbdFrame frame = wallFrame(camera);
+  frame.depth = vocal::DepthImage(80, 60, 1.0f);
+  try {
+    odometry.track(frame);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "odometry frame: colour image is 160x120 but depth image is 80x60 (depth must be registered to colour)");
+  }
+  const vocal::RgbdFrame big = wallFrame(vocal::defaultKinectCamera(320, 240));
+  try {
+    odometry.track(big);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "odometry frame: images are 320x240 but the camera is 160x120");
+  }
+}
+
+TEST(OdometryBadInput, InvalidDepthIsReportedNotTracked) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  vocal::IcpDvoOdometry odometry(camera, vocal::OdometryConfig{});
+  const vocal::RgbdFrame good = wallFrame(camera);
+  vocal::RgbdFrame empty = good;
+  for (float& z : empty.depth.pixels()) z = 0.0f;
+  vocal::RgbdFrame nan = good;
+  for (float& z : nan.depth.pixels()) z = std::numeric_limits<float>::quiet_NaN();
+  odometry.track(good);
+  for (const vocal::RgbdFrame* bad : {&empty, &nan}) {
+    const vocal::OdometryResult result = odometry.track(*bad);
+    EXPECT_FALSE(result.quality.trusted);
+    EXPECT_EQ(result.failure, "too few ICP inliers (0 < 500)");
+    EXPECT_TRUE(result.increment.isApprox(Eigen::Isometry3d::Identity()));
+    EXPECT_TRUE(result.pose.isApprox(Eigen::Isometry3d::Identity()));
+  }
+}
+
+TEST(OdometryBadInput, SomeNanDepthIsIgnored) {
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  vocal::SyntheticTrajectoryOptions options;
+  options.frames = 3;
+  const vocal::Trajectory truth = vocal::generateSyntheticTrajectory(scene.workspace(), options);
+  vocal::IcpDvoOdometry odometry(camera, vocal::OdometryConfig{});
+  vocal::OdometryResult result;
+  for (int i = 0; i < 3; ++i) {
+    vocal::RgbdFrame frame = vocal::renderSyntheticFrame(scene, camera, truth[i], {}, 0);
+    for (std::size_t p = i; p < frame.depth.size(); p += 7) frame.depth.pixels()[p] = std::numeric_limits<float>::quiet_NaN();
+    result = odometry.track(frame);
+  }
+  ASSERT_TRUE(result.quality.trusted) << result.failure;
+  const Eigen::Isometry3d error = (truth[1].pose.inverse() * truth[2].pose).inverse() * result.increment;
+  EXPECT_LT(error.translation().norm(), 0.001);
+}
+
+TEST(OdometryBadInput, NeitherTextureNorStructureIsReported) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  for (vocal::OdometryMode mode : {vocal::OdometryMode::kFused, vocal::OdometryMode::kRgb}) {
+    vocal::OdometryConfig config;
+    config.mode = mode;
+    vocal::IcpDvoOdometry odometry(camera, config);
+    vocal::RgbdFrame blank = wallFrame(camera);
+    for (vocal::Rgb8& p : blank.color.pixels()) p = {128, 128, 128};
+    odometry.track(blank);
+    const vocal::OdometryResult result = odometry.track(blank);
+    EXPECT_FALSE(result.quality.trusted) << vocal::odometryModeName(mode);
+    EXPECT_FALSE(result.failure.empty());
+    EXPECT_TRUE(result.increment.isApprox(Eigen::Isometry3d::Identity()));
+  }
+}
+
+TEST(OdometryBadInput, ConfigErrorsNameTheSetting) {
+  vocal::OdometryConfig config;
+  config.iterations = {10, 5};
+  try {
+    vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "odometry config: iterations lists 2 values for 3 levels");
+  }
+  vocal::PinholeCamera camera = vocal::defaultKinectCamera();
+  camera.fy = -1.0;
+  EXPECT_THROW(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}), vocal::InputError);
+}
