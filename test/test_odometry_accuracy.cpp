@@ -6,11 +6,14 @@
 #include <cmath>
 #include <limits>
 
+#include "test_support.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/synthetic_sequence.h"
 #include "vocal/core/trajectory_evaluation.h"
+#include "vocal/core/tum_sequence.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/odometry/odometry_config_yaml.h"
 
 namespace {
 struct RunSummary {
@@ -182,4 +185,70 @@ TEST(OdometryBadInput, ConfigErrorsNameTheSetting) {
   vocal::PinholeCamera camera = vocal::defaultKinectCamera();
   camera.fy = -1.0;
   EXPECT_THROW(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}), vocal::InputError);
+}
+
+// Real Kinect frames (TUM freiburg1_xyz, first 300) when ../shared/data/tum is there: frame-to-frame RPE
+// at most 0.026 m/s, dense visual odometry's published figure on that sequence (Kerl et al. 2013).
+TEST(OdometryRealData, Freiburg1XyzRpeWithinPublishedDvo) {
+  const std::string folder = vocal_test::tumDataFolder();
+  if (folder.empty()) GTEST_SKIP() << "TUM data not present";
+  const vocal::TumSequence sequence = vocal::TumSequence::open(folder);
+  vocal::IcpDvoOdometry odometry(sequence.camera(), vocal::OdometryConfig{});
+  vocal::Trajectory estimate;
+  int untrusted = 0;
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    const vocal::RgbdFrame frame = sequence.loadFrame(i);
+    const vocal::OdometryResult result = odometry.track(frame);
+    untrusted += !result.quality.trusted;
+    estimate.push_back({frame.stamp, result.pose});
+  }
+  const vocal::RpeResult rpe = vocal::computeRpe(sequence.groundTruth(), estimate);
+  const vocal::AteResult ate = vocal::computeAte(sequence.groundTruth(), estimate);
+  std::cout << "freiburg1_xyz (" << sequence.size() << " frames, " << odometry.backend().name()
+            << "): RPE " << rpe.translation_rmse_m_per_s << " m/s, " << rpe.rotation_rmse_deg_per_s
+            << " deg/s, ATE " << ate.rmse << " m\n";
+  EXPECT_EQ(untrusted, 0);
+  EXPECT_LE(rpe.translation_rmse_m_per_s, 0.026);
+}
+
+TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
+  const vocal::OdometryConfig defaults;
+  const vocal::OdometryConfig file = vocal::readOdometryConfigYaml(std::string(VOCAL_SOURCE_DIR) + "/config/odometry.yaml");
+  EXPECT_EQ(file.mode, defaults.mode);
+  EXPECT_EQ(file.levels, defaults.levels);
+  EXPECT_EQ(file.iterations, defaults.iterations);
+  EXPECT_EQ(file.convergence_translation, defaults.convergence_translation);
+  EXPECT_EQ(file.icp_max_distance, defaults.icp_max_distance);
+  EXPECT_EQ(file.icp_max_angle_deg, defaults.icp_max_angle_deg);
+  EXPECT_EQ(file.depth_smoothing_radius, defaults.depth_smoothing_radius);
+  EXPECT_EQ(file.depth_smoothing_factor, defaults.depth_smoothing_factor);
+  EXPECT_EQ(file.rgb_min_gradient, defaults.rgb_min_gradient);
+  EXPECT_EQ(file.rgb_weight, defaults.rgb_weight);
+  EXPECT_EQ(file.max_condition, defaults.max_condition);
+  EXPECT_EQ(file.backend, defaults.backend);
+}
+
+TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
+  const std::string path = ::testing::TempDir() + "/odometry_bad.yaml";
+  vocal_test::writeText(path, "rgb_weigth: 2\n");
+  try {
+    vocal::readOdometryConfigYaml(path);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": unknown odometry setting 'rgb_weigth'");
+  }
+  vocal_test::writeText(path, "mode: sideways\n");
+  try {
+    vocal::readOdometryConfigYaml(path);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": odometry mode 'sideways' is unknown: expected icp, rgb or fused");
+  }
+  vocal_test::writeText(path, "levels: 2\n");
+  try {
+    vocal::readOdometryConfigYaml(path);
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": odometry config: iterations lists 3 values for 2 levels");
+  }
 }

@@ -85,6 +85,8 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
       if (!x.allFinite()) break;
       T = se3Exp(x) * T;
       ++steps;
+      // Converged: further steps at this level would not move the estimate.
+      if (x.head<3>().norm() < config_.convergence_translation && x.tail<3>().norm() < config_.convergence_rotation) break;
     }
   }
 

@@ -24,6 +24,8 @@ OdometryConfig readOdometryConfigYaml(const std::string& path, const OdometryCon
       {"mode", [&](const YAML::Node& n) { config.mode = parseOdometryMode(n.as<std::string>()); }},
       {"levels", [&](const YAML::Node& n) { config.levels = n.as<int>(); }},
       {"iterations", [&](const YAML::Node& n) { config.iterations = n.as<std::vector<int>>(); }},
+      {"convergence_translation", [&](const YAML::Node& n) { config.convergence_translation = n.as<double>(); }},
+      {"convergence_rotation", [&](const YAML::Node& n) { config.convergence_rotation = n.as<double>(); }},
       {"icp_max_distance", [&](const YAML::Node& n) { config.icp_max_distance = n.as<double>(); }},
       {"icp_max_angle_deg", [&](const YAML::Node& n) { config.icp_max_angle_deg = n.as<double>(); }},
       {"depth_pyramid_sigma", [&](const YAML::Node& n) { config.depth_pyramid_sigma = n.as<double>(); }},

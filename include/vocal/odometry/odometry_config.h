@@ -18,6 +18,9 @@ struct OdometryConfig {
   // the finest level to the coarsest (the solver runs coarse to fine).
   int levels = 3;
   std::vector<int> iterations = {10, 5, 4};
+  // A level stops early once an update moves less than this (metres, radians).
+  double convergence_translation = 1e-5;
+  double convergence_rotation = 1e-5;
 
   // ICP: projective association, then rejection of far or differently oriented pairs.
   double icp_max_distance = 0.10;        // metres
@@ -37,7 +40,7 @@ struct OdometryConfig {
 
   // Fusion: A = A_icp / var_icp + rgb_weight * A_rgb / var_rgb (b likewise), each term scaled by the
   // variance of its residuals in that iteration: 1 trusts both by their measured noise.
-  double rgb_weight = 1.0;
+  double rgb_weight = 3.0;
 
   // Depth outside this range is treated as missing.
   double min_depth = 0.3;

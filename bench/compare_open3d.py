@@ -1,0 +1,165 @@
+#!/usr/bin/python3
+"""Runs vocal and Open3D's RGB-D odometry (hybrid term) on the same TUM-layout frames and prints accuracy
+and speed of both side by side.
+
+  bench/compare_open3d.py TUM_FOLDER [--frames N] [--vocal-args "..."]
+
+Both run frame to frame with a 3-level pyramid and the same iterations (vocal's 10/5/4 from fine to
+coarse), the same intrinsics, depth range and depth-difference threshold. Frames per second count the
+estimator only (image loading excluded), on whatever this machine offers (both use every core).
+Accuracy comes from vocal's evaluate_trajectory for both trajectories.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+try:
+    import open3d as o3d
+except ImportError:
+    sys.exit("compare_open3d: python3-open3d is not installed (apt-get install python3-open3d)")
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOOLS = os.path.join(HERE, "..", "devel", "lib", "vocal")
+# vocal's reference values (OdometryConfig lists 10, 5, 4 from the finest level); Open3D lists its
+# iterations from the coarsest level to the original size.
+ITERATIONS_COARSE_TO_FINE = [4, 5, 10]
+PUBLISHED = {"freiburg1": (517.3, 516.5, 318.6, 255.3), "freiburg2": (520.9, 521.0, 325.1, 249.7),
+             "freiburg3": (535.4, 539.2, 320.1, 247.6)}
+
+
+def read_list(path):
+    entries = []
+    for line in open(path):
+        if line.strip() and not line.startswith("#"):
+            stamp, name = line.split()[:2]
+            entries.append((float(stamp), name))
+    return entries
+
+
+def associate(first, second, max_difference=0.02):
+    """TUM associate.py: closest pairs first, each stamp used once."""
+    candidates = sorted((abs(a - b), i, j) for i, (a, _) in enumerate(first) for j, (b, _) in enumerate(second)
+                        if abs(a - b) < max_difference)
+    used_first, used_second, matches = set(), set(), []
+    for _, i, j in candidates:
+        if i not in used_first and j not in used_second:
+            used_first.add(i)
+            used_second.add(j)
+            matches.append((i, j))
+    return sorted(matches)
+
+
+def intrinsics(folder):
+    camera_yaml = os.path.join(folder, "camera.yaml")
+    if os.path.exists(camera_yaml):
+        text = open(camera_yaml).read()
+        width = int(re.search(r"image_width:\s*(\d+)", text).group(1))
+        height = int(re.search(r"image_height:\s*(\d+)", text).group(1))
+        k = [float(v) for v in re.search(r"camera_matrix:.*?data:\s*\[([^\]]*)\]", text, re.S).group(1).split(",")]
+        return width, height, k[0], k[4], k[2], k[5]
+    for name, (fx, fy, cx, cy) in PUBLISHED.items():
+        if name in folder:
+            return 640, 480, fx, fy, cx, cy
+    return 640, 480, 525.0, 525.0, 319.5, 239.5
+
+
+def run_open3d(folder, frames, output):
+    rgb = read_list(os.path.join(folder, "rgb.txt"))
+    depth = read_list(os.path.join(folder, "depth.txt"))
+    pairs = associate(rgb, depth)[:frames]
+    width, height, fx, fy, cx, cy = intrinsics(folder)
+    camera = o3d.camera.PinholeCameraIntrinsic(width, height, fx, fy, cx, cy)
+    option = o3d.pipelines.odometry.OdometryOption(
+        iteration_number_per_pyramid_level=o3d.utility.IntVector(ITERATIONS_COARSE_TO_FINE),
+        depth_diff_max=0.07, depth_min=0.3, depth_max=6.0)
+    jacobian = o3d.pipelines.odometry.RGBDOdometryJacobianFromHybridTerm()
+    pose = np.eye(4)
+    previous = None
+    seconds = 0.0
+    failures = 0
+    lines = []
+    for i, j in pairs:
+        color = o3d.io.read_image(os.path.join(folder, rgb[i][1]))
+        depth_image = o3d.io.read_image(os.path.join(folder, depth[j][1]))
+        current = o3d.geometry.RGBDImage.create_from_color_and_depth(
+            color, depth_image, depth_scale=5000.0, depth_trunc=6.0, convert_rgb_to_intensity=True)
+        if previous is not None:
+            start = time.perf_counter()
+            # source = current, target = previous: the result maps current points into the previous frame.
+            success, transform, _ = o3d.pipelines.odometry.compute_rgbd_odometry(
+                current, previous, camera, np.eye(4), jacobian, option)
+            seconds += time.perf_counter() - start
+            if success:
+                pose = pose @ transform
+            else:
+                failures += 1
+        previous = current
+        q = quaternion(pose[:3, :3])
+        lines.append("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f" % (rgb[i][0], *pose[:3, 3], *q))
+    with open(output, "w") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw\n" + "\n".join(lines) + "\n")
+    return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
+
+
+def quaternion(R):
+    w = np.sqrt(max(0.0, 1.0 + R[0, 0] + R[1, 1] + R[2, 2])) / 2
+    x = np.sqrt(max(0.0, 1.0 + R[0, 0] - R[1, 1] - R[2, 2])) / 2
+    y = np.sqrt(max(0.0, 1.0 - R[0, 0] + R[1, 1] - R[2, 2])) / 2
+    z = np.sqrt(max(0.0, 1.0 - R[0, 0] - R[1, 1] + R[2, 2])) / 2
+    x = np.copysign(x, R[2, 1] - R[1, 2])
+    y = np.copysign(y, R[0, 2] - R[2, 0])
+    z = np.copysign(z, R[1, 0] - R[0, 1])
+    return x, y, z, w
+
+
+def metrics(output):
+    values = {}
+    for line in output.splitlines():
+        match = re.match(r"^(\w+): ([-0-9.e+]+)$", line.strip())
+        if match:
+            values[match.group(1)] = float(match.group(2))
+    return values
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("folder")
+    parser.add_argument("--frames", type=int, default=100000)
+    parser.add_argument("--vocal-args", default="", help="extra arguments for tum_odometry")
+    parser.add_argument("--workdir", default="/tmp")
+    args = parser.parse_args()
+    ground_truth = os.path.join(args.folder, "groundtruth.txt")
+    if not os.path.exists(ground_truth):
+        sys.exit(f"compare_open3d: {ground_truth} is missing: accuracy needs ground truth")
+
+    vocal_trajectory = os.path.join(args.workdir, "vocal_trajectory.txt")
+    command = [os.path.join(TOOLS, "tum_odometry"), args.folder, "--output", vocal_trajectory, "--quiet",
+               "--frames", str(args.frames)] + args.vocal_args.split()
+    vocal_run = subprocess.run(command, capture_output=True, text=True)
+    if vocal_run.returncode != 0:
+        sys.exit("compare_open3d: tum_odometry failed:\n" + vocal_run.stderr)
+    vocal = metrics(vocal_run.stdout)
+    backend = re.search(r"backend (.*)", vocal_run.stderr)
+
+    open3d_trajectory = os.path.join(args.workdir, "open3d_trajectory.txt")
+    frames, open3d_fps, open3d_failures = run_open3d(args.folder, args.frames, open3d_trajectory)
+    evaluation = subprocess.run([os.path.join(TOOLS, "evaluate_trajectory"), ground_truth, open3d_trajectory],
+                                capture_output=True, text=True, check=True)
+    open3d = metrics(evaluation.stdout)
+    open3d["frames_per_second"] = open3d_fps
+    open3d["tracking_failures"] = open3d_failures
+
+    print(f"sequence: {args.folder} ({frames} frames)")
+    print(f"vocal backend: {backend.group(1) if backend else '?'}; Open3D {o3d.__version__} hybrid term")
+    print(f"{'metric':<22}{'vocal':>12}{'open3d':>12}")
+    for key in ["frames_per_second", "ate_rmse_m", "rpe_trans_m_per_s", "rpe_rot_deg_per_s", "tracking_failures"]:
+        print(f"{key:<22}{vocal.get(key, float('nan')):>12.4f}{open3d.get(key, float('nan')):>12.4f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,129 @@
+// Google Benchmark of the odometry per stage and per frame pair, CPU reference vs OpenCL, at 640x480
+// and 320x240, on synthetic Kinect-like frames (no data needed).
+//   devel/lib/vocal/odometry_benchmark [--benchmark_filter=...]
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/synthetic_sequence.h"
+#include "vocal/odometry/cpu_backend.h"
+#include "vocal/odometry/icp_dvo_odometry.h"
+#ifdef VOCAL_HAVE_OPENCL
+#include "vocal/odometry/opencl_backend.h"
+#endif
+
+namespace {
+enum Backend { kCpu = 0, kOpenCl = 1 };
+
+struct Frames {
+  vocal::PinholeCamera camera;
+  std::vector<vocal::RgbdFrame> frames;
+  vocal::Trajectory truth;
+};
+
+const Frames& frames(int width) {
+  static std::map<int, Frames> cache;
+  auto it = cache.find(width);
+  if (it != cache.end()) return it->second;
+  Frames f;
+  f.camera = vocal::defaultKinectCamera(width, width * 3 / 4);
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  vocal::SyntheticTrajectoryOptions options;
+  options.frames = 8;
+  f.truth = vocal::generateSyntheticTrajectory(scene.workspace(), options);
+  for (int i = 0; i < options.frames; ++i) {
+    f.frames.push_back(vocal::renderSyntheticFrame(scene, f.camera, f.truth[i], vocal::kinectLikeSensorModel(), i));
+  }
+  return cache.emplace(width, std::move(f)).first->second;
+}
+
+std::unique_ptr<vocal::OdometryBackend> makeBackend(Backend backend, const vocal::PinholeCamera& camera,
+                                                    const vocal::OdometryConfig& config) {
+  if (backend == kCpu) return std::make_unique<vocal::CpuOdometryBackend>(camera, config);
+#ifdef VOCAL_HAVE_OPENCL
+  return std::make_unique<vocal::OpenClOdometryBackend>(camera, config);
+#else
+  throw vocal::InputError("OpenCL backend not built");
+#endif
+}
+
+bool skipUnavailable(benchmark::State& state, Backend backend, const vocal::PinholeCamera& camera,
+                     const vocal::OdometryConfig& config, std::unique_ptr<vocal::OdometryBackend>* out) {
+  try {
+    *out = makeBackend(backend, camera, config);
+    state.SetLabel((*out)->name());
+    return false;
+  } catch (const vocal::InputError& e) {
+    state.SkipWithError(e.what());
+    return true;
+  }
+}
+
+void BM_Preprocess(benchmark::State& state) {
+  const Frames& f = frames(static_cast<int>(state.range(1)));
+  std::unique_ptr<vocal::OdometryBackend> backend;
+  if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, {}, &backend)) return;
+  std::size_t i = 0;
+  for (auto _ : state) backend->pushFrame(f.frames[i++ % f.frames.size()]);
+  state.counters["memory_MB"] = backend->memoryBytes() / 1048576.0;
+}
+
+void systemBenchmark(benchmark::State& state, bool icp) {
+  const Frames& f = frames(static_cast<int>(state.range(1)));
+  const int level = static_cast<int>(state.range(2));
+  std::unique_ptr<vocal::OdometryBackend> backend;
+  if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, {}, &backend)) return;
+  backend->pushFrame(f.frames[0]);
+  backend->pushFrame(f.frames[1]);
+  const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(icp ? backend->icpSystem(level, T) : backend->rgbSystem(level, T, 0.02));
+  }
+}
+void BM_IcpSystem(benchmark::State& state) { systemBenchmark(state, true); }
+void BM_RgbSystem(benchmark::State& state) { systemBenchmark(state, false); }
+
+// Preprocessing of the new frame plus the full coarse-to-fine solve: the cost of one frame of odometry.
+void BM_FramePair(benchmark::State& state) {
+  const Frames& f = frames(static_cast<int>(state.range(1)));
+  vocal::OdometryConfig config;
+  config.mode = static_cast<vocal::OdometryMode>(state.range(2));
+  std::unique_ptr<vocal::OdometryBackend> backend;
+  if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, config, &backend)) return;
+  vocal::IcpDvoOdometry odometry(f.camera, config, std::move(backend));
+  std::size_t i = 0;
+  for (auto _ : state) odometry.track(f.frames[i++ % f.frames.size()]);
+  state.counters["frames_per_second"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void stageArguments(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"opencl", "width"});
+  for (int backend : {kCpu, kOpenCl})
+    for (int width : {640, 320}) b->Args({backend, width});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+void levelArguments(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"opencl", "width", "level"});
+  for (int backend : {kCpu, kOpenCl})
+    for (int width : {640, 320}) b->Args({backend, width, 0});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+void pairArguments(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"opencl", "width", "mode"});
+  for (int backend : {kCpu, kOpenCl})
+    for (int width : {640, 320})
+      for (int mode : {static_cast<int>(vocal::OdometryMode::kFused)}) b->Args({backend, width, mode});
+  b->Args({kOpenCl, 640, static_cast<int>(vocal::OdometryMode::kIcp)});
+  b->Args({kOpenCl, 640, static_cast<int>(vocal::OdometryMode::kRgb)});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+}  // namespace
+
+BENCHMARK(BM_Preprocess)->Apply(stageArguments);
+BENCHMARK(BM_IcpSystem)->Apply(levelArguments);
+BENCHMARK(BM_RgbSystem)->Apply(levelArguments);
+BENCHMARK(BM_FramePair)->Apply(pairArguments);
+BENCHMARK_MAIN();
