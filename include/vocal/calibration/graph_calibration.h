@@ -1,0 +1,38 @@
+#pragma once
+// The global calibration: closed-form pairwise estimates chained along the best-connected paths of the
+// sensor graph initialise one Ceres problem over every sensor pose and every target plane, with
+// point-to-plane residuals under a robust loss; the reference sensor stays fixed.
+
+#include <vector>
+
+#include "vocal/calibration/calibration_types.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+struct CalibrationOptions {
+  int reference_sensor = 0;
+  Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
+  double huber_threshold = 0.01;  // metres of point-to-plane distance
+  int max_iterations = 100;
+};
+
+struct SensorCalibration {
+  Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();  // in the rig frame
+  Eigen::Isometry3d pairwise_estimate = Eigen::Isometry3d::Identity();      // chained closed form
+  Vector6d standard_deviation = Vector6d::Zero();  // translation (m) then rotation (rad)
+  double rms = 0.0;                                // point-to-plane, metres
+  int observations = 0;
+};
+
+struct CalibrationResult {
+  std::vector<SensorCalibration> sensors;
+  double rms = 0.0;  // over every point
+};
+
+// Throws InputError naming the sensor when one never sees the target, shares no target pose with the
+// rest (the sensor graph is not connected), or its planes cannot fix its pose.
+CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                               const CalibrationOptions& options = {});
+
+}  // namespace vocal

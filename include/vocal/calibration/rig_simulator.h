@@ -1,0 +1,41 @@
+#pragma once
+// A simulated rig with ground-truth extrinsics observing a planar target moved through M poses: the
+// test data of the calibration. Depth and lidar sensors see points of the target rectangle inside their
+// field of view (a lidar's limited to its rings) with range noise along each ray.
+
+#include <cstdint>
+#include <vector>
+
+#include "vocal/calibration/calibration_types.h"
+
+namespace vocal {
+
+struct SimulatedSensor {
+  SensorSpec spec;
+  Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();
+};
+
+struct RigSimulationOptions {
+  int target_poses = 30;
+  double target_width = 0.9;   // metres
+  double target_height = 0.7;
+  double range_noise = 0.0;    // metres, standard deviation along each ray
+  double tilt_range = 0.6;     // radians: target normals spread up to this from facing the rig
+  bool parallel_targets = false;  // every pose keeps the same orientation (a degenerate data set)
+  std::uint32_t seed = 1;
+};
+
+struct SimulatedRig {
+  std::vector<SimulatedSensor> sensors;
+  std::vector<Eigen::Isometry3d> reference_from_target;  // ground truth per target pose
+  std::vector<TargetObservation> observations;
+};
+
+// A rig of one RGB-D sensor at the reference and others around it, each looking roughly forward (+x).
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors);
+
+// Throws InputError for an unsupported sensor type (camera and 2D laser are not simulated yet) or
+// fewer than 1 target pose.
+SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options);
+
+}  // namespace vocal

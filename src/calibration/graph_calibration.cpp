@@ -1,0 +1,202 @@
+#include "vocal/calibration/graph_calibration.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ceres/sphere_manifold.h>
+
+#include "vocal/calibration/pairwise_initialization.h"
+#include "vocal/calibration/plane.h"
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+// r = n . (q * p + t) + d: a point seen by a sensor must lie on the target's plane (rig frame).
+struct PointOnPlaneResidual {
+  explicit PointOnPlaneResidual(const Eigen::Vector3d& point) : point(point) {}
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    const Eigen::Matrix<T, 3, 1> x = q * point.cast<T>() + t;
+    residual[0] = n.dot(x) + offset[0];
+    return true;
+  }
+
+  Eigen::Vector3d point;
+};
+
+struct SensorState {
+  Eigen::Quaterniond rotation;  // Ceres block, Eigen's (x, y, z, w) memory order
+  Eigen::Vector3d translation;
+};
+
+struct PlaneState {
+  Eigen::Vector3d normal;
+  double offset;
+};
+}  // namespace
+
+CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                               const CalibrationOptions& options) {
+  const int sensor_count = static_cast<int>(sensors.size());
+  if (options.reference_sensor < 0 || options.reference_sensor >= sensor_count) {
+    throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
+                     std::to_string(sensor_count) + " sensors");
+  }
+  // Planes fitted per (sensor, target pose).
+  std::vector<std::map<int, Plane>> planes(sensor_count);
+  std::vector<int> observation_count(sensor_count, 0);
+  for (const TargetObservation& o : observations) {
+    if (o.sensor < 0 || o.sensor >= sensor_count) {
+      throw InputError("calibration: an observation names sensor index " + std::to_string(o.sensor) + " of " +
+                       std::to_string(sensor_count));
+    }
+    planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
+    ++observation_count[o.sensor];
+  }
+  for (int s = 0; s < sensor_count; ++s) {
+    if (observation_count[s] == 0) {
+      throw InputError("calibration: sensor '" + sensors[s].name + "' never sees the target: its pose is unconstrained in all 6 DoF");
+    }
+  }
+
+  // Chain closed-form estimates along a maximum spanning tree (edges weighted by shared poses).
+  auto sharedPoses = [&](int a, int b) {
+    std::vector<int> shared;
+    for (const auto& entry : planes[a])
+      if (planes[b].count(entry.first)) shared.push_back(entry.first);
+    return shared;
+  };
+  std::vector<Eigen::Isometry3d> initial(sensor_count, Eigen::Isometry3d::Identity());
+  std::vector<bool> placed(sensor_count, false);
+  placed[options.reference_sensor] = true;
+  initial[options.reference_sensor] = options.reference_pose;
+  for (int added = 1; added < sensor_count; ++added) {
+    int best_parent = -1, best_child = -1;
+    std::size_t best_shared = 0;
+    for (int a = 0; a < sensor_count; ++a) {
+      if (!placed[a]) continue;
+      for (int b = 0; b < sensor_count; ++b) {
+        if (placed[b]) continue;
+        const std::size_t shared = sharedPoses(a, b).size();
+        if (shared > best_shared) best_shared = shared, best_parent = a, best_child = b;
+      }
+    }
+    if (best_child < 0) {
+      std::string unplaced;
+      for (int s = 0; s < sensor_count; ++s)
+        if (!placed[s]) unplaced += (unplaced.empty() ? "'" : ", '") + sensors[s].name + "'";
+      throw InputError("calibration: the sensor graph is not connected: " + unplaced +
+                       " share no target pose with the reference's group");
+    }
+    std::vector<Plane> in_parent, in_child;
+    for (int k : sharedPoses(best_parent, best_child)) {
+      in_parent.push_back(planes[best_parent][k]);
+      in_child.push_back(planes[best_child][k]);
+    }
+    initial[best_child] = initial[best_parent] * alignPlanes(in_parent, in_child, "calibration of '" + sensors[best_child].name +
+                                                                                    "' against '" + sensors[best_parent].name + "'");
+    placed[best_child] = true;
+  }
+
+  // Parameter blocks.
+  std::vector<SensorState> sensor_state(sensor_count);
+  for (int s = 0; s < sensor_count; ++s) {
+    sensor_state[s].rotation = Eigen::Quaterniond(initial[s].rotation());
+    sensor_state[s].translation = initial[s].translation();
+  }
+  std::map<int, PlaneState> plane_state;
+  for (int s = 0; s < sensor_count; ++s) {
+    for (const auto& entry : planes[s]) {
+      if (plane_state.count(entry.first)) continue;
+      const Plane in_rig = transformPlane(initial[s], entry.second);
+      plane_state[entry.first] = {in_rig.normal, in_rig.offset};
+    }
+  }
+
+  ceres::Problem problem;
+  std::vector<std::vector<ceres::ResidualBlockId>> residuals_of(sensor_count);
+  for (const TargetObservation& o : observations) {
+    SensorState& sensor = sensor_state[o.sensor];
+    PlaneState& plane = plane_state[o.target_pose];
+    for (const Eigen::Vector3d& p : o.points) {
+      auto* cost = new ceres::AutoDiffCostFunction<PointOnPlaneResidual, 1, 4, 3, 3, 1>(new PointOnPlaneResidual(p));
+      residuals_of[o.sensor].push_back(problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_threshold),
+                                                                sensor.rotation.coeffs().data(), sensor.translation.data(),
+                                                                plane.normal.data(), &plane.offset));
+    }
+  }
+  for (int s = 0; s < sensor_count; ++s) {
+    problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
+  for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
+  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
+  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.num_threads = 2;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+
+  CalibrationResult result;
+  result.sensors.resize(sensor_count);
+  double total_squared = 0.0;
+  std::size_t total_points = 0;
+  for (int s = 0; s < sensor_count; ++s) {
+    SensorCalibration& out = result.sensors[s];
+    out.reference_from_sensor = Eigen::Isometry3d::Identity();
+    out.reference_from_sensor.linear() = sensor_state[s].rotation.normalized().toRotationMatrix();
+    out.reference_from_sensor.translation() = sensor_state[s].translation;
+    out.pairwise_estimate = initial[s];
+    out.observations = observation_count[s];
+    ceres::Problem::EvaluateOptions evaluate;
+    evaluate.residual_blocks = residuals_of[s];
+    evaluate.apply_loss_function = false;
+    std::vector<double> values;
+    problem.Evaluate(evaluate, nullptr, &values, nullptr, nullptr);
+    double squared = 0.0;
+    for (double r : values) squared += r * r;
+    out.rms = values.empty() ? 0.0 : std::sqrt(squared / values.size());
+    total_squared += squared;
+    total_points += values.size();
+  }
+  result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
+
+  // Standard deviations from the solver's covariance, scaled by the measured residual variance.
+  ceres::Covariance::Options covariance_options;
+  ceres::Covariance covariance(covariance_options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (int s = 0; s < sensor_count; ++s) {
+    if (s == options.reference_sensor) continue;
+    blocks.emplace_back(sensor_state[s].rotation.coeffs().data(), sensor_state[s].rotation.coeffs().data());
+    blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
+  }
+  if (!blocks.empty() && covariance.Compute(blocks, &problem)) {
+    const double variance = result.rms * result.rms;
+    for (int s = 0; s < sensor_count; ++s) {
+      if (s == options.reference_sensor) continue;
+      Eigen::Matrix3d rotation_covariance, translation_covariance;
+      // The joint covariance of the listed blocks: one block, its 3x3 tangent-space covariance.
+      covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
+      covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(),
+                                    translation_covariance.data());
+      result.sensors[s].standard_deviation.head<3>() = (translation_covariance.diagonal() * variance).cwiseSqrt();
+      result.sensors[s].standard_deviation.tail<3>() = (rotation_covariance.diagonal() * variance).cwiseSqrt();
+    }
+  }
+  return result;
+}
+
+}  // namespace vocal

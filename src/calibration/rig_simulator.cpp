@@ -1,0 +1,111 @@
+#include "vocal/calibration/rig_simulator.h"
+
+#include <cmath>
+#include <random>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+namespace {
+Eigen::Isometry3d makePose(const Eigen::Vector3d& t, const Eigen::Matrix3d& R) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = R;
+  pose.translation() = t;
+  return pose;
+}
+
+// Rays of a sensor in its own frame: a Kinect-like pinhole grid, or a 16-ring lidar.
+std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
+  std::vector<Eigen::Vector3d> rays;
+  if (type == SensorType::kRgbd) {
+    for (int v = 4; v < 480; v += 8)
+      for (int u = 4; u < 640; u += 8) rays.push_back(Eigen::Vector3d((u - 319.5) / 525.0, (v - 239.5) / 525.0, 1.0).normalized());
+  } else if (type == SensorType::kLidar3d) {
+    for (int ring = 0; ring < 16; ++ring) {
+      const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
+      for (int step = 0; step < 1800; ++step) {
+        const double azimuth = step * 0.2 * M_PI / 180.0 - M_PI;
+        rays.push_back({std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)});
+      }
+    }
+  }
+  return rays;
+}
+}  // namespace
+
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors) {
+  std::vector<SimulatedSensor> sensors;
+  for (int i = 0; i < rgbd_sensors; ++i) {
+    SimulatedSensor s;
+    s.spec = {"rgbd" + std::to_string(i), SensorType::kRgbd, "rgbd" + std::to_string(i) + "_optical_frame"};
+    const double yaw = 0.15 * i * (i % 2 ? 1 : -1), pitch = 0.05 * i;
+    s.reference_from_sensor = makePose(Eigen::Vector3d(0.1 * i, 0.25 * i * (i % 2 ? 1 : -1), 0.8 + 0.1 * i),
+                                       rotationFromRollPitchYaw(0.02 * i, pitch, yaw) * bodyFromOpticalRotation());
+    sensors.push_back(s);
+  }
+  for (int i = 0; i < lidar_sensors; ++i) {
+    SimulatedSensor s;
+    s.spec = {"lidar" + std::to_string(i), SensorType::kLidar3d, "lidar" + std::to_string(i)};
+    s.reference_from_sensor = makePose(Eigen::Vector3d(-0.2 + 0.15 * i, 0.3 - 0.6 * i, 1.2 + 0.05 * i),
+                                       rotationFromRollPitchYaw(0.03 - 0.02 * i, 0.04 * i, 0.5 - 0.8 * i));
+    sensors.push_back(s);
+  }
+  return sensors;
+}
+
+SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options) {
+  if (options.target_poses < 1) {
+    throw InputError("rig simulation: target_poses must be at least 1, got " + std::to_string(options.target_poses));
+  }
+  for (const SimulatedSensor& s : sensors) {
+    if (s.spec.type != SensorType::kRgbd && s.spec.type != SensorType::kLidar3d) {
+      throw InputError("rig simulation: sensor '" + s.spec.name + "' is a " + sensorTypeName(s.spec.type) +
+                       ", which the simulator does not model yet (rgbd and lidar3d only)");
+    }
+  }
+  SimulatedRig rig;
+  rig.sensors = sensors;
+  std::mt19937 rng(options.seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::normal_distribution<double> range_noise(0.0, options.range_noise);
+  // The target faces the rig (its z axis along -x of the reference frame) with a random tilt.
+  Eigen::Matrix3d facing;
+  facing << 0, 0, -1,  //
+      1, 0, 0,         //
+      0, -1, 0;
+  for (int k = 0; k < options.target_poses; ++k) {
+    const double yaw = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
+    const double pitch = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
+    const Eigen::Vector3d position(2.0 + 0.4 * unit(rng), 0.5 * unit(rng), 1.0 + 0.25 * unit(rng));
+    rig.reference_from_target.push_back(makePose(position, rotationFromRollPitchYaw(0.0, pitch, yaw) * facing));
+  }
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    const std::vector<Eigen::Vector3d> rays = sensorRays(sensors[s].spec.type);
+    for (int k = 0; k < options.target_poses; ++k) {
+      const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * rig.reference_from_target[k];
+      const Eigen::Isometry3d target_from_sensor = sensor_from_target.inverse();
+      const Eigen::Vector3d normal = sensor_from_target.linear().col(2);
+      const double offset = -normal.dot(sensor_from_target.translation());
+      TargetObservation observation;
+      observation.sensor = static_cast<int>(s);
+      observation.target_pose = k;
+      for (const Eigen::Vector3d& ray : rays) {
+        const double denominator = normal.dot(ray);
+        if (std::abs(denominator) < 1e-9) continue;
+        const double range = -offset / denominator;
+        if (range <= 0.3 || range > 8.0) continue;
+        const Eigen::Vector3d on_target = target_from_sensor * (range * ray);
+        if (std::abs(on_target.x()) > 0.5 * options.target_width || std::abs(on_target.y()) > 0.5 * options.target_height)
+          continue;
+        const double noise = options.range_noise > 0.0 ? range_noise(rng) : 0.0;
+        observation.points.push_back((range + noise) * ray);
+      }
+      if (observation.points.size() >= 30) rig.observations.push_back(std::move(observation));
+    }
+  }
+  return rig;
+}
+
+}  // namespace vocal

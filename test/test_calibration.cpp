@@ -1,0 +1,133 @@
+// MSG-Cal core against simulated rigs with known extrinsics.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/pairwise_initialization.h"
+#include "vocal/calibration/plane.h"
+#include "vocal/calibration/rig_simulator.h"
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace {
+std::vector<vocal::SensorSpec> specs(const vocal::SimulatedRig& rig) {
+  std::vector<vocal::SensorSpec> out;
+  for (const auto& s : rig.sensors) out.push_back(s.spec);
+  return out;
+}
+
+vocal::CalibrationOptions referenceOptions(const vocal::SimulatedRig& rig) {
+  vocal::CalibrationOptions options;
+  options.reference_pose = rig.sensors[0].reference_from_sensor;  // the reference sensor's pose is given
+  return options;
+}
+
+struct Errors {
+  double translation = 0.0, rotation = 0.0;
+};
+
+Errors errorOf(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  const Eigen::Isometry3d difference = truth.inverse() * estimate;
+  return {difference.translation().norm(), vocal::rotationAngle(difference)};
+}
+}  // namespace
+
+TEST(Plane, TransformAndFit) {
+  vocal::Plane plane{Eigen::Vector3d(0, 0, -1), 2.0};  // z = 2, facing the origin
+  vocal::Vector6d twist;
+  twist << 0.3, -0.2, 0.5, 0.1, 0.2, -0.3;
+  const Eigen::Isometry3d a_from_b = vocal::se3Exp(twist);
+  const vocal::Plane in_a = vocal::transformPlane(a_from_b, plane);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(1, -3, 2)}) {
+    EXPECT_NEAR(in_a.signedDistance(a_from_b * p), 0.0, 1e-12);
+  }
+  const vocal::PlaneFit fit = vocal::fitPlane({{0, 0, 2}, {1, 0, 2}, {0, 1, 2}, {1, 1, 2}}, "test");
+  EXPECT_TRUE(fit.plane.normal.isApprox(Eigen::Vector3d(0, 0, -1)));
+  EXPECT_NEAR(fit.plane.offset, 2.0, 1e-12);
+  EXPECT_NEAR(fit.rms, 0.0, 1e-12);
+  try {
+    vocal::fitPlane({{0, 0, 1}, {1, 1, 1}, {2, 2, 1}}, "lidar0");
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "lidar0: the points are collinear, they do not define a plane");
+  }
+}
+
+TEST(Calibration, NoiseFreeRecoversExtrinsicsExactly) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 12;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 2), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const Errors e = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+    EXPECT_LT(e.translation, 1e-6) << rig.sensors[s].spec.name;
+    EXPECT_LT(e.rotation, 1e-6) << rig.sensors[s].spec.name;
+  }
+  EXPECT_LT(result.rms, 1e-6);
+}
+
+TEST(Calibration, MillimetreNoiseStaysWithinFiveMillimetres) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 30;
+  options.range_noise = 0.001;
+  options.seed = 7;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 2), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+    const std::string& name = rig.sensors[s].spec.name;
+    const Errors global = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+    const Errors pairwise = errorOf(result.sensors[s].pairwise_estimate, rig.sensors[s].reference_from_sensor);
+    EXPECT_LT(global.translation, 0.005) << name;
+    EXPECT_LT(global.rotation, 0.005) << name;
+    EXPECT_LE(global.translation, pairwise.translation) << name << ": global must not be worse than pairwise";
+    // The reported uncertainty is of the size of the actual error.
+    EXPECT_GT(result.sensors[s].standard_deviation.head<3>().norm(), 0.0) << name;
+    EXPECT_LT(global.translation, 10.0 * result.sensors[s].standard_deviation.head<3>().norm() + 1e-4) << name;
+    std::cout << name << ": global " << global.translation * 1000 << " mm / " << global.rotation << " rad, pairwise "
+              << pairwise.translation * 1000 << " mm / " << pairwise.rotation << " rad, reported sigma "
+              << result.sensors[s].standard_deviation.head<3>().norm() * 1000 << " mm\n";
+  }
+  EXPECT_NEAR(result.rms, 0.001, 0.0003);  // the residual is the range noise
+}
+
+TEST(Calibration, DegenerateDataNamesTheSensorAndTheProblem) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 10;
+  options.parallel_targets = true;
+  const vocal::SimulatedRig parallel = vocal::simulateRig(vocal::exampleRig(2, 0), options);
+  try {
+    vocal::calibrateRig(specs(parallel), parallel.observations, referenceOptions(parallel));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration of 'rgbd1' against 'rgbd0': the target planes are too close to parallel"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("is unconstrained"), std::string::npos) << e.what();
+  }
+
+  options = vocal::RigSimulationOptions();
+  options.target_poses = 2;
+  const vocal::SimulatedRig few = vocal::simulateRig(vocal::exampleRig(2, 0), options);
+  try {
+    vocal::calibrateRig(specs(few), few.observations, referenceOptions(few));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "calibration of 'rgbd1' against 'rgbd0': 2 shared target poses, at least 3 with non-parallel planes are needed");
+  }
+
+  // A sensor that never sees the target.
+  options = vocal::RigSimulationOptions();
+  options.target_poses = 6;
+  std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(2, 0);
+  sensors[1].reference_from_sensor.linear() = vocal::rotationFromRollPitchYaw(0, 0, M_PI) * sensors[1].reference_from_sensor.linear();
+  const vocal::SimulatedRig blind = vocal::simulateRig(sensors, options);
+  try {
+    vocal::calibrateRig(specs(blind), blind.observations, referenceOptions(blind));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "calibration: sensor 'rgbd1' never sees the target: its pose is unconstrained in all 6 DoF");
+  }
+}
