@@ -131,3 +131,40 @@ TEST(Calibration, DegenerateDataNamesTheSensorAndTheProblem) {
     EXPECT_EQ(std::string(e.what()), "calibration: sensor 'rgbd1' never sees the target: its pose is unconstrained in all 6 DoF");
   }
 }
+
+TEST(Calibration, TwoDimensionalLaserFromItsLinesOnTheTarget) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 30;
+  options.range_noise = 0.001;
+  options.seed = 3;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 1, 2), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+    const std::string& name = rig.sensors[s].spec.name;
+    const Errors global = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+    EXPECT_LT(global.translation, 0.005) << name;
+    EXPECT_LT(global.rotation, 0.005) << name;
+    std::cout << name << ": " << global.translation * 1000 << " mm / " << global.rotation << " rad ("
+              << result.sensors[s].observations << " observations)\n";
+  }
+  // Noise-free, the laser's closed form is exact.
+  options.range_noise = 0.0;
+  const vocal::SimulatedRig exact = vocal::simulateRig(vocal::exampleRig(1, 0, 1), options);
+  const vocal::CalibrationResult exact_result = vocal::calibrateRig(specs(exact), exact.observations, referenceOptions(exact));
+  const Errors laser = errorOf(exact_result.sensors[1].pairwise_estimate, exact.sensors[1].reference_from_sensor);
+  EXPECT_LT(laser.translation, 1e-6);
+  EXPECT_LT(laser.rotation, 1e-6);
+}
+
+TEST(Calibration, LaserWithTooFewLinesIsRefused) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 4;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 0, 1), options);
+  try {
+    vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration of 2D laser 'laser0': "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at least 5 are needed"), std::string::npos) << e.what();
+  }
+}

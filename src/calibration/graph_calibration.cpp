@@ -58,7 +58,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       throw InputError("calibration: an observation names sensor index " + std::to_string(o.sensor) + " of " +
                        std::to_string(sensor_count));
     }
-    planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
+    // A 2D laser sees a line of the target, not a plane: its points join the graph directly.
+    if (sensors[o.sensor].type != SensorType::kLaser2d) {
+      planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
+    }
     ++observation_count[o.sensor];
   }
   for (int s = 0; s < sensor_count; ++s) {
@@ -74,17 +77,24 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       if (planes[b].count(entry.first)) shared.push_back(entry.first);
     return shared;
   };
+  auto isLaser = [&](int s) { return sensors[s].type == SensorType::kLaser2d; };
+  if (isLaser(options.reference_sensor)) {
+    throw InputError("calibration: the reference sensor '" + sensors[options.reference_sensor].name +
+                     "' is a 2D laser; choose a sensor that sees the target's plane");
+  }
   std::vector<Eigen::Isometry3d> initial(sensor_count, Eigen::Isometry3d::Identity());
   std::vector<bool> placed(sensor_count, false);
   placed[options.reference_sensor] = true;
   initial[options.reference_sensor] = options.reference_pose;
-  for (int added = 1; added < sensor_count; ++added) {
+  int plane_sensors = 0;
+  for (int s = 0; s < sensor_count; ++s) plane_sensors += !isLaser(s);
+  for (int added = 1; added < plane_sensors; ++added) {
     int best_parent = -1, best_child = -1;
     std::size_t best_shared = 0;
     for (int a = 0; a < sensor_count; ++a) {
       if (!placed[a]) continue;
       for (int b = 0; b < sensor_count; ++b) {
-        if (placed[b]) continue;
+        if (placed[b] || isLaser(b)) continue;
         const std::size_t shared = sharedPoses(a, b).size();
         if (shared > best_shared) best_shared = shared, best_parent = a, best_child = b;
       }
@@ -92,7 +102,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (best_child < 0) {
       std::string unplaced;
       for (int s = 0; s < sensor_count; ++s)
-        if (!placed[s]) unplaced += (unplaced.empty() ? "'" : ", '") + sensors[s].name + "'";
+        if (!placed[s] && !isLaser(s)) unplaced += (unplaced.empty() ? "'" : ", '") + sensors[s].name + "'";
       throw InputError("calibration: the sensor graph is not connected: " + unplaced +
                        " share no target pose with the reference's group");
     }
@@ -106,6 +116,27 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     placed[best_child] = true;
   }
 
+  // Target planes in the rig frame, from the placed plane-seeing sensors.
+  std::map<int, Plane> rig_planes;
+  for (int s = 0; s < sensor_count; ++s) {
+    for (const auto& entry : planes[s]) {
+      if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
+    }
+  }
+  // 2D lasers: their scan points on those planes.
+  for (int s = 0; s < sensor_count; ++s) {
+    if (!isLaser(s)) continue;
+    std::vector<Plane> seen_planes;
+    std::vector<std::vector<Eigen::Vector3d>> scans;
+    for (const TargetObservation& o : observations) {
+      if (o.sensor != s || !rig_planes.count(o.target_pose)) continue;
+      seen_planes.push_back(rig_planes[o.target_pose]);
+      scans.push_back(o.points);
+    }
+    initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'");
+    placed[s] = true;
+  }
+
   // Parameter blocks.
   std::vector<SensorState> sensor_state(sensor_count);
   for (int s = 0; s < sensor_count; ++s) {
@@ -113,17 +144,12 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     sensor_state[s].translation = initial[s].translation();
   }
   std::map<int, PlaneState> plane_state;
-  for (int s = 0; s < sensor_count; ++s) {
-    for (const auto& entry : planes[s]) {
-      if (plane_state.count(entry.first)) continue;
-      const Plane in_rig = transformPlane(initial[s], entry.second);
-      plane_state[entry.first] = {in_rig.normal, in_rig.offset};
-    }
-  }
+  for (const auto& entry : rig_planes) plane_state[entry.first] = {entry.second.normal, entry.second.offset};
 
   ceres::Problem problem;
   std::vector<std::vector<ceres::ResidualBlockId>> residuals_of(sensor_count);
   for (const TargetObservation& o : observations) {
+    if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
     SensorState& sensor = sensor_state[o.sensor];
     PlaneState& plane = plane_state[o.target_pose];
     for (const Eigen::Vector3d& p : o.points) {

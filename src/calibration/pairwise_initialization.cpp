@@ -42,4 +42,51 @@ Eigen::Isometry3d alignPlanes(const std::vector<Plane>& in_a, const std::vector<
   return a_from_b;
 }
 
+Eigen::Isometry3d alignLaserLines(const std::vector<Plane>& planes_in_rig,
+                                  const std::vector<std::vector<Eigen::Vector3d>>& scan_points, const std::string& what) {
+  if (planes_in_rig.size() != scan_points.size() || planes_in_rig.size() < 5) {
+    throw InputError(what + ": " + std::to_string(std::min(planes_in_rig.size(), scan_points.size())) +
+                     " target poses seen by the 2D laser and a placed sensor, at least 5 are needed (each scan line "
+                     "gives 2 of the 9 linear constraints)");
+  }
+  std::size_t rows = 0;
+  for (const auto& points : scan_points) rows += points.size();
+  Eigen::MatrixXd M(rows, 9);
+  Eigen::VectorXd rhs(rows);
+  std::size_t row = 0;
+  for (std::size_t k = 0; k < planes_in_rig.size(); ++k) {
+    const Plane& plane = planes_in_rig[k];
+    for (const Eigen::Vector3d& p : scan_points[k]) {
+      M.row(row) << p.x() * plane.normal.transpose(), p.y() * plane.normal.transpose(), plane.normal.transpose();
+      rhs[row++] = -plane.offset;
+    }
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd singular = svd.singularValues();
+  if (singular[8] < 1e-6 * singular[0]) {
+    throw InputError(what + ": the scan lines do not fix the 2D laser's pose (smallest/largest singular value " +
+                     std::to_string(singular[8] / singular[0]) + "); tilt and turn the target more between poses");
+  }
+  const Eigen::VectorXd x = svd.solve(rhs);
+  Eigen::Matrix<double, 3, 2> columns;
+  columns << x.segment<3>(0), x.segment<3>(3);
+  // Nearest matrix with orthonormal columns, then the third column by the cross product.
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>> polar(columns, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix<double, 3, 2> orthonormal = polar.matrixU().leftCols<2>() * polar.matrixV().transpose();
+  Eigen::Isometry3d rig_from_laser = Eigen::Isometry3d::Identity();
+  rig_from_laser.linear() << orthonormal.col(0), orthonormal.col(1), orthonormal.col(0).cross(orthonormal.col(1));
+  // t again with the rotation fixed: n . t = -d - n . R p.
+  Eigen::MatrixXd N(rows, 3);
+  Eigen::VectorXd b(rows);
+  row = 0;
+  for (std::size_t k = 0; k < planes_in_rig.size(); ++k) {
+    for (const Eigen::Vector3d& p : scan_points[k]) {
+      N.row(row) = planes_in_rig[k].normal.transpose();
+      b[row++] = -planes_in_rig[k].offset - planes_in_rig[k].normal.dot(rig_from_laser.linear() * p);
+    }
+  }
+  rig_from_laser.translation() = N.colPivHouseholderQr().solve(b);
+  return rig_from_laser;
+}
+
 }  // namespace vocal

@@ -22,6 +22,11 @@ std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
   if (type == SensorType::kRgbd) {
     for (int v = 4; v < 480; v += 8)
       for (int u = 4; u < 640; u += 8) rays.push_back(Eigen::Vector3d((u - 319.5) / 525.0, (v - 239.5) / 525.0, 1.0).normalized());
+  } else if (type == SensorType::kLaser2d) {
+    for (int step = 0; step <= 1080; ++step) {
+      const double azimuth = (-135.0 + 0.25 * step) * M_PI / 180.0;
+      rays.push_back({std::cos(azimuth), std::sin(azimuth), 0.0});
+    }
   } else if (type == SensorType::kLidar3d) {
     for (int ring = 0; ring < 16; ++ring) {
       const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
@@ -35,7 +40,7 @@ std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
 }
 }  // namespace
 
-std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors) {
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors) {
   std::vector<SimulatedSensor> sensors;
   for (int i = 0; i < rgbd_sensors; ++i) {
     SimulatedSensor s;
@@ -52,6 +57,13 @@ std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors) {
                                        rotationFromRollPitchYaw(0.03 - 0.02 * i, 0.04 * i, 0.5 - 0.8 * i));
     sensors.push_back(s);
   }
+  for (int i = 0; i < laser_sensors; ++i) {
+    SimulatedSensor s;
+    s.spec = {"laser" + std::to_string(i), SensorType::kLaser2d, "laser" + std::to_string(i)};
+    s.reference_from_sensor = makePose(Eigen::Vector3d(0.25, -0.1 + 0.2 * i, 0.95 + 0.1 * i),
+                                       rotationFromRollPitchYaw(0.06 - 0.04 * i, 0.03 + 0.02 * i, -0.1 + 0.2 * i));
+    sensors.push_back(s);
+  }
   return sensors;
 }
 
@@ -60,9 +72,9 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
     throw InputError("rig simulation: target_poses must be at least 1, got " + std::to_string(options.target_poses));
   }
   for (const SimulatedSensor& s : sensors) {
-    if (s.spec.type != SensorType::kRgbd && s.spec.type != SensorType::kLidar3d) {
-      throw InputError("rig simulation: sensor '" + s.spec.name + "' is a " + sensorTypeName(s.spec.type) +
-                       ", which the simulator does not model yet (rgbd and lidar3d only)");
+    if (s.spec.type == SensorType::kCamera) {
+      throw InputError("rig simulation: sensor '" + s.spec.name +
+                       "' is a camera, which the simulator does not model yet (rgbd, lidar3d and laser2d only)");
     }
   }
   SimulatedRig rig;
@@ -102,7 +114,8 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
         const double noise = options.range_noise > 0.0 ? range_noise(rng) : 0.0;
         observation.points.push_back((range + noise) * ray);
       }
-      if (observation.points.size() >= 30) rig.observations.push_back(std::move(observation));
+      const std::size_t minimum = sensors[s].spec.type == SensorType::kLaser2d ? 10 : 30;
+      if (observation.points.size() >= minimum) rig.observations.push_back(std::move(observation));
     }
   }
   return rig;

@@ -1,7 +1,8 @@
 #pragma once
 // A simulated rig with ground-truth extrinsics observing a planar target moved through M poses: the
 // test data of the calibration. Depth and lidar sensors see points of the target rectangle inside their
-// field of view (a lidar's limited to its rings) with range noise along each ray.
+// field of view (a lidar's limited to its rings, a 2D laser's to its scan plane) with range noise along
+// each ray.
 
 #include <cstdint>
 #include <vector>
@@ -31,11 +32,12 @@ struct SimulatedRig {
   std::vector<TargetObservation> observations;
 };
 
-// A rig of one RGB-D sensor at the reference and others around it, each looking roughly forward (+x).
-std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors);
+// A rig of RGB-D sensors (the first at the reference), 16-ring lidars and 2D lasers (270 degrees,
+// 0.25 degree steps), each looking roughly forward (+x).
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0);
 
-// Throws InputError for an unsupported sensor type (camera and 2D laser are not simulated yet) or
-// fewer than 1 target pose.
+// Throws InputError for an unsupported sensor type (cameras are not simulated yet) or fewer than 1
+// target pose.
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options);
 
 }  // namespace vocal
