@@ -1,5 +1,6 @@
 #include "vocal/calibration/graph_calibration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -49,6 +50,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   if (options.reference_sensor < 0 || options.reference_sensor >= sensor_count) {
     throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
                      std::to_string(sensor_count) + " sensors");
+  }
+  if (options.max_points_per_observation < 3) {
+    throw InputError("calibration: max_points_per_observation must be at least 3, got " +
+                     std::to_string(options.max_points_per_observation));
   }
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
@@ -152,7 +157,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
     SensorState& sensor = sensor_state[o.sensor];
     PlaneState& plane = plane_state[o.target_pose];
-    for (const Eigen::Vector3d& p : o.points) {
+    const std::size_t stride =
+        std::max<std::size_t>(1, (o.points.size() + options.max_points_per_observation - 1) / options.max_points_per_observation);
+    for (std::size_t i = 0; i < o.points.size(); i += stride) {
+      const Eigen::Vector3d& p = o.points[i];
       auto* cost = new ceres::AutoDiffCostFunction<PointOnPlaneResidual, 1, 4, 3, 3, 1>(new PointOnPlaneResidual(p));
       residuals_of[o.sensor].push_back(problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_threshold),
                                                                 sensor.rotation.coeffs().data(), sensor.translation.data(),

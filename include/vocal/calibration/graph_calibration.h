@@ -15,6 +15,9 @@ struct CalibrationOptions {
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
   double huber_threshold = 0.01;  // metres of point-to-plane distance
   int max_iterations = 100;
+  // Points of one observation that enter the graph, taken evenly; planes are fitted from all of them.
+  // A dense sensor gives thousands of points per view, which add solve time but little information.
+  int max_points_per_observation = 250;
 };
 
 struct SensorCalibration {
