@@ -4,6 +4,13 @@
 
 #include <cmath>
 
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/graph_calibration.h"
 #include "vocal/calibration/pairwise_initialization.h"
 #include "vocal/calibration/plane.h"
@@ -167,4 +174,48 @@ TEST(Calibration, LaserWithTooFewLinesIsRefused) {
     EXPECT_NE(std::string(e.what()).find("calibration of 2D laser 'laser0': "), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("at least 5 are needed"), std::string::npos) << e.what();
   }
+}
+
+TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 10;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(1, 1, 0), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  const std::string folder = ::testing::TempDir();
+  vocal::writeCalibrationYaml(folder + "/rig.yaml", "base_link", specs(rig), result);
+  vocal::writeUrdfSnippet(folder + "/rig.urdf", "base_link", specs(rig), result);
+  vocal::writeStaticTransformLaunch(folder + "/rig.launch", "base_link", specs(rig), result);
+
+  const YAML::Node yaml = YAML::LoadFile(folder + "/rig.yaml");
+  EXPECT_EQ(yaml["reference_frame"].as<std::string>(), "base_link");
+  ASSERT_EQ(yaml["sensors"].size(), 2u);
+  const YAML::Node lidar = yaml["sensors"][1];
+  EXPECT_EQ(lidar["frame_id"].as<std::string>(), "lidar0");
+  EXPECT_EQ(lidar["parent"].as<std::string>(), "base_link");
+  const auto t = lidar["translation"].as<std::vector<double>>();
+  const auto q = lidar["rotation"].as<std::vector<double>>();
+  ASSERT_EQ(t.size(), 3u);
+  ASSERT_EQ(q.size(), 4u);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+  const Errors e = errorOf(pose, rig.sensors[1].reference_from_sensor);
+  EXPECT_LT(e.translation, 1e-6);
+  EXPECT_LT(e.rotation, 1e-6);
+  EXPECT_EQ(lidar["translation_stddev"].as<std::vector<double>>().size(), 3u);
+
+  // The URDF's rpy reproduces the rotation.
+  std::ifstream urdf(folder + "/rig.urdf");
+  const std::string text((std::istreambuf_iterator<char>(urdf)), std::istreambuf_iterator<char>());
+  const auto at = text.find("rpy=\"", text.find("<child link=\"lidar0\"/>"));
+  ASSERT_NE(at, std::string::npos);
+  std::istringstream rpy(text.substr(at + 5));
+  double roll, pitch, yaw;
+  rpy >> roll >> pitch >> yaw;
+  EXPECT_TRUE(vocal::rotationFromRollPitchYaw(roll, pitch, yaw).isApprox(rig.sensors[1].reference_from_sensor.linear(), 1e-6));
+
+  std::ifstream launch(folder + "/rig.launch");
+  const std::string launch_text((std::istreambuf_iterator<char>(launch)), std::istreambuf_iterator<char>());
+  EXPECT_NE(launch_text.find("type=\"static_transform_publisher\" name=\"lidar0_extrinsic\""), std::string::npos);
+  EXPECT_NE(launch_text.find(" base_link lidar0\"/>"), std::string::npos);
 }

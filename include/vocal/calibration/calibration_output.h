@@ -1,0 +1,22 @@
+#pragma once
+// A calibration result as the files a ROS user applies: the result YAML of the design (per sensor:
+// frame_id, parent, translation, rotation and their standard deviations), a URDF snippet of fixed
+// joints, and a launch file of static transform publishers.
+
+#include <string>
+#include <vector>
+
+#include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/graph_calibration.h"
+
+namespace vocal {
+
+// Each throws InputError naming the file when it cannot be written.
+void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result);
+void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
+                      const CalibrationResult& result);
+void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,
+                                const std::vector<SensorSpec>& sensors, const CalibrationResult& result);
+
+}  // namespace vocal
