@@ -219,3 +219,64 @@ TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
   EXPECT_NE(launch_text.find("type=\"static_transform_publisher\" name=\"lidar0_extrinsic\""), std::string::npos);
   EXPECT_NE(launch_text.find(" base_link lidar0\"/>"), std::string::npos);
 }
+
+// 20 % of the observations see another surface under the target's pose id: the consensus filter finds
+// them and keeps every sensor within the bounds; without it the same data is not.
+TEST(Calibration, ConsensusFilterRejectsOutliers) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 30;
+  options.range_noise = 0.001;
+  options.outlier_fraction = 0.2;
+  options.seed = 11;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 2), options);
+  int outliers = 0;
+  for (bool o : rig.is_outlier) outliers += o;
+  ASSERT_GT(outliers, 15);
+
+  vocal::CalibrationOptions filtered = referenceOptions(rig);
+  const vocal::CalibrationResult with_filter = vocal::calibrateRig(specs(rig), rig.observations, filtered);
+  vocal::CalibrationOptions unfiltered = referenceOptions(rig);
+  unfiltered.consensus_filter = false;
+  const vocal::CalibrationResult without_filter = vocal::calibrateRig(specs(rig), rig.observations, unfiltered);
+
+  int rejected = 0;
+  double worst_without = 0.0;
+  for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+    const std::string& name = rig.sensors[s].spec.name;
+    const Errors good = errorOf(with_filter.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+    const Errors bad = errorOf(without_filter.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+    EXPECT_LT(good.translation, 0.005) << name;
+    EXPECT_LT(good.rotation, 0.005) << name;
+    worst_without = std::max({worst_without, bad.translation, bad.rotation});
+    std::cout << name << ": with filter " << good.translation * 1000 << " mm / " << good.rotation << " rad, without "
+              << bad.translation * 1000 << " mm / " << bad.rotation << " rad\n";
+  }
+  for (const auto& s : with_filter.sensors) rejected += s.rejected_observations;
+  EXPECT_GE(rejected, outliers);
+  EXPECT_GT(worst_without, 0.005) << "without the filter some sensor must leave the bounds";
+}
+
+// Over repeated trials the global graph is at least as accurate as the chained pairwise closed form,
+// in translation and in rotation (the seed's Figure 4.5 comparison).
+TEST(Calibration, GlobalIsNoWorseThanPairwiseOnAverage) {
+  const int trials = 10;
+  double global_t = 0, global_r = 0, pairwise_t = 0, pairwise_r = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    vocal::RigSimulationOptions options;
+    options.target_poses = 30;
+    options.range_noise = 0.001;
+    options.seed = 100 + trial;
+    const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 2), options);
+    const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+    for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+      const Errors g = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+      const Errors p = errorOf(result.sensors[s].pairwise_estimate, rig.sensors[s].reference_from_sensor);
+      global_t += g.translation, global_r += g.rotation, pairwise_t += p.translation, pairwise_r += p.rotation;
+    }
+  }
+  std::cout << "mean over " << trials << " trials: global " << global_t / (3 * trials) * 1000 << " mm / "
+            << global_r / (3 * trials) << " rad, pairwise " << pairwise_t / (3 * trials) * 1000 << " mm / "
+            << pairwise_r / (3 * trials) << " rad\n";
+  EXPECT_LE(global_t, pairwise_t);
+  EXPECT_LE(global_r, pairwise_r);
+}

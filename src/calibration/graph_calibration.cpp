@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
@@ -16,21 +17,36 @@
 namespace vocal {
 
 namespace {
-// r = n . (q * p + t) + d: a point seen by a sensor must lie on the target's plane (rig frame).
-struct PointOnPlaneResidual {
-  explicit PointOnPlaneResidual(const Eigen::Vector3d& point) : point(point) {}
+// All points of one observation on the target's plane (rig frame). The sum over the points of
+// (n . (q p + t) + d)^2 equals |F^T v|^2 with v = (q^-1 n, n . t + d) and F F^T the 4x4 moment matrix
+// of the homogeneous points, so one block with 4 residuals carries exactly the information of every
+// point at the cost of one.
+struct ObservationOnPlaneResidual {
+  explicit ObservationOnPlaneResidual(const std::vector<Eigen::Vector3d>& points) {
+    Eigen::Matrix4d moments = Eigen::Matrix4d::Zero();
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
+      moments += h * h.transpose();
+    }
+    // Positive semi-definite (a 2D laser's points span only 3 dimensions): factor by eigenvalues.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(moments);
+    factor_transpose = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+  }
 
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
-    const Eigen::Matrix<T, 3, 1> x = q * point.cast<T>() + t;
-    residual[0] = n.dot(x) + offset[0];
+    Eigen::Matrix<T, 4, 1> v;
+    v.template head<3>() = q.conjugate() * n;
+    v[3] = n.dot(t) + offset[0];
+    Eigen::Map<Eigen::Matrix<T, 4, 1>> out(residual);
+    out = factor_transpose.cast<T>() * v;
     return true;
   }
 
-  Eigen::Vector3d point;
+  Eigen::Matrix4d factor_transpose;
 };
 
 struct SensorState {
@@ -51,10 +67,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
                      std::to_string(sensor_count) + " sensors");
   }
-  if (options.max_points_per_observation < 3) {
-    throw InputError("calibration: max_points_per_observation must be at least 3, got " +
-                     std::to_string(options.max_points_per_observation));
-  }
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
   std::vector<int> observation_count(sensor_count, 0);
@@ -68,6 +80,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
     }
     ++observation_count[o.sensor];
+  }
+  std::set<std::pair<int, int>> rejected;
+  if (options.consensus_filter) {
+    rejected = rejectInconsistentObservations(planes, options.consensus);
+    for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
   for (int s = 0; s < sensor_count; ++s) {
     if (observation_count[s] == 0) {
@@ -152,20 +169,17 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const auto& entry : rig_planes) plane_state[entry.first] = {entry.second.normal, entry.second.offset};
 
   ceres::Problem problem;
-  std::vector<std::vector<ceres::ResidualBlockId>> residuals_of(sensor_count);
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
+    if (rejected.count({o.sensor, o.target_pose})) continue;
     SensorState& sensor = sensor_state[o.sensor];
     PlaneState& plane = plane_state[o.target_pose];
-    const std::size_t stride =
-        std::max<std::size_t>(1, (o.points.size() + options.max_points_per_observation - 1) / options.max_points_per_observation);
-    for (std::size_t i = 0; i < o.points.size(); i += stride) {
-      const Eigen::Vector3d& p = o.points[i];
-      auto* cost = new ceres::AutoDiffCostFunction<PointOnPlaneResidual, 1, 4, 3, 3, 1>(new PointOnPlaneResidual(p));
-      residuals_of[o.sensor].push_back(problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_threshold),
-                                                                sensor.rotation.coeffs().data(), sensor.translation.data(),
-                                                                plane.normal.data(), &plane.offset));
-    }
+    auto* cost = new ceres::AutoDiffCostFunction<ObservationOnPlaneResidual, 4, 4, 3, 3, 1>(
+        new ObservationOnPlaneResidual(o.points));
+    // Huber on the observation: down-weighted once its points' RMS distance passes the threshold.
+    const double threshold = options.huber_threshold * std::sqrt(static_cast<double>(o.points.size()));
+    problem.AddResidualBlock(cost, new ceres::HuberLoss(threshold), sensor.rotation.coeffs().data(),
+                             sensor.translation.data(), plane.normal.data(), &plane.offset);
   }
   for (int s = 0; s < sensor_count; ++s) {
     problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
@@ -195,16 +209,20 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     out.reference_from_sensor.translation() = sensor_state[s].translation;
     out.pairwise_estimate = initial[s];
     out.observations = observation_count[s];
-    ceres::Problem::EvaluateOptions evaluate;
-    evaluate.residual_blocks = residuals_of[s];
-    evaluate.apply_loss_function = false;
-    std::vector<double> values;
-    problem.Evaluate(evaluate, nullptr, &values, nullptr, nullptr);
+    out.rejected_observations = static_cast<int>(
+        std::count_if(rejected.begin(), rejected.end(), [s](const std::pair<int, int>& r) { return r.first == s; }));
+    const Eigen::Isometry3d& pose = out.reference_from_sensor;
     double squared = 0.0;
-    for (double r : values) squared += r * r;
-    out.rms = values.empty() ? 0.0 : std::sqrt(squared / values.size());
+    std::size_t points = 0;
+    for (const TargetObservation& o : observations) {
+      if (o.sensor != s || !plane_state.count(o.target_pose) || rejected.count({o.sensor, o.target_pose})) continue;
+      const PlaneState& plane = plane_state.at(o.target_pose);
+      for (const Eigen::Vector3d& p : o.points) squared += std::pow(plane.normal.dot(pose * p) + plane.offset, 2);
+      points += o.points.size();
+    }
+    out.rms = points ? std::sqrt(squared / points) : 0.0;
     total_squared += squared;
-    total_points += values.size();
+    total_points += points;
   }
   result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
 

@@ -93,10 +93,18 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
     const Eigen::Vector3d position(2.0 + 0.4 * unit(rng), 0.5 * unit(rng), 1.0 + 0.25 * unit(rng));
     rig.reference_from_target.push_back(makePose(position, rotationFromRollPitchYaw(0.0, pitch, yaw) * facing));
   }
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     const std::vector<Eigen::Vector3d> rays = sensorRays(sensors[s].spec.type);
     for (int k = 0; k < options.target_poses; ++k) {
-      const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * rig.reference_from_target[k];
+      // An outlier sees another surface: a large panel somewhere else in front of the rig.
+      const bool outlier = sensors[s].spec.type != SensorType::kLaser2d && uniform(rng) < options.outlier_fraction;
+      const Eigen::Isometry3d seen = outlier ? makePose(Eigen::Vector3d(2.5 + unit(rng), unit(rng), 1.0 + 0.3 * unit(rng)),
+                                                        rotationFromRollPitchYaw(0.0, 0.8 * unit(rng), 0.8 * unit(rng)) * facing)
+                                             : rig.reference_from_target[k];
+      const double half_width = (outlier ? 2.0 : 1.0) * 0.5 * options.target_width;
+      const double half_height = (outlier ? 2.0 : 1.0) * 0.5 * options.target_height;
+      const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * seen;
       const Eigen::Isometry3d target_from_sensor = sensor_from_target.inverse();
       const Eigen::Vector3d normal = sensor_from_target.linear().col(2);
       const double offset = -normal.dot(sensor_from_target.translation());
@@ -109,13 +117,15 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
         const double range = -offset / denominator;
         if (range <= 0.3 || range > 8.0) continue;
         const Eigen::Vector3d on_target = target_from_sensor * (range * ray);
-        if (std::abs(on_target.x()) > 0.5 * options.target_width || std::abs(on_target.y()) > 0.5 * options.target_height)
-          continue;
+        if (std::abs(on_target.x()) > half_width || std::abs(on_target.y()) > half_height) continue;
         const double noise = options.range_noise > 0.0 ? range_noise(rng) : 0.0;
         observation.points.push_back((range + noise) * ray);
       }
       const std::size_t minimum = sensors[s].spec.type == SensorType::kLaser2d ? 10 : 30;
-      if (observation.points.size() >= minimum) rig.observations.push_back(std::move(observation));
+      if (observation.points.size() >= minimum) {
+        rig.observations.push_back(std::move(observation));
+        rig.is_outlier.push_back(outlier);
+      }
     }
   }
   return rig;

@@ -1,11 +1,12 @@
 #pragma once
 // The global calibration: closed-form pairwise estimates chained along the best-connected paths of the
-// sensor graph initialise one Ceres problem over every sensor pose and every target plane, with
-// point-to-plane residuals under a robust loss; the reference sensor stays fixed.
+// sensor graph initialise one Ceres problem over every sensor pose and every target plane, with the
+// point-to-plane residuals of each observation under a robust loss; the reference sensor stays fixed.
 
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/consensus_filter.h"
 #include "vocal/core/se3.h"
 
 namespace vocal {
@@ -13,11 +14,11 @@ namespace vocal {
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
-  double huber_threshold = 0.01;  // metres of point-to-plane distance
+  double huber_threshold = 0.01;  // metres: RMS point-to-plane distance of an observation
   int max_iterations = 100;
-  // Points of one observation that enter the graph, taken evenly; planes are fitted from all of them.
-  // A dense sensor gives thousands of points per view, which add solve time but little information.
-  int max_points_per_observation = 250;
+  // Reject observations inconsistent with the consensus of their sensor pairs before initialising.
+  bool consensus_filter = true;
+  ConsensusOptions consensus;
 };
 
 struct SensorCalibration {
@@ -26,6 +27,7 @@ struct SensorCalibration {
   Vector6d standard_deviation = Vector6d::Zero();  // translation (m) then rotation (rad)
   double rms = 0.0;                                // point-to-plane, metres
   int observations = 0;
+  int rejected_observations = 0;  // by the consensus filter
 };
 
 struct CalibrationResult {

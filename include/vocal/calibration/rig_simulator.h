@@ -23,6 +23,9 @@ struct RigSimulationOptions {
   double range_noise = 0.0;    // metres, standard deviation along each ray
   double tilt_range = 0.6;     // radians: target normals spread up to this from facing the rig
   bool parallel_targets = false;  // every pose keeps the same orientation (a degenerate data set)
+  // Fraction of plane-sensor observations replaced by points of another surface (a wall, a wrong
+  // association) under the same target pose id.
+  double outlier_fraction = 0.0;
   std::uint32_t seed = 1;
 };
 
@@ -30,6 +33,7 @@ struct SimulatedRig {
   std::vector<SimulatedSensor> sensors;
   std::vector<Eigen::Isometry3d> reference_from_target;  // ground truth per target pose
   std::vector<TargetObservation> observations;
+  std::vector<bool> is_outlier;  // per observation
 };
 
 // A rig of RGB-D sensors (the first at the reference), 16-ring lidars and 2D lasers (270 degrees,
