@@ -167,3 +167,28 @@ TEST(ToolsCli, MoreAccurateThanOpen3DOnRealData) {
   ASSERT_GT(open3d_rpe, 0.0) << output;
   EXPECT_LT(vocal_rpe, open3d_rpe);
 }
+
+TEST(ToolsCli, SimulateCalibrationPrintsTheComparisonTable) {
+  const std::string folder = vocal_test::makeTempFolder("cli_calibration");
+  RunResult r = runTool("simulate_calibration --rgbd 2 --lidar 1 --laser 1 --poses 10,30 --trials 3 --outliers 0.2 --plot " +
+                        folder + "/errors.png --output-dir " + folder);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("global+filter"), std::string::npos) << r.output;
+  // The row for 30 poses: global + filter within 5 mm and 0.005 rad, no failed trial.
+  const auto row = r.output.find("\n    30 ");
+  ASSERT_NE(row, std::string::npos) << r.output;
+  std::istringstream fields(r.output.substr(row));
+  int poses = 0;
+  double translation = 0, rotation = 0;
+  std::string slash;
+  fields >> poses >> translation >> slash >> rotation;
+  EXPECT_EQ(poses, 30);
+  EXPECT_LT(translation, 0.005);
+  EXPECT_LT(rotation, 0.005);
+  for (const char* file : {"/errors.png", "/rig.yaml", "/rig.urdf", "/rig.launch"}) {
+    EXPECT_TRUE(std::ifstream(folder + file).good()) << file;
+  }
+  r = runTool("simulate_calibration --poses 10,x");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "simulate_calibration: error: option --poses: 'x' is not an integer\n");
+}
