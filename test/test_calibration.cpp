@@ -280,3 +280,24 @@ TEST(Calibration, GlobalIsNoWorseThanPairwiseOnAverage) {
   EXPECT_LE(global_t, pairwise_t);
   EXPECT_LE(global_r, pairwise_r);
 }
+
+TEST(Calibration, ObservabilityWarnsBySensorAndDof) {
+  // Target poses tilted only a little: solvable, but translation along the common normal direction
+  // is weakly constrained, and the check names the sensor and that direction.
+  vocal::RigSimulationOptions options;
+  options.target_poses = 12;
+  options.tilt_range = 0.12;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 0), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  ASSERT_FALSE(result.warnings.empty());
+  bool named = false;
+  for (const auto& w : result.warnings) {
+    named |= w.sensor == "sensor 'rgbd1'" && w.dof.rfind("translation along", 0) == 0;
+    EXPECT_LT(w.spread, 0.15);
+  }
+  EXPECT_TRUE(named) << result.warnings.front().message;
+  // Well spread poses raise no warning.
+  options.tilt_range = 0.6;
+  const vocal::SimulatedRig good = vocal::simulateRig(vocal::exampleRig(2, 0), options);
+  EXPECT_TRUE(vocal::calibrateRig(specs(good), good.observations, referenceOptions(good)).warnings.empty());
+}

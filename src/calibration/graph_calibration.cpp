@@ -92,6 +92,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     }
   }
 
+  const std::vector<ObservabilityWarning> warnings = checkObservability(sensors, planes);
+
   // Chain closed-form estimates along a maximum spanning tree (edges weighted by shared poses).
   auto sharedPoses = [&](int a, int b) {
     std::vector<int> shared;
@@ -199,6 +201,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   ceres::Solve(solver_options, &problem, &summary);
 
   CalibrationResult result;
+  result.warnings = warnings;
   result.sensors.resize(sensor_count);
   double total_squared = 0.0;
   std::size_t total_points = 0;

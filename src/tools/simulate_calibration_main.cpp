@@ -187,6 +187,7 @@ int run(const vocal::CommandLine& args) {
     std::printf(" %12.6f %8d\n", r.rms, r.failures);
     if (r.failures) std::printf("       first failure: %s\n", r.first_failure.c_str());
   }
+  for (const vocal::ObservabilityWarning& w : last_result.warnings) std::printf("warning (last trial): %s\n", w.message.c_str());
   if (args.has("plot")) plot(args.text("plot", ""), rows);
   if (args.has("output-dir") && !last_result.sensors.empty()) {
     const std::string dir = args.text("output-dir", "");

@@ -7,6 +7,7 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/consensus_filter.h"
+#include "vocal/calibration/observability.h"
 #include "vocal/core/se3.h"
 
 namespace vocal {
@@ -33,6 +34,7 @@ struct SensorCalibration {
 struct CalibrationResult {
   std::vector<SensorCalibration> sensors;
   double rms = 0.0;  // over every point
+  std::vector<ObservabilityWarning> warnings;  // weakly constrained DoF, checked before solving
 };
 
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
