@@ -22,7 +22,8 @@ namespace {
 // of the homogeneous points, so one block with 4 residuals carries exactly the information of every
 // point at the cost of one.
 struct ObservationOnPlaneResidual {
-  explicit ObservationOnPlaneResidual(const std::vector<Eigen::Vector3d>& points) {
+  // Residuals are divided by `point_sigma`, so every observation counts by its own noise.
+  ObservationOnPlaneResidual(const std::vector<Eigen::Vector3d>& points, double point_sigma) {
     Eigen::Matrix4d moments = Eigen::Matrix4d::Zero();
     for (const Eigen::Vector3d& p : points) {
       const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
@@ -30,7 +31,8 @@ struct ObservationOnPlaneResidual {
     }
     // Positive semi-definite (a 2D laser's points span only 3 dimensions): factor by eigenvalues.
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(moments);
-    factor_transpose = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+    factor_transpose =
+        (eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt() / point_sigma).asDiagonal() * eigen.eigenvectors().transpose();
   }
 
   template <typename T>
@@ -48,6 +50,21 @@ struct ObservationOnPlaneResidual {
 
   Eigen::Matrix4d factor_transpose;
 };
+
+// A range sensor's point noise from its own points: the RMS distance to their best plane (or, for a
+// 2D laser, to their best line in the scan plane), with a floor so noise-free data stays finite.
+double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {
+  constexpr double kFloor = 1e-4;
+  if (points.size() < 3) return kFloor;
+  if (type != SensorType::kLaser2d) return std::max(kFloor, fitPlane(points, "observation").rms);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p.head<2>();
+  mean /= points.size();
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector3d& p : points) scatter += (p.head<2>() - mean) * (p.head<2>() - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> line(scatter);
+  return std::max(kFloor, std::sqrt(std::max(line.eigenvalues()[0], 0.0) / points.size()));
+}
 
 struct SensorState {
   Eigen::Quaterniond rotation;  // Ceres block, Eigen's (x, y, z, w) memory order
@@ -176,10 +193,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (rejected.count({o.sensor, o.target_pose})) continue;
     SensorState& sensor = sensor_state[o.sensor];
     PlaneState& plane = plane_state[o.target_pose];
+    const double point_sigma = o.point_sigma > 0.0 ? o.point_sigma : estimatedPointSigma(o.points, sensors[o.sensor].type);
     auto* cost = new ceres::AutoDiffCostFunction<ObservationOnPlaneResidual, 4, 4, 3, 3, 1>(
-        new ObservationOnPlaneResidual(o.points));
-    // Huber on the observation: down-weighted once its points' RMS distance passes the threshold.
-    const double threshold = options.huber_threshold * std::sqrt(static_cast<double>(o.points.size()));
+        new ObservationOnPlaneResidual(o.points, point_sigma));
+    // Huber on the whitened observation: down-weighted once its points' RMS passes huber_sigmas.
+    const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
     problem.AddResidualBlock(cost, new ceres::HuberLoss(threshold), sensor.rotation.coeffs().data(),
                              sensor.translation.data(), plane.normal.data(), &plane.offset);
   }
@@ -229,7 +247,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
 
-  // Standard deviations from the solver's covariance, scaled by the measured residual variance.
+  // Standard deviations from the solver's covariance (residuals are already whitened).
   ceres::Covariance::Options covariance_options;
   ceres::Covariance covariance(covariance_options);
   std::vector<std::pair<const double*, const double*>> blocks;
@@ -239,7 +257,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
   }
   if (!blocks.empty() && covariance.Compute(blocks, &problem)) {
-    const double variance = result.rms * result.rms;
     for (int s = 0; s < sensor_count; ++s) {
       if (s == options.reference_sensor) continue;
       Eigen::Matrix3d rotation_covariance, translation_covariance;
@@ -247,8 +264,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
       covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(),
                                     translation_covariance.data());
-      result.sensors[s].standard_deviation.head<3>() = (translation_covariance.diagonal() * variance).cwiseSqrt();
-      result.sensors[s].standard_deviation.tail<3>() = (rotation_covariance.diagonal() * variance).cwiseSqrt();
+      result.sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
+      result.sensors[s].standard_deviation.tail<3>() = rotation_covariance.diagonal().cwiseSqrt();
     }
   }
   return result;

@@ -40,7 +40,7 @@ std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
 }
 }  // namespace
 
-std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors) {
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors, int cameras) {
   std::vector<SimulatedSensor> sensors;
   for (int i = 0; i < rgbd_sensors; ++i) {
     SimulatedSensor s;
@@ -64,18 +64,20 @@ std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int
                                        rotationFromRollPitchYaw(0.06 - 0.04 * i, 0.03 + 0.02 * i, -0.1 + 0.2 * i));
     sensors.push_back(s);
   }
+  for (int i = 0; i < cameras; ++i) {
+    SimulatedSensor s;
+    s.spec = {"camera" + std::to_string(i), SensorType::kCamera, "camera" + std::to_string(i) + "_optical_frame"};
+    s.reference_from_sensor = makePose(Eigen::Vector3d(0.05, 0.15 - 0.3 * i, 1.1 - 0.05 * i),
+                                       rotationFromRollPitchYaw(-0.03 + 0.05 * i, 0.06 - 0.04 * i, 0.12 - 0.25 * i) *
+                                           bodyFromOpticalRotation());
+    sensors.push_back(s);
+  }
   return sensors;
 }
 
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options) {
   if (options.target_poses < 1) {
     throw InputError("rig simulation: target_poses must be at least 1, got " + std::to_string(options.target_poses));
-  }
-  for (const SimulatedSensor& s : sensors) {
-    if (s.spec.type == SensorType::kCamera) {
-      throw InputError("rig simulation: sensor '" + s.spec.name +
-                       "' is a camera, which the simulator does not model yet (rgbd, lidar3d and laser2d only)");
-    }
   }
   SimulatedRig rig;
   rig.sensors = sensors;
@@ -90,11 +92,39 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
   for (int k = 0; k < options.target_poses; ++k) {
     const double yaw = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
     const double pitch = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
-    const Eigen::Vector3d position(2.0 + 0.4 * unit(rng), 0.5 * unit(rng), 1.0 + 0.25 * unit(rng));
+    const Eigen::Vector3d position(options.target_distance + 0.3 * unit(rng), 0.4 * unit(rng), 1.0 + 0.2 * unit(rng));
     rig.reference_from_target.push_back(makePose(position, rotationFromRollPitchYaw(0.0, pitch, yaw) * facing));
   }
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> pixel_noise(0.0, options.pixel_noise);
+  const PinholeCamera camera = defaultKinectCamera();
   for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (sensors[s].spec.type == SensorType::kCamera) {
+      // Corners projected with pixel noise; the pattern must be fully in view.
+      for (int k = 0; k < options.target_poses; ++k) {
+        const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * rig.reference_from_target[k];
+        std::vector<Eigen::Vector2d> corners;
+        bool visible = true;
+        for (const Eigen::Vector3d& corner : options.pattern.corners()) {
+          const Eigen::Vector3d p = sensor_from_target * corner;
+          const Eigen::Vector2d uv = camera.project(p);
+          visible = visible && p.z() > 0.3 && camera.contains(uv.x(), uv.y());
+          corners.push_back(uv + (options.pixel_noise > 0.0 ? Eigen::Vector2d(pixel_noise(rng), pixel_noise(rng))
+                                                            : Eigen::Vector2d::Zero()));
+        }
+        if (!visible) continue;
+        TargetObservation observation;
+        observation.sensor = static_cast<int>(s);
+        observation.target_pose = k;
+        const PatternObservation seen = observePattern(corners, options.pattern, camera, sensors[s].spec.name.c_str());
+        observation.points = seen.points;
+        // Every corner carries the same plane error: n corners worth one offset measurement.
+        observation.point_sigma = seen.offset_sigma * std::sqrt(static_cast<double>(seen.points.size()));
+        rig.observations.push_back(std::move(observation));
+        rig.is_outlier.push_back(false);
+      }
+      continue;
+    }
     const std::vector<Eigen::Vector3d> rays = sensorRays(sensors[s].spec.type);
     for (int k = 0; k < options.target_poses; ++k) {
       // An outlier sees another surface: a large panel somewhere else in front of the rig.

@@ -25,6 +25,10 @@ struct TargetObservation {
   int sensor = 0;       // index into the sensor list
   int target_pose = 0;  // which still period of the target (association result)
   std::vector<Eigen::Vector3d> points;
+  // Standard deviation of one point's distance to the target plane, metres, in the sense of the
+  // graph's weighting; 0 = estimate it from the points' own fit (range sensors). A camera sets it
+  // from its pose covariance (its corners share one plane error).
+  double point_sigma = 0.0;
 };
 
 }  // namespace vocal

@@ -15,7 +15,9 @@ namespace vocal {
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
-  double huber_threshold = 0.01;  // metres: RMS point-to-plane distance of an observation
+  // Huber threshold on an observation's residuals, in standard deviations of its points: an observation
+  // whose points sit farther from the plane than this on average is down-weighted.
+  double huber_sigmas = 3.0;
   int max_iterations = 100;
   // Reject observations inconsistent with the consensus of their sensor pairs before initialising.
   bool consensus_filter = true;
@@ -25,7 +27,7 @@ struct CalibrationOptions {
 struct SensorCalibration {
   Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();  // in the rig frame
   Eigen::Isometry3d pairwise_estimate = Eigen::Isometry3d::Identity();      // chained closed form
-  Vector6d standard_deviation = Vector6d::Zero();  // translation (m) then rotation (rad)
+  Vector6d standard_deviation = Vector6d::Zero();  // translation (m) then rotation (rad), from the solver
   double rms = 0.0;                                // point-to-plane, metres
   int observations = 0;
   int rejected_observations = 0;  // by the consensus filter

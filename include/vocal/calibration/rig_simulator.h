@@ -2,12 +2,13 @@
 // A simulated rig with ground-truth extrinsics observing a planar target moved through M poses: the
 // test data of the calibration. Depth and lidar sensors see points of the target rectangle inside their
 // field of view (a lidar's limited to its rings, a 2D laser's to its scan plane) with range noise along
-// each ray.
+// each ray; cameras see the pattern's corners with pixel noise and estimate its pose (PnP).
 
 #include <cstdint>
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/pattern_observation.h"
 
 namespace vocal {
 
@@ -21,12 +22,15 @@ struct RigSimulationOptions {
   double target_width = 0.9;   // metres
   double target_height = 0.7;
   double range_noise = 0.0;    // metres, standard deviation along each ray
+  double pixel_noise = 0.0;    // camera corner noise, pixels (standard deviation per axis)
+  double target_distance = 1.6;  // metres ahead of the rig (x), +-0.3
   double tilt_range = 0.6;     // radians: target normals spread up to this from facing the rig
   bool parallel_targets = false;  // every pose keeps the same orientation (a degenerate data set)
   // Fraction of plane-sensor observations replaced by points of another surface (a wall, a wrong
   // association) under the same target pose id.
   double outlier_fraction = 0.0;
   std::uint32_t seed = 1;
+  TargetPattern pattern;  // what cameras see (its corners must lie on the target rectangle)
 };
 
 struct SimulatedRig {
@@ -36,12 +40,11 @@ struct SimulatedRig {
   std::vector<bool> is_outlier;  // per observation
 };
 
-// A rig of RGB-D sensors (the first at the reference), 16-ring lidars and 2D lasers (270 degrees,
-// 0.25 degree steps), each looking roughly forward (+x).
-std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0);
+// A rig of RGB-D sensors (the first at the reference), 16-ring lidars, 2D lasers (270 degrees, 0.25
+// degree steps) and cameras (640x480, ROS default intrinsics), each looking roughly forward (+x).
+std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0, int cameras = 0);
 
-// Throws InputError for an unsupported sensor type (cameras are not simulated yet) or fewer than 1
-// target pose.
+// Throws InputError for fewer than 1 target pose.
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options);
 
 }  // namespace vocal

@@ -1,0 +1,35 @@
+#pragma once
+// A camera's view of the target: the pattern's pose from its detected corners (PnP), turned into the
+// corners' 3D positions in the camera frame, which the graph treats like a depth sensor's points.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vocal/core/pinhole_camera.h"
+
+namespace vocal {
+
+struct TargetPattern {
+  int rows = 6;               // inner corners
+  int cols = 8;
+  double square_size = 0.06;  // metres
+
+  // Corner positions in the target frame (z = 0), centred on the target, row by row.
+  std::vector<Eigen::Vector3d> corners() const;
+};
+
+struct PatternObservation {
+  std::vector<Eigen::Vector3d> points;  // the corners in the camera frame
+  double reprojection_rms_px = 0.0;
+  // Standard deviation of the plane's offset from the PnP covariance (reprojection Jacobian, pixel
+  // noise taken from the reprojection error, at least 0.05 px).
+  double offset_sigma = 0.0;
+};
+
+// Throws InputError naming `what` when the corner count does not match the pattern or the pose cannot
+// be estimated.
+PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corners, const TargetPattern& pattern,
+                                  const PinholeCamera& camera, const char* what);
+
+}  // namespace vocal
