@@ -5,6 +5,20 @@
 namespace vocal {
 
 namespace {
+// The motion and the reference camera in float, as the kernels see them.
+struct FloatWarp {
+  FloatWarp(const Eigen::Isometry3d& reference_from_current, const PinholeCamera& camera)
+      : R(reference_from_current.linear().cast<float>()),
+        t(reference_from_current.translation().cast<float>()),
+        fx(static_cast<float>(camera.fx)),
+        fy(static_cast<float>(camera.fy)),
+        cx(static_cast<float>(camera.cx)),
+        cy(static_cast<float>(camera.cy)) {}
+  Eigen::Matrix3f R;
+  Eigen::Vector3f t;
+  float fx, fy, cx, cy;
+};
+
 float bilinear(const Image<float>& image, float u, float v) {
   const int x = static_cast<int>(u), y = static_cast<int>(v);
   const float a = u - x, b = v - y;
@@ -23,10 +37,7 @@ void CpuOdometryBackend::pushFrame(const RgbdFrame& frame) {
 NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {
   const PyramidLevel& cur = current_.at(level);
   const PyramidLevel& ref = reference_.at(level);
-  const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
-  const Eigen::Vector3f t = reference_from_current.translation().cast<float>();
-  const float fx = static_cast<float>(ref.camera.fx), fy = static_cast<float>(ref.camera.fy);
-  const float cx = static_cast<float>(ref.camera.cx), cy = static_cast<float>(ref.camera.cy);
+  const FloatWarp warp(reference_from_current, ref.camera);
   const float max_distance = static_cast<float>(config_.icp_max_distance);
   const float min_cos = static_cast<float>(std::cos(config_.icp_max_angle_deg * M_PI / 180.0));
   NormalEquations system;
@@ -35,16 +46,16 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
       const Eigen::Vector3f& vc = cur.vertices(x, y);
       const Eigen::Vector3f& nc = cur.normals(x, y);
       if (std::isnan(vc.z()) || std::isnan(nc.z())) continue;
-      const Eigen::Vector3f p = R * vc + t;
+      const Eigen::Vector3f p = warp.R * vc + warp.t;
       if (!(p.z() > 0.0f)) continue;
       // Projective data association: the reference pixel the point falls into.
-      const int u = static_cast<int>(std::floor(fx * p.x() / p.z() + cx + 0.5f));
-      const int v = static_cast<int>(std::floor(fy * p.y() / p.z() + cy + 0.5f));
+      const int u = static_cast<int>(std::floor(warp.fx * p.x() / p.z() + warp.cx + 0.5f));
+      const int v = static_cast<int>(std::floor(warp.fy * p.y() / p.z() + warp.cy + 0.5f));
       if (u < 0 || v < 0 || u >= ref.vertices.width() || v >= ref.vertices.height()) continue;
       const Eigen::Vector3f& vr = ref.vertices(u, v);
       const Eigen::Vector3f& nr = ref.normals(u, v);
       if (std::isnan(vr.z()) || std::isnan(nr.z())) continue;
-      if ((p - vr).norm() > max_distance || (R * nc).dot(nr) < min_cos) continue;
+      if ((p - vr).norm() > max_distance || (warp.R * nc).dot(nr) < min_cos) continue;
       const float r = nr.dot(p - vr);
       Vector6d J;
       J.head<3>() = nr.cast<double>();
@@ -59,10 +70,7 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
                                               double huber_threshold) {
   const PyramidLevel& cur = current_.at(level);
   const PyramidLevel& ref = reference_.at(level);
-  const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
-  const Eigen::Vector3f t = reference_from_current.translation().cast<float>();
-  const float fx = static_cast<float>(ref.camera.fx), fy = static_cast<float>(ref.camera.fy);
-  const float cx = static_cast<float>(ref.camera.cx), cy = static_cast<float>(ref.camera.cy);
+  const FloatWarp warp(reference_from_current, ref.camera);
   const float max_depth = static_cast<float>(config_.rgb_max_depth);
   const float max_depth_difference = static_cast<float>(config_.rgb_max_depth_difference);
   const float min_gradient = static_cast<float>(config_.rgb_min_gradient.at(level));
@@ -74,9 +82,9 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
       const Eigen::Vector3f& vc = cur.vertices(x, y);
       if (std::isnan(vc.z()) || vc.z() > max_depth) continue;
       // Warp the current pixel with its depth into the reference image.
-      const Eigen::Vector3f p = R * vc + t;
+      const Eigen::Vector3f p = warp.R * vc + warp.t;
       if (!(p.z() > 0.0f)) continue;
-      const float qu = fx * p.x() / p.z() + cx, qv = fy * p.y() / p.z() + cy;
+      const float qu = warp.fx * p.x() / p.z() + warp.cx, qv = warp.fy * p.y() / p.z() + warp.cy;
       if (!(qu >= 0.0f && qv >= 0.0f && qu < w - 1 && qv < h - 1)) continue;
       const float zr = ref.depth(static_cast<int>(qu + 0.5f), static_cast<int>(qv + 0.5f));
       if (!(zr > 0.0f) || zr > max_depth || std::fabs(zr - p.z()) > max_depth_difference) continue;
@@ -85,7 +93,8 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
       const float r = bilinear(ref.intensity, qu, qv) - cur.intensity(x, y);
       // d r / d p of the projection, then d p / d twist = [I, -[p]x].
       const float z_inv = 1.0f / p.z();
-      const Eigen::Vector3f a(gx * fx * z_inv, gy * fy * z_inv, -(gx * fx * p.x() + gy * fy * p.y()) * z_inv * z_inv);
+      const Eigen::Vector3f a(gx * warp.fx * z_inv, gy * warp.fy * z_inv,
+                            -(gx * warp.fx * p.x() + gy * warp.fy * p.y()) * z_inv * z_inv);
       Vector6d J;
       J.head<3>() = a.cast<double>();
       J.tail<3>() = p.cross(a).cast<double>();
