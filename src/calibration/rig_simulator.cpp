@@ -3,6 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "vocal/core/pinhole_camera.h"
+
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -75,6 +77,57 @@ std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int
   return sensors;
 }
 
+Eigen::Matrix3d targetFacingRig() {
+  // The target's z axis along -x of the reference frame.
+  Eigen::Matrix3d facing;
+  facing << 0, 0, -1,  //
+      1, 0, 0,         //
+      0, -1, 0;
+  return facing;
+}
+
+std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
+                                           double half_width, double half_height, const RigSimulationOptions& options,
+                                           std::mt19937* rng, double* point_sigma) {
+  *point_sigma = 0.0;
+  const Eigen::Isometry3d sensor_from_target = sensor.reference_from_sensor.inverse() * reference_from_target;
+  std::vector<Eigen::Vector3d> points;
+  if (sensor.spec.type == SensorType::kCamera) {
+    // Corners projected with pixel noise; the whole pattern must be in view.
+    const PinholeCamera camera = defaultKinectCamera();
+    std::normal_distribution<double> pixel_noise(0.0, options.pixel_noise);
+    std::vector<Eigen::Vector2d> corners;
+    for (const Eigen::Vector3d& corner : options.pattern.corners()) {
+      const Eigen::Vector3d p = sensor_from_target * corner;
+      const Eigen::Vector2d uv = camera.project(p);
+      if (!(p.z() > 0.3 && camera.contains(uv.x(), uv.y()))) return {};
+      corners.push_back(uv + (options.pixel_noise > 0.0 ? Eigen::Vector2d(pixel_noise(*rng), pixel_noise(*rng))
+                                                        : Eigen::Vector2d::Zero()));
+    }
+    const PatternObservation seen = observePattern(corners, options.pattern, camera, sensor.spec.name.c_str());
+    // Every corner carries the same plane error: n corners are worth one offset measurement.
+    *point_sigma = seen.offset_sigma * std::sqrt(static_cast<double>(seen.points.size()));
+    return seen.points;
+  }
+  std::normal_distribution<double> range_noise(0.0, options.range_noise);
+  const Eigen::Isometry3d target_from_sensor = sensor_from_target.inverse();
+  const Eigen::Vector3d normal = sensor_from_target.linear().col(2);
+  const double offset = -normal.dot(sensor_from_target.translation());
+  for (const Eigen::Vector3d& ray : sensorRays(sensor.spec.type)) {
+    const double denominator = normal.dot(ray);
+    if (std::abs(denominator) < 1e-9) continue;
+    const double range = -offset / denominator;
+    if (range <= 0.3 || range > 8.0) continue;
+    const Eigen::Vector3d on_target = target_from_sensor * (range * ray);
+    if (std::abs(on_target.x()) > half_width || std::abs(on_target.y()) > half_height) continue;
+    const double noise = options.range_noise > 0.0 ? range_noise(*rng) : 0.0;
+    points.push_back((range + noise) * ray);
+  }
+  const std::size_t minimum = sensor.spec.type == SensorType::kLaser2d ? 10 : 30;
+  if (points.size() < minimum) points.clear();
+  return points;
+}
+
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options) {
   if (options.target_poses < 1) {
     throw InputError("rig simulation: target_poses must be at least 1, got " + std::to_string(options.target_poses));
@@ -83,79 +136,31 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
   rig.sensors = sensors;
   std::mt19937 rng(options.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::normal_distribution<double> range_noise(0.0, options.range_noise);
-  // The target faces the rig (its z axis along -x of the reference frame) with a random tilt.
-  Eigen::Matrix3d facing;
-  facing << 0, 0, -1,  //
-      1, 0, 0,         //
-      0, -1, 0;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Eigen::Matrix3d facing = targetFacingRig();
   for (int k = 0; k < options.target_poses; ++k) {
     const double yaw = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
     const double pitch = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
     const Eigen::Vector3d position(options.target_distance + 0.3 * unit(rng), 0.4 * unit(rng), 1.0 + 0.2 * unit(rng));
     rig.reference_from_target.push_back(makePose(position, rotationFromRollPitchYaw(0.0, pitch, yaw) * facing));
   }
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::normal_distribution<double> pixel_noise(0.0, options.pixel_noise);
-  const PinholeCamera camera = defaultKinectCamera();
   for (std::size_t s = 0; s < sensors.size(); ++s) {
-    if (sensors[s].spec.type == SensorType::kCamera) {
-      // Corners projected with pixel noise; the pattern must be fully in view.
-      for (int k = 0; k < options.target_poses; ++k) {
-        const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * rig.reference_from_target[k];
-        std::vector<Eigen::Vector2d> corners;
-        bool visible = true;
-        for (const Eigen::Vector3d& corner : options.pattern.corners()) {
-          const Eigen::Vector3d p = sensor_from_target * corner;
-          const Eigen::Vector2d uv = camera.project(p);
-          visible = visible && p.z() > 0.3 && camera.contains(uv.x(), uv.y());
-          corners.push_back(uv + (options.pixel_noise > 0.0 ? Eigen::Vector2d(pixel_noise(rng), pixel_noise(rng))
-                                                            : Eigen::Vector2d::Zero()));
-        }
-        if (!visible) continue;
-        TargetObservation observation;
-        observation.sensor = static_cast<int>(s);
-        observation.target_pose = k;
-        const PatternObservation seen = observePattern(corners, options.pattern, camera, sensors[s].spec.name.c_str());
-        observation.points = seen.points;
-        // Every corner carries the same plane error: n corners worth one offset measurement.
-        observation.point_sigma = seen.offset_sigma * std::sqrt(static_cast<double>(seen.points.size()));
-        rig.observations.push_back(std::move(observation));
-        rig.is_outlier.push_back(false);
-      }
-      continue;
-    }
-    const std::vector<Eigen::Vector3d> rays = sensorRays(sensors[s].spec.type);
+    const SensorType type = sensors[s].spec.type;
     for (int k = 0; k < options.target_poses; ++k) {
       // An outlier sees another surface: a large panel somewhere else in front of the rig.
-      const bool outlier = sensors[s].spec.type != SensorType::kLaser2d && uniform(rng) < options.outlier_fraction;
+      const bool outlier = type != SensorType::kLaser2d && type != SensorType::kCamera && uniform(rng) < options.outlier_fraction;
       const Eigen::Isometry3d seen = outlier ? makePose(Eigen::Vector3d(2.5 + unit(rng), unit(rng), 1.0 + 0.3 * unit(rng)),
                                                         rotationFromRollPitchYaw(0.0, 0.8 * unit(rng), 0.8 * unit(rng)) * facing)
                                              : rig.reference_from_target[k];
-      const double half_width = (outlier ? 2.0 : 1.0) * 0.5 * options.target_width;
-      const double half_height = (outlier ? 2.0 : 1.0) * 0.5 * options.target_height;
-      const Eigen::Isometry3d sensor_from_target = sensors[s].reference_from_sensor.inverse() * seen;
-      const Eigen::Isometry3d target_from_sensor = sensor_from_target.inverse();
-      const Eigen::Vector3d normal = sensor_from_target.linear().col(2);
-      const double offset = -normal.dot(sensor_from_target.translation());
+      const double scale = outlier ? 2.0 : 1.0;
       TargetObservation observation;
       observation.sensor = static_cast<int>(s);
       observation.target_pose = k;
-      for (const Eigen::Vector3d& ray : rays) {
-        const double denominator = normal.dot(ray);
-        if (std::abs(denominator) < 1e-9) continue;
-        const double range = -offset / denominator;
-        if (range <= 0.3 || range > 8.0) continue;
-        const Eigen::Vector3d on_target = target_from_sensor * (range * ray);
-        if (std::abs(on_target.x()) > half_width || std::abs(on_target.y()) > half_height) continue;
-        const double noise = options.range_noise > 0.0 ? range_noise(rng) : 0.0;
-        observation.points.push_back((range + noise) * ray);
-      }
-      const std::size_t minimum = sensors[s].spec.type == SensorType::kLaser2d ? 10 : 30;
-      if (observation.points.size() >= minimum) {
-        rig.observations.push_back(std::move(observation));
-        rig.is_outlier.push_back(outlier);
-      }
+      observation.points = observeTarget(sensors[s], seen, scale * 0.5 * options.target_width,
+                                         scale * 0.5 * options.target_height, options, &rng, &observation.point_sigma);
+      if (observation.points.empty()) continue;
+      rig.observations.push_back(std::move(observation));
+      rig.is_outlier.push_back(outlier);
     }
   }
   return rig;

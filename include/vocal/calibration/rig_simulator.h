@@ -5,6 +5,7 @@
 // each ray; cameras see the pattern's corners with pixel noise and estimate its pose (PnP).
 
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
@@ -43,6 +44,15 @@ struct SimulatedRig {
 // A rig of RGB-D sensors (the first at the reference), 16-ring lidars, 2D lasers (270 degrees, 0.25
 // degree steps) and cameras (640x480, ROS default intrinsics), each looking roughly forward (+x).
 std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0, int cameras = 0);
+
+// What one sensor sees of a target rectangle (half extents in metres) at the given pose: its points in the
+// sensor frame, or none when too little is in view; cameras also set the point sigma of their PnP plane.
+std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
+                                           double half_width, double half_height, const RigSimulationOptions& options,
+                                           std::mt19937* rng, double* point_sigma);
+
+// The target orientation that faces the rig (its z axis along -x of the reference frame).
+Eigen::Matrix3d targetFacingRig();
 
 // Throws InputError for fewer than 1 target pose.
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options);

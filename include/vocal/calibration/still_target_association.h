@@ -1,0 +1,34 @@
+#pragma once
+// Association by time: observations of different sensors taken while the target was held still are
+// of one plane. Each sensor's stream is cut into still runs (consecutive observations whose plane, or
+// a 2D laser's line, does not move); runs of different sensors that overlap in time form one target
+// pose.
+
+#include <vector>
+
+#include "vocal/calibration/calibration_types.h"
+
+namespace vocal {
+
+struct TimedObservation {
+  int sensor = 0;
+  double stamp = 0.0;  // seconds
+  std::vector<Eigen::Vector3d> points;  // in the sensor frame
+  double point_sigma = 0.0;             // as in TargetObservation
+};
+
+struct StillnessOptions {
+  double max_angle = 0.01;     // radians between consecutive planes (or laser lines) of a still run
+  double max_offset = 0.005;   // metres between their offsets (or line centroids)
+  double max_gap = 0.3;        // seconds between consecutive observations of a run
+  double min_duration = 0.4;   // seconds a run must last to count as still
+};
+
+// One TargetObservation per sensor and still period (the points of its still run pooled), target_pose
+// numbered by time. Observations in motion are dropped. Throws InputError naming the sensor for an
+// observation with a sensor index out of range.
+std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
+                                                    std::vector<TimedObservation> observations,
+                                                    const StillnessOptions& options = {});
+
+}  // namespace vocal

@@ -1,0 +1,132 @@
+#include "vocal/calibration/still_target_association.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "vocal/calibration/plane.h"
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+// What is compared between consecutive observations: a plane (n, d), or for a 2D laser its line as
+// (direction in the scan plane, centroid).
+struct Shape {
+  Eigen::Vector3d direction;
+  double offset = 0.0;
+  Eigen::Vector3d centroid;
+};
+
+Shape shapeOf(const TimedObservation& o, SensorType type) {
+  Shape shape;
+  shape.centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : o.points) shape.centroid += p;
+  shape.centroid /= std::max<std::size_t>(o.points.size(), 1);
+  if (type == SensorType::kLaser2d) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (const Eigen::Vector3d& p : o.points) scatter += (p - shape.centroid) * (p - shape.centroid).transpose();
+    shape.direction = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  } else {
+    const Plane plane = fitPlane(o.points, "still-target association").plane;
+    shape.direction = plane.normal;
+    shape.offset = plane.offset;
+  }
+  return shape;
+}
+
+bool sameShape(const Shape& a, const Shape& b, SensorType type, const StillnessOptions& options) {
+  const double cos_angle = std::abs(a.direction.dot(b.direction));
+  if (cos_angle < std::cos(options.max_angle)) return false;
+  return type == SensorType::kLaser2d ? (a.centroid - b.centroid).norm() < options.max_offset
+                                      : std::abs(a.offset - b.offset) < options.max_offset;
+}
+
+struct StillRun {
+  int sensor;
+  double begin, end;
+  std::vector<const TimedObservation*> members;
+};
+}  // namespace
+
+std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
+                                                    std::vector<TimedObservation> observations,
+                                                    const StillnessOptions& options) {
+  for (const TimedObservation& o : observations) {
+    if (o.sensor < 0 || o.sensor >= static_cast<int>(sensors.size())) {
+      throw InputError("still-target association: an observation names sensor index " + std::to_string(o.sensor) +
+                       " of " + std::to_string(sensors.size()));
+    }
+  }
+  std::stable_sort(observations.begin(), observations.end(), [](const TimedObservation& a, const TimedObservation& b) {
+    return a.sensor != b.sensor ? a.sensor < b.sensor : a.stamp < b.stamp;
+  });
+
+  // Still runs per sensor.
+  std::vector<StillRun> runs;
+  for (std::size_t i = 0; i < observations.size();) {
+    const int sensor = observations[i].sensor;
+    const SensorType type = sensors[sensor].type;
+    StillRun run{sensor, observations[i].stamp, observations[i].stamp, {&observations[i]}};
+    const Shape first = shapeOf(observations[i], type);
+    std::size_t j = i + 1;
+    for (; j < observations.size() && observations[j].sensor == sensor; ++j) {
+      const bool continues = observations[j].stamp - run.end <= options.max_gap &&
+                             sameShape(first, shapeOf(observations[j], type), type, options);
+      if (!continues) break;
+      run.end = observations[j].stamp;
+      run.members.push_back(&observations[j]);
+    }
+    if (run.end - run.begin >= options.min_duration) runs.push_back(std::move(run));
+    i = j;
+  }
+
+  // Periods: runs of plane-seeing sensors that overlap in time; 2D laser runs join the period they fall in.
+  std::vector<std::pair<double, double>> periods;
+  std::vector<const StillRun*> plane_runs;
+  for (const StillRun& run : runs)
+    if (sensors[run.sensor].type != SensorType::kLaser2d) plane_runs.push_back(&run);
+  std::sort(plane_runs.begin(), plane_runs.end(), [](const StillRun* a, const StillRun* b) { return a->begin < b->begin; });
+  for (const StillRun* run : plane_runs) {
+    if (!periods.empty() && run->begin <= periods.back().second) {
+      periods.back().second = std::max(periods.back().second, run->end);
+    } else {
+      periods.emplace_back(run->begin, run->end);
+    }
+  }
+
+  std::vector<TargetObservation> associated;
+  std::vector<std::vector<double>> best_duration(periods.size(), std::vector<double>(sensors.size(), -1.0));
+  std::vector<std::vector<int>> slot(periods.size(), std::vector<int>(sensors.size(), -1));
+  for (const StillRun& run : runs) {
+    const double middle = 0.5 * (run.begin + run.end);
+    for (std::size_t k = 0; k < periods.size(); ++k) {
+      if (middle < periods[k].first || middle > periods[k].second) continue;
+      // One observation per sensor and period: its longest still run, points pooled.
+      if (run.end - run.begin <= best_duration[k][run.sensor]) break;
+      best_duration[k][run.sensor] = run.end - run.begin;
+      TargetObservation observation;
+      observation.sensor = run.sensor;
+      observation.target_pose = static_cast<int>(k);
+      double sigma_sum = 0.0;
+      for (const TimedObservation* member : run.members) {
+        observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());
+        sigma_sum += member->point_sigma;
+      }
+      // Views of a still pattern have independent pixel noise: pooling n views of m corners divides the
+      // offset error by sqrt(n) and multiplies the points by n, so the per-point sigma stays one view's.
+      observation.point_sigma = sigma_sum / run.members.size();
+      if (slot[k][run.sensor] >= 0) {
+        associated[slot[k][run.sensor]] = std::move(observation);
+      } else {
+        slot[k][run.sensor] = static_cast<int>(associated.size());
+        associated.push_back(std::move(observation));
+      }
+      break;
+    }
+  }
+  return associated;
+}
+
+}  // namespace vocal
