@@ -380,3 +380,58 @@ TEST(StillTargetAssociation, RecordedSessionCalibratesLikeHandAssociatedData) {
               << result.sensors[s].observations << " associated observations)\n";
   }
 }
+
+TEST(Calibration, DisconnectedSensorGraphIsNamed) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 12;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 1), options);
+  // lidar0's observations relabelled so they share no target pose with the RGB-D sensors.
+  std::vector<vocal::TargetObservation> observations = rig.observations;
+  for (auto& o : observations)
+    if (o.sensor == 2) o.target_pose += 1000;
+  try {
+    vocal::calibrateRig(specs(rig), observations, referenceOptions(rig));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "calibration: the sensor graph is not connected: 'lidar0' share no target pose with the reference's group");
+  }
+}
+
+TEST(Calibration, LaserLinesThatCannotFixThePoseAreRefused) {
+  // Every target pose with the same orientation: the scan lines are all parallel.
+  vocal::RigSimulationOptions options;
+  options.target_poses = 12;
+  options.parallel_targets = true;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(1, 0, 1), options);
+  try {
+    vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration of 2D laser 'laser0': the scan lines do not fix the 2D laser's pose"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Calibration, EveryObservationReportsItsResidual) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 30;
+  options.range_noise = 0.001;
+  options.outlier_fraction = 0.2;
+  options.seed = 11;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 2), options);
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+  ASSERT_EQ(result.observations.size(), rig.observations.size());
+  for (std::size_t i = 0; i < rig.observations.size(); ++i) {
+    // Outliers are rejected and stand out by their residual where their pose kept a plane; kept
+    // observations sit at the noise. (A pose with two outliers among four sensors loses all four.)
+    const vocal::ObservationResidual& r = result.observations[i];
+    if (rig.is_outlier[i]) {
+      EXPECT_TRUE(r.rejected) << i;
+      if (!std::isnan(r.rms)) EXPECT_GT(r.rms, 0.01) << i;
+    } else if (!r.rejected) {
+      EXPECT_LT(r.rms, 0.002) << i;
+    }
+  }
+}

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -246,6 +247,22 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     total_points += points;
   }
   result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
+  for (const TargetObservation& o : observations) {
+    ObservationResidual residual;
+    residual.sensor = o.sensor;
+    residual.target_pose = o.target_pose;
+    residual.rejected = rejected.count({o.sensor, o.target_pose}) > 0;
+    const auto plane = plane_state.find(o.target_pose);
+    residual.rms = std::numeric_limits<double>::quiet_NaN();  // no plane was solved for this pose
+    if (plane != plane_state.end() && !o.points.empty()) {
+      double squared = 0.0;
+      for (const Eigen::Vector3d& p : o.points) {
+        squared += std::pow(plane->second.normal.dot(result.sensors[o.sensor].reference_from_sensor * p) + plane->second.offset, 2);
+      }
+      residual.rms = std::sqrt(squared / o.points.size());
+    }
+    result.observations.push_back(residual);
+  }
 
   // Standard deviations from the solver's covariance (residuals are already whitened).
   ceres::Covariance::Options covariance_options;

@@ -147,12 +147,18 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     const SensorType type = sensors[s].spec.type;
     for (int k = 0; k < options.target_poses; ++k) {
-      // An outlier sees another surface: a large panel somewhere else in front of the rig.
+      // An outlier sees another surface (a large panel elsewhere in front of the rig) or is associated
+      // with the wrong target pose (it saw the target at another pose).
       const bool outlier = type != SensorType::kLaser2d && type != SensorType::kCamera && uniform(rng) < options.outlier_fraction;
-      const Eigen::Isometry3d seen = outlier ? makePose(Eigen::Vector3d(2.5 + unit(rng), unit(rng), 1.0 + 0.3 * unit(rng)),
-                                                        rotationFromRollPitchYaw(0.0, 0.8 * unit(rng), 0.8 * unit(rng)) * facing)
-                                             : rig.reference_from_target[k];
-      const double scale = outlier ? 2.0 : 1.0;
+      const bool wrong_pose = outlier && options.target_poses > 1 && uniform(rng) < 0.5;
+      Eigen::Isometry3d seen = rig.reference_from_target[k];
+      if (wrong_pose) {
+        seen = rig.reference_from_target[(k + 1 + static_cast<int>(uniform(rng) * (options.target_poses - 1))) % options.target_poses];
+      } else if (outlier) {
+        seen = makePose(Eigen::Vector3d(2.5 + unit(rng), unit(rng), 1.0 + 0.3 * unit(rng)),
+                        rotationFromRollPitchYaw(0.0, 0.8 * unit(rng), 0.8 * unit(rng)) * facing);
+      }
+      const double scale = outlier && !wrong_pose ? 2.0 : 1.0;
       TargetObservation observation;
       observation.sensor = static_cast<int>(s);
       observation.target_pose = k;

@@ -22,8 +22,11 @@
 namespace {
 const char kUsage[] =
     "usage: simulate_calibration [options]\n"
-    "  --rgbd N --lidar N --laser N   sensors of the rig (default 2 RGB-D, 2 lidars, 1 2D laser; the first\n"
-    "                                 RGB-D sensor is the reference)\n"
+    "  --rgbd N --lidar N --laser N --camera N\n"
+    "                                 sensors of the rig (default 2 RGB-D, 2 lidars, 1 2D laser, 1 camera;\n"
+    "                                 the first RGB-D sensor is the reference)\n"
+    "  --pattern ROWSxCOLSxSQUARE     the cameras' checkerboard (default 8x10x0.08: inner corners, metres)\n"
+    "  --pixel-noise PX               camera corner noise (default 0.5)\n"
     "  --poses LIST                   target pose counts to try, comma separated (default 5,10,20,30,50)\n"
     "  --trials K                     trials per setting (default 10)\n"
     "  --noise M                      range noise, metres (default 0.001)\n"
@@ -128,11 +131,22 @@ void plot(const std::string& path, const std::vector<Row>& rows) {
 }
 
 int run(const vocal::CommandLine& args) {
-  const int rgbd = args.integer("rgbd", 2), lidar = args.integer("lidar", 2), laser = args.integer("laser", 1);
+  const int rgbd = args.integer("rgbd", 2), lidar = args.integer("lidar", 2), laser = args.integer("laser", 1),
+            cameras = args.integer("camera", 1);
+  vocal::TargetPattern pattern{8, 10, 0.08};
+  if (args.has("pattern")) {
+    const std::string text = args.text("pattern", "");
+    char x1 = 0, x2 = 0;
+    std::istringstream fields(text);
+    if (!(fields >> pattern.rows >> x1 >> pattern.cols >> x2 >> pattern.square_size) || x1 != 'x' || x2 != 'x' ||
+        pattern.rows < 2 || pattern.cols < 2 || !(pattern.square_size > 0.0)) {
+      throw vocal::InputError("option --pattern: '" + text + "' is not ROWSxCOLSxSQUARE, e.g. 6x8x0.06");
+    }
+  }
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   const std::vector<int> pose_counts = parseList(args.text("poses", "5,10,20,30,50"));
   const int trials = args.integer("trials", 10);
-  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(rgbd, lidar, laser);
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(rgbd, lidar, laser, cameras);
   std::vector<vocal::SensorSpec> specs;
   for (const auto& s : sensors) specs.push_back(s.spec);
 
@@ -147,6 +161,8 @@ int run(const vocal::CommandLine& args) {
       options.target_poses = poses;
       options.range_noise = args.number("noise", 0.001);
       options.outlier_fraction = args.number("outliers", 0.0);
+      options.pixel_noise = args.number("pixel-noise", 0.5);
+      options.pattern = pattern;
       options.seed = static_cast<std::uint32_t>(args.integer("seed", 1) + 1000 * trial + poses);
       const vocal::SimulatedRig rig = vocal::simulateRig(sensors, options);
       vocal::CalibrationOptions calibration;
@@ -174,8 +190,10 @@ int run(const vocal::CommandLine& args) {
     rows.push_back(row);
   }
 
-  std::printf("rig: %d RGB-D (reference: rgbd0), %d lidar3d, %d laser2d; %d trials; range noise %.4g m; outliers %.0f%%\n",
-              rgbd, lidar, laser, trials, args.number("noise", 0.001), 100 * args.number("outliers", 0.0));
+  std::printf("rig: %d RGB-D (reference: rgbd0), %d lidar3d, %d laser2d, %d camera; %d trials; range noise %.4g m; "
+              "pixel noise %.3g px; outliers %.0f%%\n",
+              rgbd, lidar, laser, cameras, trials, args.number("noise", 0.001), args.number("pixel-noise", 0.5),
+              100 * args.number("outliers", 0.0));
   std::printf("mean over the non-reference sensors and trials: translation error m / rotation error rad\n");
   std::printf("%6s %24s %24s %24s %24s %12s %8s\n", "poses", "global+filter", "pairwise+filter", "global,no filter",
               "pairwise,no filter", "rms_m", "failed");
@@ -201,6 +219,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "poses", "trials", "noise", "outliers", "seed", "plot", "output-dir"},
+                        {"rgbd", "lidar", "laser", "camera", "pattern", "pixel-noise", "poses", "trials", "noise", "outliers", "seed",
+                         "plot", "output-dir"},
                         {}, 0);
 }

@@ -33,8 +33,18 @@ struct SensorCalibration {
   int rejected_observations = 0;  // by the consensus filter
 };
 
+// How well one observation fits the solution, so bad ones can be found.
+struct ObservationResidual {
+  int sensor = 0;
+  int target_pose = 0;
+  double rms = 0.0;       // metres, its points' distance to the solved target plane; NaN when every
+                          // observation of its pose was rejected (no plane was solved)
+  bool rejected = false;  // by the consensus filter (rms then measured against the solution anyway)
+};
+
 struct CalibrationResult {
   std::vector<SensorCalibration> sensors;
+  std::vector<ObservationResidual> observations;  // in the order of the input
   double rms = 0.0;  // over every point
   std::vector<ObservabilityWarning> warnings;  // weakly constrained DoF, checked before solving
 };

@@ -27,8 +27,8 @@ struct RigSimulationOptions {
   double target_distance = 1.6;  // metres ahead of the rig (x), +-0.3
   double tilt_range = 0.6;     // radians: target normals spread up to this from facing the rig
   bool parallel_targets = false;  // every pose keeps the same orientation (a degenerate data set)
-  // Fraction of plane-sensor observations replaced by points of another surface (a wall, a wrong
-  // association) under the same target pose id.
+  // Fraction of depth and lidar observations that are outliers under their target pose id: half see
+  // another surface (a large panel), half the target at another pose (a wrong association).
   double outlier_fraction = 0.0;
   std::uint32_t seed = 1;
   TargetPattern pattern;  // what cameras see (its corners must lie on the target rectangle)
