@@ -435,3 +435,18 @@ TEST(Calibration, EveryObservationReportsItsResidual) {
     }
   }
 }
+
+TEST(Calibration, RunawaySolutionsAreNotTrusted) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 20;
+  options.range_noise = 0.001;
+  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(2, 1), options);
+  vocal::CalibrationOptions calibration = referenceOptions(rig);
+  EXPECT_TRUE(vocal::calibrateRig(specs(rig), rig.observations, calibration).trusted);
+  // Any departure from the closed form beyond a micrometre counts as running away here.
+  calibration.max_departure_translation = 1e-6;
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, calibration);
+  EXPECT_FALSE(result.trusted);
+  EXPECT_EQ(result.failure.rfind("sensor 'rgbd1' moved ", 0), 0u) << result.failure;
+  EXPECT_NE(result.failure.find("away from its closed-form estimate"), std::string::npos) << result.failure;
+}

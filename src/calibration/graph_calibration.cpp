@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
@@ -247,6 +248,21 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     total_points += points;
   }
   result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
+  if (!summary.IsSolutionUsable()) {
+    result.trusted = false;
+    result.failure = "the solver did not reach a usable solution: " + summary.message;
+  }
+  for (int s = 0; s < sensor_count && result.trusted; ++s) {
+    const Eigen::Isometry3d departure = result.sensors[s].pairwise_estimate.inverse() * result.sensors[s].reference_from_sensor;
+    const double moved = departure.translation().norm(), turned = rotationAngle(departure);
+    if (moved > options.max_departure_translation || turned > options.max_departure_rotation) {
+      std::ostringstream message;
+      message << "sensor '" << sensors[s].name << "' moved " << moved << " m and " << turned
+              << " rad away from its closed-form estimate: the data does not pin it down (too few poses or too many outliers)";
+      result.trusted = false;
+      result.failure = message.str();
+    }
+  }
   for (const TargetObservation& o : observations) {
     ObservationResidual residual;
     residual.sensor = o.sensor;

@@ -169,6 +169,7 @@ int run(const vocal::CommandLine& args) {
       calibration.reference_pose = rig.sensors[0].reference_from_sensor;
       try {
         const vocal::CalibrationResult filtered = vocal::calibrateRig(specs, rig.observations, calibration);
+        if (!filtered.trusted) throw vocal::InputError("not trusted: " + filtered.failure);
         calibration.consensus_filter = false;
         const vocal::CalibrationResult unfiltered = vocal::calibrateRig(specs, rig.observations, calibration);
         for (std::size_t s = 1; s < sensors.size(); ++s) {

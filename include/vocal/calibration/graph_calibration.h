@@ -19,6 +19,10 @@ struct CalibrationOptions {
   // whose points sit farther from the plane than this on average is down-weighted.
   double huber_sigmas = 3.0;
   int max_iterations = 100;
+  // The global solution is not trusted when it moves a sensor farther than this from its closed-form
+  // estimate: with few poses and outliers the graph can run away while still "converging".
+  double max_departure_translation = 0.1;  // metres
+  double max_departure_rotation = 0.1;     // radians
   // Reject observations inconsistent with the consensus of their sensor pairs before initialising.
   bool consensus_filter = true;
   ConsensusOptions consensus;
@@ -47,6 +51,8 @@ struct CalibrationResult {
   std::vector<ObservationResidual> observations;  // in the order of the input
   double rms = 0.0;  // over every point
   std::vector<ObservabilityWarning> warnings;  // weakly constrained DoF, checked before solving
+  bool trusted = true;   // false: the solver failed or ran away from the closed form (see failure)
+  std::string failure;   // names the sensor and how far it moved
 };
 
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
