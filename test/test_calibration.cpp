@@ -16,6 +16,7 @@
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/calibration/still_target_association.h"
+#include "vocal/calibration/target_extraction.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -449,4 +450,42 @@ TEST(Calibration, RunawaySolutionsAreNotTrusted) {
   EXPECT_FALSE(result.trusted);
   EXPECT_EQ(result.failure.rfind("sensor 'rgbd1' moved ", 0), 0u) << result.failure;
   EXPECT_NE(result.failure.find("away from its closed-form estimate"), std::string::npos) << result.failure;
+}
+
+// A depth sensor's full cloud: the target in front of a wall, above the floor. Extraction keeps the
+// target's points, and the calibration from extracted clouds matches the one from clean target points.
+TEST(TargetExtraction, FindsTheTargetAmongFloorAndWall) {
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(2, 1);
+  vocal::RigSimulationOptions options;
+  options.target_poses = 15;
+  options.range_noise = 0.001;
+  const vocal::SimulatedRig rig = vocal::simulateRig(sensors, options);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  std::vector<vocal::TargetObservation> extracted;
+  for (const vocal::TargetObservation& o : rig.observations) {
+    // Floor (z = 0) and a wall (x = 4.5) of the room, in the sensor frame, plus the target.
+    const Eigen::Isometry3d sensor_from_reference = sensors[o.sensor].reference_from_sensor.inverse();
+    std::vector<Eigen::Vector3d> cloud = o.points;
+    for (double x = 0.5; x < 4.5; x += 0.05)
+      for (double y = -2.0; y < 2.0; y += 0.05) cloud.push_back(sensor_from_reference * Eigen::Vector3d(x, y, noise(rng)));
+    for (double y = -2.0; y < 2.0; y += 0.05)
+      for (double z = 0.0; z < 2.5; z += 0.05) cloud.push_back(sensor_from_reference * Eigen::Vector3d(4.5 + noise(rng), y, z));
+    vocal::TargetObservation found = o;
+    found.points = vocal::extractTargetPoints(cloud, options.target_width, options.target_height);
+    ASSERT_GE(found.points.size(), o.points.size() * 9 / 10) << "sensor " << o.sensor << " pose " << o.target_pose;
+    ASSERT_LE(found.points.size(), o.points.size() + 20) << "sensor " << o.sensor << " pose " << o.target_pose;
+    extracted.push_back(std::move(found));
+  }
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), extracted, referenceOptions(rig));
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    const Errors e = errorOf(result.sensors[s].reference_from_sensor, sensors[s].reference_from_sensor);
+    EXPECT_LT(e.translation, 0.005) << sensors[s].spec.name;
+    EXPECT_LT(e.rotation, 0.005) << sensors[s].spec.name;
+  }
+  // A cloud without the target gives nothing.
+  std::vector<Eigen::Vector3d> floor_only;
+  for (double x = 0.5; x < 4.5; x += 0.05)
+    for (double y = -2.0; y < 2.0; y += 0.05) floor_only.emplace_back(x, y, 0.0);
+  EXPECT_TRUE(vocal::extractTargetPoints(floor_only, 0.9, 0.7).empty());
 }
