@@ -489,3 +489,42 @@ TEST(TargetExtraction, FindsTheTargetAmongFloorAndWall) {
     for (double y = -2.0; y < 2.0; y += 0.05) floor_only.emplace_back(x, y, 0.0);
   EXPECT_TRUE(vocal::extractTargetPoints(floor_only, 0.9, 0.7).empty());
 }
+
+TEST(TargetExtraction, FindsTheTargetSegmentInAFullScan) {
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 0, 1);
+  vocal::RigSimulationOptions options;
+  options.target_poses = 10;
+  options.range_noise = 0.001;
+  const vocal::SimulatedRig rig = vocal::simulateRig(sensors, options);
+  int checked = 0;
+  for (const vocal::TargetObservation& o : rig.observations) {
+    if (o.sensor != 1) continue;
+    // The scan also sees the room: walls at x = 4.5 and y = +-3 (reference frame), in scan order.
+    const Eigen::Isometry3d sensor_from_reference = sensors[1].reference_from_sensor.inverse();
+    std::vector<std::pair<double, Eigen::Vector3d>> ordered;
+    for (const Eigen::Vector3d& p : o.points) ordered.emplace_back(std::atan2(p.y(), p.x()), p);
+    for (int step = 0; step <= 1080; ++step) {
+      const double azimuth = (-135.0 + 0.25 * step) * M_PI / 180.0;
+      const Eigen::Vector3d ray(std::cos(azimuth), std::sin(azimuth), 0.0);
+      double nearest = 1e9;
+      for (const auto& [normal, offset] : {std::pair<Eigen::Vector3d, double>{Eigen::Vector3d::UnitX(), -4.5},
+                                           {Eigen::Vector3d::UnitY(), -3.0}, {Eigen::Vector3d::UnitY(), 3.0}}) {
+        // Wall n . x + d = 0 in the reference frame, moved into the scan frame.
+        const vocal::Plane wall = vocal::transformPlane(sensor_from_reference, {normal, offset});
+        const double t = -wall.offset / wall.normal.dot(ray);
+        if (t > 0.0) nearest = std::min(nearest, t);
+      }
+      bool behind_target = false;
+      for (const Eigen::Vector3d& p : o.points) behind_target |= std::abs(std::atan2(p.y(), p.x()) - azimuth) < 0.003;
+      if (!behind_target && nearest < 20.0) ordered.emplace_back(azimuth, nearest * ray);
+    }
+    std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Eigen::Vector3d> scan;
+    for (const auto& entry : ordered) scan.push_back(entry.second);
+    const std::vector<Eigen::Vector3d> segment = vocal::extractTargetSegment(scan, options.target_width, options.target_height);
+    EXPECT_GE(segment.size(), o.points.size() * 9 / 10) << "pose " << o.target_pose;
+    EXPECT_LE(segment.size(), o.points.size() + 3) << "pose " << o.target_pose;
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}

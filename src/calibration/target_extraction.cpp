@@ -97,13 +97,57 @@ std::vector<Eigen::Vector3d> extractTargetPoints(const std::vector<Eigen::Vector
     for (const Eigen::Vector3d& p : remaining) {
       (std::abs(best.signedDistance(p)) < options.distance_threshold ? inliers : outliers).push_back(p);
     }
-    for (std::vector<Eigen::Vector3d>& patch : patchesOf(inliers, options.cell_size)) {
-      if (static_cast<int>(patch.size()) < options.min_points) break;  // sorted: the rest are smaller
-      const Eigen::Vector2d extent = extentOf(patch);
+    // Only the plane's largest patch is a candidate: smaller pieces of a floor or wall cut up by
+    // shadows would otherwise pass for the target.
+    std::vector<std::vector<Eigen::Vector3d>> patches = patchesOf(inliers, options.cell_size);
+    if (static_cast<int>(patches.front().size()) >= options.min_points) {
+      const Eigen::Vector2d extent = extentOf(patches.front());
       const bool not_larger = extent[0] <= std::hypot(target_width, target_height) + options.size_slack &&
                               extent[1] <= longest + options.size_slack;
       const bool not_scrap = extent[0] >= options.min_size_fraction * shortest;
-      if (not_larger && not_scrap) return patch;
+      if (not_larger && not_scrap) return patches.front();
+    }
+    remaining = std::move(outliers);
+  }
+  return {};
+}
+
+std::vector<Eigen::Vector3d> extractTargetSegment(const std::vector<Eigen::Vector3d>& scan, double target_width,
+                                                  double target_height, const TargetExtractionOptions& options) {
+  std::mt19937 rng(options.seed);
+  std::vector<Eigen::Vector3d> remaining = scan;
+  const double diagonal = std::hypot(target_width, target_height);
+  const double shortest = std::min(target_width, target_height);
+  for (int line_index = 0; line_index < options.max_planes && static_cast<int>(remaining.size()) >= 10; ++line_index) {
+    std::uniform_int_distribution<std::size_t> pick(0, remaining.size() - 1);
+    Eigen::Vector2d best_point = Eigen::Vector2d::Zero(), best_normal = Eigen::Vector2d::UnitX();
+    std::size_t best_count = 0;
+    for (int iteration = 0; iteration < options.iterations; ++iteration) {
+      const Eigen::Vector2d a = remaining[pick(rng)].head<2>(), b = remaining[pick(rng)].head<2>();
+      if ((b - a).norm() < 1e-6) continue;
+      const Eigen::Vector2d normal = Eigen::Vector2d(-(b - a).y(), (b - a).x()).normalized();
+      std::size_t count = 0;
+      for (const Eigen::Vector3d& p : remaining) count += std::abs(normal.dot(p.head<2>() - a)) < options.distance_threshold;
+      if (count > best_count) best_count = count, best_point = a, best_normal = normal;
+    }
+    if (best_count < 10) break;
+    // Runs of consecutive inliers (scan order) without gaps wider than cell_size.
+    std::vector<std::vector<Eigen::Vector3d>> runs(1);
+    std::vector<Eigen::Vector3d> outliers;
+    for (const Eigen::Vector3d& p : remaining) {
+      if (std::abs(best_normal.dot(p.head<2>() - best_point)) >= options.distance_threshold) {
+        outliers.push_back(p);
+        if (!runs.back().empty()) runs.emplace_back();
+        continue;
+      }
+      if (!runs.back().empty() && (p - runs.back().back()).norm() > options.cell_size) runs.emplace_back();
+      runs.back().push_back(p);
+    }
+    // Only the line's longest run is a candidate (a wall seen at a grazing angle breaks into short runs).
+    const auto run = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    if (run->size() >= 10) {
+      const double length = (run->back() - run->front()).norm();
+      if (length <= diagonal + options.size_slack && length >= options.min_size_fraction * shortest) return *run;
     }
     remaining = std::move(outliers);
   }

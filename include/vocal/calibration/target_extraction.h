@@ -21,9 +21,17 @@ struct TargetExtractionOptions {
 };
 
 // The points of the patch that fits the target's size: planes are found by RANSAC, largest first; each
-// plane's inliers are split into connected patches; the first patch neither larger than the target
-// (its extent against width x height) nor a scrap is returned. Empty when no patch fits.
+// plane's inliers are split into connected patches; the first plane whose largest patch is neither
+// larger than the target (its extent against width x height) nor a scrap gives the result. Empty when
+// no plane fits.
 std::vector<Eigen::Vector3d> extractTargetPoints(const std::vector<Eigen::Vector3d>& cloud, double target_width,
                                                  double target_height, const TargetExtractionOptions& options = {});
+
+// The target's segment in a full 2D scan (points in the scan plane z = 0, in scan order): RANSAC lines,
+// longest first; each line's inliers split where consecutive points are more than cell_size apart or
+// something else is in between; the first line whose longest run fits the target (at most its diagonal
+// + slack, at least min_size_fraction of its shorter side) gives the result. Empty when none fits.
+std::vector<Eigen::Vector3d> extractTargetSegment(const std::vector<Eigen::Vector3d>& scan, double target_width,
+                                                  double target_height, const TargetExtractionOptions& options = {});
 
 }  // namespace vocal
