@@ -528,3 +528,57 @@ TEST(TargetExtraction, FindsTheTargetSegmentInAFullScan) {
   }
   EXPECT_GE(checked, 5);
 }
+
+// A rendered checkerboard (4x supersampled) at 1.5 m, tilted: the detected corners sit on the projected
+// true corners, and the plane from them matches the board's.
+TEST(PatternObservation, DetectsARenderedBoardAndRecoversItsPlane) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera();
+  const vocal::TargetPattern pattern{6, 8, 0.06};
+  Eigen::Isometry3d camera_from_board = Eigen::Isometry3d::Identity();
+  camera_from_board.linear() = vocal::rotationFromRollPitchYaw(0.35, -0.25, 0.1);
+  camera_from_board.translation() = Eigen::Vector3d(0.05, -0.03, 1.5);
+  const Eigen::Vector3d normal = camera_from_board.linear().col(2);
+  const double offset = -normal.dot(camera_from_board.translation());
+  vocal::ColorImage image(camera.width, camera.height, vocal::Rgb8{200, 200, 200});
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      int white = 0, samples = 0;
+      for (double du : {-0.375, -0.125, 0.125, 0.375}) {
+        for (double dv : {-0.375, -0.125, 0.125, 0.375}) {
+          const Eigen::Vector3d ray((u + du - camera.cx) / camera.fx, (v + dv - camera.cy) / camera.fy, 1.0);
+          const Eigen::Vector3d on_board = camera_from_board.inverse() * (-offset / normal.dot(ray) * ray);
+          // (cols + 1) x (rows + 1) squares around the inner corners, white around them.
+          const double sx = on_board.x() / pattern.square_size + 0.5 * (pattern.cols + 1);
+          const double sy = on_board.y() / pattern.square_size + 0.5 * (pattern.rows + 1);
+          ++samples;
+          const bool on_squares = sx >= 0 && sy >= 0 && sx <= pattern.cols + 1 && sy <= pattern.rows + 1;
+          white += on_squares ? (static_cast<int>(std::floor(sx)) + static_cast<int>(std::floor(sy))) % 2 : 1;
+        }
+      }
+      const auto level = static_cast<std::uint8_t>(20 + 215 * white / samples);
+      image(u, v) = {level, level, level};
+    }
+  }
+  const std::vector<Eigen::Vector2d> corners = vocal::detectPattern(image, pattern, "camera0");
+  ASSERT_EQ(corners.size(), 48u);
+  double worst = 0.0;
+  for (const Eigen::Vector3d& corner : pattern.corners()) {
+    const Eigen::Vector2d truth = camera.project(camera_from_board * corner);
+    double nearest = 1e9;
+    for (const Eigen::Vector2d& c : corners) nearest = std::min(nearest, (c - truth).norm());
+    worst = std::max(worst, nearest);
+  }
+  EXPECT_LT(worst, 0.25);
+  const vocal::PatternObservation observation = vocal::observePattern(corners, pattern, camera, "camera0");
+  const vocal::Plane plane = vocal::fitPlane(observation.points, "camera0").plane;
+  EXPECT_GT(std::abs(plane.normal.dot(normal)), std::cos(0.01));
+  EXPECT_NEAR(std::abs(plane.offset), std::abs(offset), 0.01);
+  // An image without the board is an error that names the camera.
+  vocal::ColorImage blank(camera.width, camera.height, vocal::Rgb8{128, 128, 128});
+  try {
+    vocal::detectPattern(blank, pattern, "camera0");
+    FAIL() << "expected an error";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "camera0: no 6x8 checkerboard (inner corners) found in the image");
+  }
+}

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "vocal/core/errors.h"
 
@@ -16,6 +17,27 @@ std::vector<Eigen::Vector3d> TargetPattern::corners() const {
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c)
       out.emplace_back((c - 0.5 * (cols - 1)) * square_size, (r - 0.5 * (rows - 1)) * square_size, 0.0);
+  return out;
+}
+
+std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const TargetPattern& pattern, const char* what) {
+  cv::Mat gray(image.height(), image.width(), CV_8UC1);
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      const Rgb8& p = image(x, y);
+      gray.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
+    }
+  }
+  std::vector<cv::Point2f> corners;
+  const cv::Size size(pattern.cols, pattern.rows);
+  if (!cv::findChessboardCorners(gray, size, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
+    throw InputError(std::string(what) + ": no " + std::to_string(pattern.rows) + "x" + std::to_string(pattern.cols) +
+                     " checkerboard (inner corners) found in the image");
+  }
+  cv::cornerSubPix(gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 0.001));
+  std::vector<Eigen::Vector2d> out;
+  for (const cv::Point2f& c : corners) out.emplace_back(c.x, c.y);
   return out;
 }
 

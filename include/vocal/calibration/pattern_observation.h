@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "vocal/core/image.h"
 #include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
@@ -26,6 +27,11 @@ struct PatternObservation {
   // noise taken from the reprojection error, at least 0.05 px).
   double offset_sigma = 0.0;
 };
+
+// The pattern's inner corners in an image, sub-pixel refined, in the order of TargetPattern::corners()
+// up to the board's 180-degree symmetry (which leaves the plane unchanged). Throws InputError naming
+// `what` when the board is not found.
+std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const TargetPattern& pattern, const char* what);
 
 // Throws InputError naming `what` when the corner count does not match the pattern or the pose cannot
 // be estimated.
