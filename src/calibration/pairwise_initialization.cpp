@@ -64,8 +64,20 @@ Eigen::Isometry3d alignLaserLines(const std::vector<Plane>& planes_in_rig,
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd singular = svd.singularValues();
   if (singular[8] < 1e-6 * singular[0]) {
-    throw InputError(what + ": the scan lines do not fix the 2D laser's pose (smallest/largest singular value " +
-                     std::to_string(singular[8] / singular[0]) + "); tilt and turn the target more between poses");
+    // The unconstrained combination of (r1, r2, t): name the part it lives in.
+    const Eigen::Matrix<double, 9, 1> weak = svd.matrixV().col(8);
+    std::ostringstream message;
+    message.precision(2);
+    message << std::fixed << what << ": the scan lines do not fix the 2D laser's pose (smallest/largest singular value "
+            << std::scientific << singular[8] / singular[0] << std::fixed << "): ";
+    if (weak.tail<3>().norm() > weak.head<6>().norm()) {
+      const Eigen::Vector3d t = weak.tail<3>().normalized();
+      message << "translation along [" << t.x() << " " << t.y() << " " << t.z() << "]";
+    } else {
+      message << "its orientation";
+    }
+    message << " is unconstrained; tilt and turn the target more between poses";
+    throw InputError(message.str());
   }
   const Eigen::VectorXd x = svd.solve(rhs);
   Eigen::Matrix<double, 3, 2> columns;
