@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <cmath>
 
 #include <fstream>
@@ -119,13 +121,8 @@ TEST(Calibration, DegenerateDataNamesTheSensorAndTheProblem) {
   options = vocal::RigSimulationOptions();
   options.target_poses = 2;
   const vocal::SimulatedRig few = vocal::simulateRig(vocal::exampleRig(2, 0), options);
-  try {
-    vocal::calibrateRig(specs(few), few.observations, referenceOptions(few));
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "calibration of 'rgbd1' against 'rgbd0': 2 shared target poses, at least 3 with non-parallel planes are needed");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs(few), few.observations, referenceOptions(few)); }),
+            "calibration of 'rgbd1' against 'rgbd0': 2 shared target poses, at least 3 with non-parallel planes are needed");
 
   // A sensor that never sees the target.
   options = vocal::RigSimulationOptions();
@@ -133,12 +130,8 @@ TEST(Calibration, DegenerateDataNamesTheSensorAndTheProblem) {
   std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(2, 0);
   sensors[1].reference_from_sensor.linear() = vocal::rotationFromRollPitchYaw(0, 0, M_PI) * sensors[1].reference_from_sensor.linear();
   const vocal::SimulatedRig blind = vocal::simulateRig(sensors, options);
-  try {
-    vocal::calibrateRig(specs(blind), blind.observations, referenceOptions(blind));
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "calibration: sensor 'rgbd1' never sees the target: its pose is unconstrained in all 6 DoF");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs(blind), blind.observations, referenceOptions(blind)); }),
+            "calibration: sensor 'rgbd1' never sees the target: its pose is unconstrained in all 6 DoF");
 }
 
 TEST(Calibration, TwoDimensionalLaserFromItsLinesOnTheTarget) {
@@ -328,12 +321,8 @@ TEST(Calibration, CamerasFromTheirPatternPose) {
 
 TEST(PatternObservation, WrongCornerCountIsNamed) {
   vocal::TargetPattern pattern;
-  try {
-    vocal::observePattern(std::vector<Eigen::Vector2d>(40), pattern, vocal::defaultKinectCamera(), "cam2");
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "cam2: 40 corners detected, the 6x8 pattern has 48");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::observePattern(std::vector<Eigen::Vector2d>(40), pattern, vocal::defaultKinectCamera(), "cam2"); }),
+            "cam2: 40 corners detected, the 6x8 pattern has 48");
 }
 
 // A recorded session: the target held still for 1 s at each pose and carried for 1 s between poses,
@@ -391,13 +380,8 @@ TEST(Calibration, DisconnectedSensorGraphIsNamed) {
   std::vector<vocal::TargetObservation> observations = rig.observations;
   for (auto& o : observations)
     if (o.sensor == 2) o.target_pose += 1000;
-  try {
-    vocal::calibrateRig(specs(rig), observations, referenceOptions(rig));
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "calibration: the sensor graph is not connected: 'lidar0' share no target pose with the reference's group");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs(rig), observations, referenceOptions(rig)); }),
+            "calibration: the sensor graph is not connected: 'lidar0' share no target pose with the reference's group");
 }
 
 TEST(Calibration, LaserLinesThatCannotFixThePoseAreRefused) {
@@ -578,10 +562,6 @@ TEST(PatternObservation, DetectsARenderedBoardAndRecoversItsPlane) {
   EXPECT_NEAR(std::abs(plane.offset), std::abs(offset), 0.01);
   // An image without the board is an error that names the camera.
   vocal::ColorImage blank(camera.width, camera.height, vocal::Rgb8{128, 128, 128});
-  try {
-    vocal::detectPattern(blank, pattern, "camera0");
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "camera0: no 6x8 checkerboard (inner corners) found in the image");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::detectPattern(blank, pattern, "camera0"); }),
+            "camera0: no 6x8 checkerboard (inner corners) found in the image");
 }

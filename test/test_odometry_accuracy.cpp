@@ -105,20 +105,11 @@ TEST(OdometryBadInput, SizeMismatchesAreErrors) {
   vocal::IcpDvoOdometry odometry(camera, vocal::OdometryConfig{});
   vocal::RgbdFrame frame = wallFrame(camera);
   frame.depth = vocal::DepthImage(80, 60, 1.0f);
-  try {
-    odometry.track(frame);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "odometry frame: colour image is 160x120 but depth image is 80x60 (depth must be registered to colour)");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { odometry.track(frame); }),
+            "odometry frame: colour image is 160x120 but depth image is 80x60 (depth must be registered to colour)");
   const vocal::RgbdFrame big = wallFrame(vocal::defaultKinectCamera(320, 240));
-  try {
-    odometry.track(big);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "odometry frame: images are 320x240 but the camera is 160x120");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { odometry.track(big); }),
+            "odometry frame: images are 320x240 but the camera is 160x120");
 }
 
 TEST(OdometryBadInput, InvalidDepthIsReportedNotTracked) {
@@ -176,12 +167,8 @@ TEST(OdometryBadInput, NeitherTextureNorStructureIsReported) {
 TEST(OdometryBadInput, ConfigErrorsNameTheSetting) {
   vocal::OdometryConfig config;
   config.iterations = {10, 5};
-  try {
-    vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "odometry config: iterations lists 2 values for 3 levels");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config); }),
+            "odometry config: iterations lists 2 values for 3 levels");
   vocal::PinholeCamera camera = vocal::defaultKinectCamera();
   camera.fy = -1.0;
   EXPECT_THROW(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}), vocal::InputError);
@@ -231,24 +218,12 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
 TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
   const std::string path = ::testing::TempDir() + "/odometry_bad.yaml";
   vocal_test::writeText(path, "rgb_weigth: 2\n");
-  try {
-    vocal::readOdometryConfigYaml(path);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": unknown odometry setting 'rgb_weigth'");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
+            path + ": unknown odometry setting 'rgb_weigth'");
   vocal_test::writeText(path, "mode: sideways\n");
-  try {
-    vocal::readOdometryConfigYaml(path);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": odometry mode 'sideways' is unknown: expected icp, rgb or fused");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
+            path + ": odometry mode 'sideways' is unknown: expected icp, rgb or fused");
   vocal_test::writeText(path, "levels: 2\n");
-  try {
-    vocal::readOdometryConfigYaml(path);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": odometry config: iterations lists 3 values for 2 levels");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
+            path + ": odometry config: iterations lists 3 values for 2 levels");
 }

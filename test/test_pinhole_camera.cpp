@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -40,12 +42,8 @@ TEST(PinholeCamera, ScaledKeepsPixelCentres) {
 TEST(PinholeCamera, ValidateNamesTheProblem) {
   PinholeCamera camera;
   camera.fx = 0.0;
-  try {
-    camera.validate("rgb/camera_info");
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "rgb/camera_info: focal lengths fx=0 fy=525 must be finite and positive");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { camera.validate("rgb/camera_info"); }),
+            "rgb/camera_info: focal lengths fx=0 fy=525 must be finite and positive");
   camera = PinholeCamera();
   camera.width = 0;
   EXPECT_THROW(camera.validate("x"), vocal::InputError);
@@ -64,23 +62,14 @@ TEST(CameraYaml, RoundTripsExactly) {
 TEST(CameraYaml, MissingKeyIsNamed) {
   const std::string path = ::testing::TempDir() + "/camera_missing.yaml";
   std::ofstream(path) << "image_width: 640\nimage_height: 480\n";
-  try {
-    vocal::readCameraYaml(path);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": missing key 'camera_matrix'");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readCameraYaml(path); }),
+            path + ": missing key 'camera_matrix'");
 }
 
 TEST(RgbdFrame, SizeMismatchIsAnError) {
   vocal::RgbdFrame frame;
   frame.color = vocal::ColorImage(640, 480);
   frame.depth = vocal::DepthImage(320, 240);
-  try {
-    frame.validate("frame 7");
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "frame 7: colour image is 640x480 but depth image is 320x240 (depth must be registered to colour)");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { frame.validate("frame 7"); }),
+            "frame 7: colour image is 640x480 but depth image is 320x240 (depth must be registered to colour)");
 }

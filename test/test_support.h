@@ -3,10 +3,12 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "vocal/core/errors.h"
 #include "vocal/core/synthetic_sequence.h"
 
 namespace vocal_test {
@@ -19,6 +21,16 @@ inline std::string makeTempFolder(const std::string& name) {
     ADD_FAILURE() << "cannot create " << path;
   }
   return path;
+}
+
+// The message of the InputError `f` throws, or "(no error)".
+inline std::string inputErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const vocal::InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
 }
 
 inline void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }

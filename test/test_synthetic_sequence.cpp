@@ -216,10 +216,6 @@ TEST(SyntheticTrajectory, MovesAtTheRequestedSpeedAndRate) {
 TEST(SyntheticSequence, BadOptionsAreErrors) {
   vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(2);
   options.sensor_model.missing_fraction = 1.5;
-  try {
-    vocal::writeSyntheticSequence(makeTempFolder("bad_options"), options);
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "synthetic sequence: missing fraction 1.500000 must be in [0, 1)");
-  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::writeSyntheticSequence(makeTempFolder("bad_options"), options); }),
+            "synthetic sequence: missing fraction 1.500000 must be in [0, 1)");
 }

@@ -11,16 +11,7 @@
 using vocal_test::makeTempFolder;
 using vocal_test::writeText;
 
-namespace {
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const vocal::InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-}  // namespace
+using vocal_test::inputErrorOf;
 
 TEST(TumTrajectory, WriteReadRoundTripsExactly) {
   const std::string folder = makeTempFolder("trajectory");
@@ -45,18 +36,18 @@ TEST(TumTrajectory, MalformedLinesNameFileAndLine) {
   const std::string folder = makeTempFolder("bad_trajectory");
   const std::string path = folder + "/t.txt";
   writeText(path, "# comment\n1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(path); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(path); }),
             path + ":3: expected 8 fields 'timestamp tx ty tz qx qy qz qw', found 7");
   writeText(path, "1.0 0 0 0 0 0 0 1\n2.0 0 abc 0 0 0 0 1\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(path); }), path + ":2: ty 'abc' is not a finite number");
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(path); }), path + ":2: ty 'abc' is not a finite number");
   writeText(path, "1.0 0 0 0 0 0 0 1\n2.0 0 nan 0 0 0 0 1\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(path); }), path + ":2: ty 'nan' is not a finite number");
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(path); }), path + ":2: ty 'nan' is not a finite number");
   writeText(path, "1.0 0 0 0 0 0 0 1\n\n0.5 0 0 0 0 0 0 1\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(path); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(path); }),
             path + ":3: timestamp 0.500000 is not after the previous one (1.000000): stamps must be strictly increasing");
   writeText(path, "1.0 0 0 0 0 0 0 0\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(path); }), path + ":1: quaternion has norm 0.000000, expected 1");
-  EXPECT_EQ(errorOf([&] { vocal::readTumTrajectory(folder + "/none.txt"); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(path); }), path + ":1: quaternion has norm 0.000000, expected 1");
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumTrajectory(folder + "/none.txt"); }),
             folder + "/none.txt: cannot open file (No such file or directory)");
 }
 
@@ -64,13 +55,13 @@ TEST(TumImageList, MissingImageNamesTheListLine) {
   const std::string folder = makeTempFolder("image_list");
   writeText(folder + "/a.png", "x");
   writeText(folder + "/rgb.txt", "# rgb\n1.0 a.png\n2.0 b.png\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }),
             folder + "/rgb.txt:3: image '" + folder + "/b.png' does not exist");
   writeText(folder + "/rgb.txt", "1.0 a.png extra\n");
-  EXPECT_EQ(errorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }),
             folder + "/rgb.txt:1: expected 2 fields 'timestamp filename', found 3");
   writeText(folder + "/rgb.txt", "2.0 a.png\n1.0 a.png\n");
-  EXPECT_NE(errorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }).find("rgb.txt:2: timestamp 1.000000 is not after"),
+  EXPECT_NE(inputErrorOf([&] { vocal::readTumImageList(folder + "/rgb.txt", folder); }).find("rgb.txt:2: timestamp 1.000000 is not after"),
             std::string::npos);
 }
 
@@ -78,9 +69,9 @@ TEST(TumSequence, EmptySequenceIsAnError) {
   const std::string folder = makeTempFolder("empty_sequence");
   writeText(folder + "/rgb.txt", "# nothing\n");
   writeText(folder + "/depth.txt", "# nothing\n");
-  EXPECT_EQ(errorOf([&] { vocal::TumSequence::open(folder); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::TumSequence::open(folder); }),
             folder + ": empty sequence: rgb.txt lists 0 images and depth.txt 0, and no pair is within 0.020000 s");
-  EXPECT_EQ(errorOf([&] { vocal::TumSequence::open(folder + "/nowhere"); }),
+  EXPECT_EQ(inputErrorOf([&] { vocal::TumSequence::open(folder + "/nowhere"); }),
             folder + "/nowhere/rgb.txt: cannot open file (No such file or directory)");
 }
 
@@ -89,11 +80,11 @@ TEST(TumSequence, UnreadableImageIsNamedWhenLoaded) {
   vocal::writeSyntheticSequence(folder, vocal_test::smallSequenceOptions(3));
   const vocal::TumSequence sequence = vocal::TumSequence::open(folder);
   writeText(sequence.entry(1).depth.path, "not a png");
-  EXPECT_EQ(errorOf([&] { sequence.loadFrame(1); }),
+  EXPECT_EQ(inputErrorOf([&] { sequence.loadFrame(1); }),
             sequence.entry(1).depth.path + ": cannot read image (missing file or not an image)");
   // An 8-bit image where 16-bit depth is expected.
   ASSERT_EQ(std::system(("cp '" + sequence.entry(0).rgb.path + "' '" + sequence.entry(2).depth.path + "'").c_str()), 0);
-  EXPECT_EQ(errorOf([&] { sequence.loadFrame(2); }),
+  EXPECT_EQ(inputErrorOf([&] { sequence.loadFrame(2); }),
             sequence.entry(2).depth.path + ": expected a 16-bit single-channel depth image, found 3 channel(s) of 8-bit data");
 }
 
