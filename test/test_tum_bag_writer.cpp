@@ -94,11 +94,6 @@ TEST(TumBagWriter, UnwritableBagIsNamed) {
   const std::string folder = vocal_test::makeTempFolder("bag_error");
   vocal::writeSyntheticSequence(folder + "/seq", vocal_test::smallSequenceOptions(2));
   const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
-  try {
-    vocal::writeTumBag(sequence, folder + "/no/such/dir/out.bag");
-    FAIL() << "expected an error";
-  } catch (const vocal::InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(folder + "/no/such/dir/out.bag: cannot open bag for writing", 0), 0u)
-        << e.what();
-  }
+  const std::string error = vocal_test::inputErrorOf([&] { vocal::writeTumBag(sequence, folder + "/no/such/dir/out.bag"); });
+  EXPECT_EQ(error.rfind(folder + "/no/such/dir/out.bag: cannot open bag for writing", 0), 0u) << error;
 }

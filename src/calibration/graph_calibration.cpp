@@ -223,8 +223,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   CalibrationResult result;
   result.warnings = warnings;
   result.sensors.resize(sensor_count);
-  double total_squared = 0.0;
-  std::size_t total_points = 0;
   for (int s = 0; s < sensor_count; ++s) {
     SensorCalibration& out = result.sensors[s];
     out.reference_from_sensor = Eigen::Isometry3d::Identity();
@@ -232,20 +230,36 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     out.reference_from_sensor.translation() = sensor_state[s].translation;
     out.pairwise_estimate = initial[s];
     out.observations = observation_count[s];
-    out.rejected_observations = static_cast<int>(
-        std::count_if(rejected.begin(), rejected.end(), [s](const std::pair<int, int>& r) { return r.first == s; }));
-    const Eigen::Isometry3d& pose = out.reference_from_sensor;
-    double squared = 0.0;
-    std::size_t points = 0;
-    for (const TargetObservation& o : observations) {
-      if (o.sensor != s || !plane_state.count(o.target_pose) || rejected.count({o.sensor, o.target_pose})) continue;
-      const PlaneState& plane = plane_state.at(o.target_pose);
-      for (const Eigen::Vector3d& p : o.points) squared += std::pow(plane.normal.dot(pose * p) + plane.offset, 2);
-      points += o.points.size();
+  }
+  // Each observation's distance to its solved plane, once; sensor and overall RMS over the kept ones.
+  std::vector<double> sensor_squared(sensor_count, 0.0);
+  std::vector<std::size_t> sensor_points(sensor_count, 0);
+  for (const TargetObservation& o : observations) {
+    ObservationResidual residual;
+    residual.sensor = o.sensor;
+    residual.target_pose = o.target_pose;
+    residual.rejected = rejected.count({o.sensor, o.target_pose}) > 0;
+    residual.rms = std::numeric_limits<double>::quiet_NaN();  // no plane was solved for this pose
+    const auto plane = plane_state.find(o.target_pose);
+    if (plane != plane_state.end() && !o.points.empty()) {
+      const Eigen::Isometry3d& pose = result.sensors[o.sensor].reference_from_sensor;
+      double squared = 0.0;
+      for (const Eigen::Vector3d& p : o.points) squared += std::pow(plane->second.normal.dot(pose * p) + plane->second.offset, 2);
+      residual.rms = std::sqrt(squared / o.points.size());
+      if (!residual.rejected) {
+        sensor_squared[o.sensor] += squared;
+        sensor_points[o.sensor] += o.points.size();
+      }
     }
-    out.rms = points ? std::sqrt(squared / points) : 0.0;
-    total_squared += squared;
-    total_points += points;
+    if (residual.rejected) ++result.sensors[o.sensor].rejected_observations;
+    result.observations.push_back(residual);
+  }
+  double total_squared = 0.0;
+  std::size_t total_points = 0;
+  for (int s = 0; s < sensor_count; ++s) {
+    result.sensors[s].rms = sensor_points[s] ? std::sqrt(sensor_squared[s] / sensor_points[s]) : 0.0;
+    total_squared += sensor_squared[s];
+    total_points += sensor_points[s];
   }
   result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
   if (!summary.IsSolutionUsable()) {
@@ -262,22 +276,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       result.trusted = false;
       result.failure = message.str();
     }
-  }
-  for (const TargetObservation& o : observations) {
-    ObservationResidual residual;
-    residual.sensor = o.sensor;
-    residual.target_pose = o.target_pose;
-    residual.rejected = rejected.count({o.sensor, o.target_pose}) > 0;
-    const auto plane = plane_state.find(o.target_pose);
-    residual.rms = std::numeric_limits<double>::quiet_NaN();  // no plane was solved for this pose
-    if (plane != plane_state.end() && !o.points.empty()) {
-      double squared = 0.0;
-      for (const Eigen::Vector3d& p : o.points) {
-        squared += std::pow(plane->second.normal.dot(result.sensors[o.sensor].reference_from_sensor * p) + plane->second.offset, 2);
-      }
-      residual.rms = std::sqrt(squared / o.points.size());
-    }
-    result.observations.push_back(residual);
   }
 
   // Standard deviations from the solver's covariance (residuals are already whitened).

@@ -19,7 +19,7 @@ Eigen::Isometry3d makePose(const Eigen::Vector3d& t, const Eigen::Matrix3d& R) {
 }
 
 // Rays of a sensor in its own frame: a Kinect-like pinhole grid, or a 16-ring lidar.
-std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
+std::vector<Eigen::Vector3d> makeSensorRays(SensorType type) {
   std::vector<Eigen::Vector3d> rays;
   if (type == SensorType::kRgbd) {
     for (int v = 4; v < 480; v += 8)
@@ -39,6 +39,21 @@ std::vector<Eigen::Vector3d> sensorRays(SensorType type) {
     }
   }
   return rays;
+}
+
+// The ray sets are fixed per sensor type: built once, not per observation.
+const std::vector<Eigen::Vector3d>& sensorRays(SensorType type) {
+  static const std::vector<Eigen::Vector3d> rgbd = makeSensorRays(SensorType::kRgbd);
+  static const std::vector<Eigen::Vector3d> lidar = makeSensorRays(SensorType::kLidar3d);
+  static const std::vector<Eigen::Vector3d> laser = makeSensorRays(SensorType::kLaser2d);
+  static const std::vector<Eigen::Vector3d> none;
+  switch (type) {
+    case SensorType::kRgbd: return rgbd;
+    case SensorType::kLidar3d: return lidar;
+    case SensorType::kLaser2d: return laser;
+    case SensorType::kCamera: return none;  // cameras see the pattern's corners instead
+  }
+  return none;
 }
 }  // namespace
 

@@ -59,11 +59,26 @@ struct FrameBuffers {
   std::vector<LevelBuffers> levels;
 };
 
+// Bytes of __local memory for a kernel argument.
+struct LocalBytes {
+  std::size_t bytes;
+};
+
 template <typename T>
 void setArg(cl_kernel kernel, cl_uint index, const T& value) {
   check(clSetKernelArg(kernel, index, sizeof(T), &value), "clSetKernelArg");
 }
 void setArg(cl_kernel kernel, cl_uint index, const Buffer& buffer) { setArg(kernel, index, buffer.mem); }
+void setArg(cl_kernel kernel, cl_uint index, const LocalBytes& local) {
+  check(clSetKernelArg(kernel, index, local.bytes, nullptr), "clSetKernelArg(local)");
+}
+
+// Sets every argument of a kernel in order.
+template <typename... Args>
+void setArgs(cl_kernel kernel, const Args&... args) {
+  cl_uint index = 0;
+  (setArg(kernel, index++, args), ...);
+}
 
 std::size_t roundUp(std::size_t value, std::size_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 }  // namespace
@@ -157,24 +172,7 @@ OpenClOdometryBackend::OpenClOdometryBackend(const PinholeCamera& camera, const 
   const std::size_t chosen = chooseOpenClDevice(devices, config.opencl_platform, config.opencl_device);
   s.device_info = devices[chosen];
 
-  // Find the chosen device's handles again (listOpenClDevices keeps no handles).
-  cl_uint platform_count = 0;
-  check(clGetPlatformIDs(0, nullptr, &platform_count), "clGetPlatformIDs");
-  std::vector<cl_platform_id> platforms(platform_count);
-  check(clGetPlatformIDs(platform_count, platforms.data(), nullptr), "clGetPlatformIDs");
-  cl_device_id device = nullptr;
-  std::size_t index = 0;
-  for (cl_platform_id platform : platforms) {
-    cl_uint count = 0;
-    if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &count) != CL_SUCCESS) continue;
-    std::vector<cl_device_id> ids(count);
-    clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, count, ids.data(), nullptr);
-    for (cl_device_id id : ids) {
-      if (index++ == chosen) device = id;
-    }
-  }
-  if (!device) throw InputError("OpenCL: the chosen device disappeared while opening it");
-
+  cl_device_id device = static_cast<cl_device_id>(const_cast<void*>(s.device_info.handle));
   cl_int status = CL_SUCCESS;
   s.context = clCreateContext(nullptr, 1, &device, nullptr, nullptr, &status);
   check(status, "clCreateContext");
@@ -243,8 +241,7 @@ void OpenClOdometryBackend::pushFrame(const RgbdFrame& frame) {
   State& s = *state_;
   s.current = 1 - s.current;
   FrameBuffers& f = s.frames[s.current];
-  const int width = s.camera.width, height = s.camera.height;
-  const int pixels = width * height;
+  const int pixels = s.camera.width * s.camera.height;
   check(clEnqueueWriteBuffer(s.queue, f.rgb.mem, CL_TRUE, 0, f.rgb.bytes, frame.color.data(), 0, nullptr, nullptr),
         "clEnqueueWriteBuffer(rgb)");
   check(clEnqueueWriteBuffer(s.queue, f.raw_depth.mem, CL_TRUE, 0, f.raw_depth.bytes, frame.depth.data(), 0, nullptr,
@@ -252,72 +249,39 @@ void OpenClOdometryBackend::pushFrame(const RgbdFrame& frame) {
         "clEnqueueWriteBuffer(depth)");
 
   LevelBuffers& base = f.levels[0];
-  setArg(s.intensity_from_rgb, 0, f.rgb);
-  setArg(s.intensity_from_rgb, 1, base.intensity);
-  setArg(s.intensity_from_rgb, 2, pixels);
+  setArgs(s.intensity_from_rgb, f.rgb, base.intensity, pixels);
   s.run1d(s.intensity_from_rgb, pixels);
-
-  setArg(s.sanitize_depth, 0, f.raw_depth);
-  setArg(s.sanitize_depth, 1, base.depth);
-  setArg(s.sanitize_depth, 2, static_cast<float>(s.config.min_depth));
-  setArg(s.sanitize_depth, 3, static_cast<float>(s.config.max_depth));
-  setArg(s.sanitize_depth, 4, pixels);
+  setArgs(s.sanitize_depth, f.raw_depth, base.depth, static_cast<float>(s.config.min_depth),
+          static_cast<float>(s.config.max_depth), pixels);
   s.run1d(s.sanitize_depth, pixels);
 
   for (int level = 0; level < s.config.levels; ++level) {
     LevelBuffers& l = f.levels[level];
     if (level > 0) {
-      LevelBuffers& above = f.levels[level - 1];
-      setArg(s.downsample_depth, 0, above.depth);
-      setArg(s.downsample_depth, 1, above.width);
-      setArg(s.downsample_depth, 2, above.height);
-      setArg(s.downsample_depth, 3, l.depth);
-      setArg(s.downsample_depth, 4, l.width);
-      setArg(s.downsample_depth, 5, l.height);
-      setArg(s.downsample_depth, 6, static_cast<float>(3.0 * s.config.depth_pyramid_sigma));
+      const LevelBuffers& above = f.levels[level - 1];
+      setArgs(s.downsample_depth, above.depth, above.width, above.height, l.depth, l.width, l.height,
+              static_cast<float>(3.0 * s.config.depth_pyramid_sigma));
       s.run2d(s.downsample_depth, l.width, l.height);
-      setArg(s.downsample_intensity, 0, above.intensity);
-      setArg(s.downsample_intensity, 1, above.width);
-      setArg(s.downsample_intensity, 2, above.height);
-      setArg(s.downsample_intensity, 3, l.intensity);
-      setArg(s.downsample_intensity, 4, l.width);
-      setArg(s.downsample_intensity, 5, l.height);
+      setArgs(s.downsample_intensity, above.intensity, above.width, above.height, l.intensity, l.width, l.height);
       s.run2d(s.downsample_intensity, l.width, l.height);
     }
-    setArg(s.gradients, 0, l.intensity);
-    setArg(s.gradients, 1, l.width);
-    setArg(s.gradients, 2, l.height);
-    setArg(s.gradients, 3, l.gradient_x);
-    setArg(s.gradients, 4, l.gradient_y);
+    setArgs(s.gradients, l.intensity, l.width, l.height, l.gradient_x, l.gradient_y);
     s.run2d(s.gradients, l.width, l.height);
     const PinholeCamera c = pyramidLevelCamera(s.camera, level);
-    setArg(s.vertex_map, 0, l.depth);
-    setArg(s.vertex_map, 1, l.width);
-    setArg(s.vertex_map, 2, l.height);
-    setArg(s.vertex_map, 3, static_cast<float>(1.0 / c.fx));
-    setArg(s.vertex_map, 4, static_cast<float>(1.0 / c.fy));
-    setArg(s.vertex_map, 5, static_cast<float>(c.cx));
-    setArg(s.vertex_map, 6, static_cast<float>(c.cy));
-    setArg(s.vertex_map, 7, l.vertices);
+    const float fx_inv = static_cast<float>(1.0 / c.fx), fy_inv = static_cast<float>(1.0 / c.fy);
+    const float cx = static_cast<float>(c.cx), cy = static_cast<float>(c.cy);
+    setArgs(s.vertex_map, l.depth, l.width, l.height, fx_inv, fy_inv, cx, cy, l.vertices);
     s.run2d(s.vertex_map, l.width, l.height);
     const bool smooth_normals = level == 0 && s.config.depth_smoothing_radius > 0;
     if (smooth_normals) {
       // Normals from smoothed depth, points from raw depth (see frame_pyramid.cpp).
-      setArg(s.smooth_depth, 0, l.depth);
-      setArg(s.smooth_depth, 1, f.smoothed_depth);
-      setArg(s.smooth_depth, 2, l.width);
-      setArg(s.smooth_depth, 3, l.height);
-      setArg(s.smooth_depth, 4, s.config.depth_smoothing_radius);
-      setArg(s.smooth_depth, 5, static_cast<float>(s.config.depth_smoothing_factor));
+      setArgs(s.smooth_depth, l.depth, f.smoothed_depth, l.width, l.height, s.config.depth_smoothing_radius,
+              static_cast<float>(s.config.depth_smoothing_factor));
       s.run2d(s.smooth_depth, l.width, l.height);
-      setArg(s.vertex_map, 0, f.smoothed_depth);
-      setArg(s.vertex_map, 7, f.smoothed_vertices);
+      setArgs(s.vertex_map, f.smoothed_depth, l.width, l.height, fx_inv, fy_inv, cx, cy, f.smoothed_vertices);
       s.run2d(s.vertex_map, l.width, l.height);
     }
-    setArg(s.normal_map, 0, smooth_normals ? f.smoothed_vertices : l.vertices);
-    setArg(s.normal_map, 1, l.width);
-    setArg(s.normal_map, 2, l.height);
-    setArg(s.normal_map, 3, l.normals);
+    setArgs(s.normal_map, smooth_normals ? f.smoothed_vertices : l.vertices, l.width, l.height, l.normals);
     s.run2d(s.normal_map, l.width, l.height);
   }
 }
@@ -327,20 +291,11 @@ NormalEquations OpenClOdometryBackend::icpSystem(int level, const Eigen::Isometr
   const LevelBuffers& cur = s.frames[s.current].levels.at(level);
   const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
   s.uploadPose(reference_from_current);
-  cl_kernel k = s.icp_rows;
-  setArg(k, 0, cur.vertices);
-  setArg(k, 1, cur.normals);
-  setArg(k, 2, ref.vertices);
-  setArg(k, 3, ref.normals);
-  setArg(k, 4, cur.width);
-  setArg(k, 5, cur.height);
-  setArg(k, 6, s.pose);
-  setArg(k, 7, s.levelCamera(level));
-  setArg(k, 8, static_cast<float>(s.config.icp_max_distance));
-  setArg(k, 9, static_cast<float>(std::cos(s.config.icp_max_angle_deg * M_PI / 180.0)));
-  check(clSetKernelArg(k, 10, kReductionValues * s.local_size * sizeof(float), nullptr), "clSetKernelArg(local)");
-  setArg(k, 11, s.partials);
-  return s.reduce(k, static_cast<std::size_t>(cur.width) * cur.height);
+  setArgs(s.icp_rows, cur.vertices, cur.normals, ref.vertices, ref.normals, cur.width, cur.height, s.pose,
+          s.levelCamera(level), static_cast<float>(s.config.icp_max_distance),
+          static_cast<float>(std::cos(s.config.icp_max_angle_deg * M_PI / 180.0)),
+          LocalBytes{kReductionValues * s.local_size * sizeof(float)}, s.partials);
+  return s.reduce(s.icp_rows, static_cast<std::size_t>(cur.width) * cur.height);
 }
 
 NormalEquations OpenClOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
@@ -349,23 +304,12 @@ NormalEquations OpenClOdometryBackend::rgbSystem(int level, const Eigen::Isometr
   const LevelBuffers& cur = s.frames[s.current].levels.at(level);
   const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
   s.uploadPose(reference_from_current);
-  cl_kernel k = s.dvo_rows;
-  setArg(k, 0, cur.vertices);
-  setArg(k, 1, cur.intensity);
-  setArg(k, 2, ref.depth);
-  setArg(k, 3, ref.intensity);
-  setArg(k, 4, ref.gradient_x);
-  setArg(k, 5, ref.gradient_y);
-  setArg(k, 6, cur.width);
-  setArg(k, 7, cur.height);
-  setArg(k, 8, s.pose);
-  setArg(k, 9, s.levelCamera(level));
   const cl_float4 limits{{static_cast<float>(s.config.rgb_max_depth), static_cast<float>(s.config.rgb_max_depth_difference),
                           static_cast<float>(s.config.rgb_min_gradient.at(level)), static_cast<float>(huber_threshold)}};
-  setArg(k, 10, limits);
-  check(clSetKernelArg(k, 11, kReductionValues * s.local_size * sizeof(float), nullptr), "clSetKernelArg(local)");
-  setArg(k, 12, s.partials);
-  return s.reduce(k, static_cast<std::size_t>(cur.width) * cur.height);
+  setArgs(s.dvo_rows, cur.vertices, cur.intensity, ref.depth, ref.intensity, ref.gradient_x, ref.gradient_y, cur.width,
+          cur.height, s.pose, s.levelCamera(level), limits, LocalBytes{kReductionValues * s.local_size * sizeof(float)},
+          s.partials);
+  return s.reduce(s.dvo_rows, static_cast<std::size_t>(cur.width) * cur.height);
 }
 
 std::size_t OpenClOdometryBackend::memoryBytes() const {

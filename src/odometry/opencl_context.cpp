@@ -45,7 +45,7 @@ std::vector<OpenClDeviceInfo> listOpenClDevices() {
       cl_device_type type = 0;
       clGetDeviceInfo(id, CL_DEVICE_TYPE, sizeof(type), &type, nullptr);
       devices.push_back({platformName(platform), deviceName(id), (type & CL_DEVICE_TYPE_GPU) != 0,
-                         (type & CL_DEVICE_TYPE_CPU) != 0});
+                         (type & CL_DEVICE_TYPE_CPU) != 0, id});
     }
   }
   return devices;

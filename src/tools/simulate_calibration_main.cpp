@@ -3,6 +3,7 @@
 // errors against ground truth, RMS graph error, global vs best pairwise, with vs without the filter.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -48,9 +49,12 @@ struct Accumulator {
   double meanRotation() const { return count ? rotation / count : 0.0; }
 };
 
+// The four estimates compared in every row and plotted as four series.
+enum Series { kGlobalFiltered, kPairwiseFiltered, kGlobalUnfiltered, kPairwiseUnfiltered, kSeriesCount };
+
 struct Row {
   int poses = 0;
-  Accumulator global_filtered, pairwise_filtered, global_unfiltered, pairwise_unfiltered;
+  std::array<Accumulator, kSeriesCount> series;
   double rms = 0.0;
   int failures = 0;
   std::string first_failure;
@@ -77,8 +81,8 @@ void plot(const std::string& path, const std::vector<Row>& rows) {
     // Log scale: errors span from a fraction of a millimetre to metres when the filter is off.
     double low = 1e300, high = 1e-300;
     for (const Row& r : rows)
-      for (const Accumulator* a : {&r.global_filtered, &r.pairwise_filtered, &r.global_unfiltered, &r.pairwise_unfiltered}) {
-        const double v = std::max(translation ? a->meanTranslation() : a->meanRotation(), 1e-9);
+      for (const Accumulator& a : r.series) {
+        const double v = std::max(translation ? a.meanTranslation() : a.meanRotation(), 1e-9);
         low = std::min(low, v), high = std::max(high, v);
       }
     const double decade_low = std::floor(std::log10(low)), decade_high = std::max(std::ceil(std::log10(high)), decade_low + 1);
@@ -105,23 +109,21 @@ void plot(const std::string& path, const std::vector<Row>& rows) {
     }
     cv::putText(image, "target poses", cv::Point(area.x + 190, area.y + area.height + 45), cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    const std::vector<std::pair<const char*, cv::Scalar>> series = {{"global + filter", cv::Scalar(200, 90, 20)},
+    const std::vector<std::pair<const char*, cv::Scalar>> legend = {{"global + filter", cv::Scalar(200, 90, 20)},  // in Series order
                                                                     {"pairwise + filter", cv::Scalar(40, 160, 40)},
                                                                     {"global, no filter", cv::Scalar(60, 60, 220)},
                                                                     {"pairwise, no filter", cv::Scalar(120, 120, 120)}};
-    for (std::size_t k = 0; k < series.size(); ++k) {
+    for (std::size_t k = 0; k < legend.size(); ++k) {
       for (std::size_t i = 1; i < rows.size(); ++i) {
-        const Accumulator* a[] = {&rows[i - 1].global_filtered, &rows[i - 1].pairwise_filtered,
-                                  &rows[i - 1].global_unfiltered, &rows[i - 1].pairwise_unfiltered};
-        const Accumulator* b[] = {&rows[i].global_filtered, &rows[i].pairwise_filtered, &rows[i].global_unfiltered,
-                                  &rows[i].pairwise_unfiltered};
-        const double va = translation ? a[k]->meanTranslation() : a[k]->meanRotation();
-        const double vb = translation ? b[k]->meanTranslation() : b[k]->meanRotation();
-        cv::line(image, map(rows[i - 1].poses, va), map(rows[i].poses, vb), series[k].second, 2, cv::LINE_AA);
+        const Accumulator& a = rows[i - 1].series[k];
+        const Accumulator& b = rows[i].series[k];
+        const double va = translation ? a.meanTranslation() : a.meanRotation();
+        const double vb = translation ? b.meanTranslation() : b.meanRotation();
+        cv::line(image, map(rows[i - 1].poses, va), map(rows[i].poses, vb), legend[k].second, 2, cv::LINE_AA);
       }
       cv::line(image, cv::Point(area.x + 250, area.y + 15 + 18 * k), cv::Point(area.x + 280, area.y + 15 + 18 * k),
-               series[k].second, 2);
-      cv::putText(image, series[k].first, cv::Point(area.x + 288, area.y + 20 + 18 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+               legend[k].second, 2);
+      cv::putText(image, legend[k].first, cv::Point(area.x + 288, area.y + 20 + 18 * k), cv::FONT_HERSHEY_SIMPLEX, 0.45,
                   cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
     }
   };
@@ -174,10 +176,10 @@ int run(const vocal::CommandLine& args) {
         const vocal::CalibrationResult unfiltered = vocal::calibrateRig(specs, rig.observations, calibration);
         for (std::size_t s = 1; s < sensors.size(); ++s) {
           const Eigen::Isometry3d& truth = rig.sensors[s].reference_from_sensor;
-          row.global_filtered.add(filtered.sensors[s].reference_from_sensor, truth);
-          row.pairwise_filtered.add(filtered.sensors[s].pairwise_estimate, truth);
-          row.global_unfiltered.add(unfiltered.sensors[s].reference_from_sensor, truth);
-          row.pairwise_unfiltered.add(unfiltered.sensors[s].pairwise_estimate, truth);
+          row.series[kGlobalFiltered].add(filtered.sensors[s].reference_from_sensor, truth);
+          row.series[kPairwiseFiltered].add(filtered.sensors[s].pairwise_estimate, truth);
+          row.series[kGlobalUnfiltered].add(unfiltered.sensors[s].reference_from_sensor, truth);
+          row.series[kPairwiseUnfiltered].add(unfiltered.sensors[s].pairwise_estimate, truth);
         }
         row.rms += filtered.rms;
         last_rig = rig;
@@ -200,9 +202,7 @@ int run(const vocal::CommandLine& args) {
               "pairwise,no filter", "rms_m", "failed");
   for (const Row& r : rows) {
     std::printf("%6d", r.poses);
-    for (const Accumulator* a : {&r.global_filtered, &r.pairwise_filtered, &r.global_unfiltered, &r.pairwise_unfiltered}) {
-      std::printf(" %11.6f / %10.7f", a->meanTranslation(), a->meanRotation());
-    }
+    for (const Accumulator& a : r.series) std::printf(" %11.6f / %10.7f", a.meanTranslation(), a.meanRotation());
     std::printf(" %12.6f %8d\n", r.rms, r.failures);
     if (r.failures) std::printf("       first failure: %s\n", r.first_failure.c_str());
   }

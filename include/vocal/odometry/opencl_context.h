@@ -13,6 +13,7 @@ struct OpenClDeviceInfo {
   std::string device;
   bool is_gpu = false;
   bool is_cpu = false;
+  const void* handle = nullptr;  // the cl_device_id, opaque so this header needs no CL headers
 };
 
 // Every device of every platform; empty when there is no platform (no ICD installed).
