@@ -286,26 +286,121 @@ TEST(Calibration, ObservabilityWarnsBySensorAndDof) {
   EXPECT_TRUE(vocal::calibrateRig(specs(good), good.observations, referenceOptions(good)).warnings.empty());
 }
 
+// Cameras enter the graph through each view's plane with its full PnP covariance: PnP fixes the
+// board's offset to millimetres but its tilt only to several milliradians per view, and the two are
+// correlated. Over repeated trials with 1 mm range noise, 0.5 px pixel noise and 30 poses:
+// - with a board filling the 0.9 x 0.7 m target (8x10, 8 cm squares) every sensor of every trial
+//   meets 5 mm / 0.005 rad;
+// - with the design's example board (6x8, 6 cm squares) at 1.3-1.9 m the cameras meet the bounds on
+//   average (about 1 trial in 20 exceeds 5 mm: the solver's sigmas say so too, docs/benchmarks.md);
+// - with either, the global solution beats the chained closed form on average.
 TEST(Calibration, CamerasFromTheirPatternPose) {
-  vocal::RigSimulationOptions options;
-  options.target_poses = 30;
-  options.range_noise = 0.001;
-  options.pixel_noise = 0.5;
-  options.seed = 5;
-  // A board filling the 0.9 x 0.7 m target (0.72 x 0.56 m): with the design's example 6x8 board of
-  // 6 cm squares at 1.3-1.9 m, out-of-plane tilt from PnP errs by tens of milliradians per view
-  // (docs/benchmarks.md), which no solver can average below 0.005 rad over 30 views.
-  options.pattern = {8, 10, 0.08};
-  const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(1, 1, 1, 2), options);
-  const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
-  for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
-    const std::string& name = rig.sensors[s].spec.name;
-    const Errors e = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
-    EXPECT_LT(e.translation, 0.005) << name;
-    EXPECT_LT(e.rotation, 0.005) << name;
-    std::cout << name << ": " << e.translation * 1000 << " mm / " << e.rotation << " rad ("
-              << result.sensors[s].observations << " observations)\n";
+  const int trials = 10;
+  for (const vocal::TargetPattern pattern : {vocal::TargetPattern{8, 10, 0.08}, vocal::TargetPattern{6, 8, 0.06}}) {
+    const bool fills_target = pattern.square_size > 0.07;
+    double global_t = 0, global_r = 0, pairwise_t = 0, pairwise_r = 0;
+    int cameras = 0;
+    for (int trial = 0; trial < trials; ++trial) {
+      vocal::RigSimulationOptions options;
+      options.target_poses = 30;
+      options.range_noise = 0.001;
+      options.pixel_noise = 0.5;
+      options.pattern = pattern;
+      options.seed = 5 + trial;
+      const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(1, 1, 1, 2), options);
+      const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+      for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+        const std::string& name = rig.sensors[s].spec.name;
+        const Errors g = errorOf(result.sensors[s].reference_from_sensor, rig.sensors[s].reference_from_sensor);
+        const bool camera = rig.sensors[s].spec.type == vocal::SensorType::kCamera;
+        if (fills_target || !camera) {
+          EXPECT_LT(g.translation, 0.005) << name << ", trial " << trial;
+          EXPECT_LT(g.rotation, 0.005) << name << ", trial " << trial;
+        }
+        if (!camera) continue;
+        const Errors p = errorOf(result.sensors[s].pairwise_estimate, rig.sensors[s].reference_from_sensor);
+        global_t += g.translation, global_r += g.rotation, pairwise_t += p.translation, pairwise_r += p.rotation;
+        ++cameras;
+      }
+    }
+    ASSERT_EQ(cameras, 2 * trials);
+    std::cout << pattern.rows << "x" << pattern.cols << " board, cameras' mean over " << trials << " trials: global "
+              << global_t / cameras * 1000 << " mm / " << global_r / cameras << " rad, pairwise "
+              << pairwise_t / cameras * 1000 << " mm / " << pairwise_r / cameras << " rad\n";
+    EXPECT_LT(global_t / cameras, 0.005);
+    EXPECT_LT(global_r / cameras, 0.005);
+    EXPECT_LE(global_t, pairwise_t);
+    EXPECT_LE(global_r, pairwise_r);
   }
+}
+
+// The reported standard deviations describe the actual errors: over repeated trials the errors divided
+// by their sigmas have an RMS near 1, for every sensor type, in translation and in rotation.
+TEST(Calibration, ReportedSigmasMatchTheErrors) {
+  const int trials = 40;
+  double translation_squared = 0.0, rotation_squared = 0.0;
+  int samples = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    vocal::RigSimulationOptions options;
+    options.target_poses = 30;
+    options.range_noise = 0.001;
+    options.pixel_noise = 0.5;
+    options.seed = 300 + trial;
+    const vocal::SimulatedRig rig = vocal::simulateRig(vocal::exampleRig(1, 1, 1, 1), options);
+    const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, referenceOptions(rig));
+    for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+      const Eigen::Isometry3d& estimate = result.sensors[s].reference_from_sensor;
+      const Eigen::Isometry3d& truth = rig.sensors[s].reference_from_sensor;
+      const Eigen::AngleAxisd turn(Eigen::Matrix3d(estimate.linear() * truth.linear().transpose()));
+      const vocal::Vector6d sigma = result.sensors[s].standard_deviation;
+      ASSERT_GT(sigma.minCoeff(), 0.0) << rig.sensors[s].spec.name;
+      translation_squared += (estimate.translation() - truth.translation()).cwiseQuotient(sigma.head<3>()).squaredNorm();
+      rotation_squared += (turn.angle() * turn.axis()).cwiseQuotient(sigma.tail<3>()).squaredNorm();
+      samples += 3;
+    }
+  }
+  const double translation_ratio = std::sqrt(translation_squared / samples);
+  const double rotation_ratio = std::sqrt(rotation_squared / samples);
+  std::cout << "RMS of error / reported sigma over " << samples << " axes: translation " << translation_ratio
+            << ", rotation " << rotation_ratio << "\n";
+  EXPECT_NEAR(translation_ratio, 1.0, 0.25);
+  EXPECT_NEAR(rotation_ratio, 1.0, 0.25);
+}
+
+// The plane covariance of a PnP view predicts the scatter of its planes under pixel noise.
+TEST(PatternObservation, PlaneCovarianceMatchesTheScatterOfRepeatedViews) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera();
+  const vocal::TargetPattern pattern;
+  Eigen::Isometry3d camera_from_board = Eigen::Isometry3d::Identity();
+  camera_from_board.linear() = vocal::rotationFromRollPitchYaw(0.3, -0.2, 0.1);
+  camera_from_board.translation() = Eigen::Vector3d(0.2, -0.1, 1.6);
+  const Eigen::Vector3d normal = camera_from_board.linear().col(2);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  const int views = 400;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero(), predicted = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < views; ++i) {
+    std::vector<Eigen::Vector2d> corners;
+    for (const Eigen::Vector3d& corner : pattern.corners())
+      corners.push_back(camera.project(camera_from_board * corner) + Eigen::Vector2d(noise(rng), noise(rng)));
+    const vocal::PlaneMeasurement plane = vocal::observePattern(corners, pattern, camera, "camera0").plane;
+    // The true plane in this view's terms: tilt along its pattern axes and its centre's distance.
+    const Eigen::Vector3d error(plane.sensor_from_pattern.linear().col(0).dot(normal),
+                                plane.sensor_from_pattern.linear().col(1).dot(normal),
+                                normal.dot(plane.sensor_from_pattern.translation() - camera_from_board.translation()));
+    scatter += error * error.transpose() / views;
+    predicted += plane.covariance / views;
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(std::sqrt(scatter(i, i)), std::sqrt(predicted(i, i)), 0.15 * std::sqrt(predicted(i, i))) << "component " << i;
+  }
+  // Tilt and offset are correlated; the prediction carries the sign and size of that.
+  const double correlation = predicted(0, 2) / std::sqrt(predicted(0, 0) * predicted(2, 2));
+  const double measured = scatter(0, 2) / std::sqrt(scatter(0, 0) * scatter(2, 2));
+  std::cout << "sigma tilt x " << std::sqrt(predicted(0, 0)) << " rad, tilt y " << std::sqrt(predicted(1, 1))
+            << " rad, offset " << std::sqrt(predicted(2, 2)) * 1000 << " mm; correlation tilt x/offset predicted "
+            << correlation << ", measured " << measured << "\n";
+  EXPECT_NEAR(measured, correlation, 0.15);
 }
 
 TEST(PatternObservation, WrongCornerCountIsNamed) {
@@ -334,10 +429,12 @@ TEST(StillTargetAssociation, RecordedSessionCalibratesLikeHandAssociatedData) {
       const double alpha = tick < 10 ? 0.0 : (tick - 9) / 11.0;
       const Eigen::Isometry3d target = vocal::interpolatePose(still, next, alpha);
       for (std::size_t s = 0; s < sensors.size(); ++s) {
+        vocal::TargetObservation seen = vocal::observeTarget(sensors[s], target, 0.45, 0.35, options, &rng);
         vocal::TimedObservation o;
         o.sensor = static_cast<int>(s);
         o.stamp = 2.0 * k + 0.1 * tick + 0.013 * s;  // sensors are not synchronised
-        o.points = vocal::observeTarget(sensors[s], target, 0.45, 0.35, options, &rng, &o.point_sigma);
+        o.points = std::move(seen.points);
+        o.plane_measurements = std::move(seen.plane_measurements);
         if (!o.points.empty()) recorded.push_back(std::move(o));
       }
     }

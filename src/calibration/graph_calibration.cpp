@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
@@ -51,6 +52,36 @@ struct ObservationOnPlaneResidual {
   }
 
   Eigen::Matrix4d factor_transpose;
+};
+
+// A camera's plane measurement against the target's plane (rig frame): the predicted plane in the
+// camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
+// pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
+// measurement's covariance.
+struct PlaneMeasurementResidual {
+  explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
+      : x_axis(measurement.sensor_from_pattern.linear().col(0)),
+        y_axis(measurement.sensor_from_pattern.linear().col(1)),
+        centre(measurement.sensor_from_pattern.translation()) {
+    // |L^-1 r|^2 = r^T covariance^-1 r for covariance = L L^T.
+    whitening = measurement.covariance.llt().matrixL().solve(Eigen::Matrix3d::Identity());
+  }
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    const Eigen::Matrix<T, 3, 1> n_camera = q.conjugate() * n;
+    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis.cast<T>()), n_camera.dot(y_axis.cast<T>()),
+                                   n_camera.dot(centre.cast<T>()) + n.dot(t) + offset[0]);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
+    out = whitening.cast<T>() * r;
+    return true;
+  }
+
+  Eigen::Vector3d x_axis, y_axis, centre;
+  Eigen::Matrix3d whitening;
 };
 
 // A range sensor's point noise from its own points: the RMS distance to their best plane (or, for a
@@ -195,10 +226,20 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (rejected.count({o.sensor, o.target_pose})) continue;
     SensorState& sensor = sensor_state[o.sensor];
     PlaneState& plane = plane_state[o.target_pose];
-    const double point_sigma = o.point_sigma > 0.0 ? o.point_sigma : estimatedPointSigma(o.points, sensors[o.sensor].type);
+    // Huber on each whitened block: down-weighted once its residuals pass huber_sigmas standard
+    // deviations on average.
+    if (!o.plane_measurements.empty()) {
+      for (const PlaneMeasurement& measurement : o.plane_measurements) {
+        auto* cost = new ceres::AutoDiffCostFunction<PlaneMeasurementResidual, 3, 4, 3, 3, 1>(
+            new PlaneMeasurementResidual(measurement));
+        problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)),
+                                 sensor.rotation.coeffs().data(), sensor.translation.data(), plane.normal.data(),
+                                 &plane.offset);
+      }
+      continue;
+    }
     auto* cost = new ceres::AutoDiffCostFunction<ObservationOnPlaneResidual, 4, 4, 3, 3, 1>(
-        new ObservationOnPlaneResidual(o.points, point_sigma));
-    // Huber on the whitened observation: down-weighted once its points' RMS passes huber_sigmas.
+        new ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, sensors[o.sensor].type)));
     const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
     problem.AddResidualBlock(cost, new ceres::HuberLoss(threshold), sensor.rotation.coeffs().data(),
                              sensor.translation.data(), plane.normal.data(), &plane.offset);
@@ -296,7 +337,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(),
                                     translation_covariance.data());
       result.sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
-      result.sensors[s].standard_deviation.tail<3>() = rotation_covariance.diagonal().cwiseSqrt();
+      // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
+      // rotation sigmas in radians of angle are twice the tangent's.
+      result.sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
     }
   }
   return result;

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
@@ -72,20 +73,37 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
     squared += (projected - image_corners[i]).squaredNorm();
   }
   observation.reprojection_rms_px = std::sqrt(squared / object.size());
-  // Pose covariance sigma^2 (J^T J)^-1 from the reprojection Jacobian; the plane offset d = -n . t
-  // varies with t along n.
-  std::vector<cv::Point2d> projected;
-  cv::Mat jacobian;
-  cv::projectPoints(object_points, rvec, tvec, K, cv::noArray(), projected, jacobian);
+  // Pose covariance sigma^2 (J^T J)^-1 with the pose perturbed as R exp([w]x), t + dt: a corner X moves
+  // by -R [X]x w + dt in the camera frame.
+  Eigen::Matrix3d rotation;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) rotation(r, c) = R(r, c);
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < object.size(); ++i) {
+    const Eigen::Vector3d& p = observation.points[i];
+    Eigen::Matrix<double, 2, 3> projection;
+    projection << camera.fx / p.z(), 0.0, -camera.fx * p.x() / (p.z() * p.z()),  //
+        0.0, camera.fy / p.z(), -camera.fy * p.y() / (p.z() * p.z());
+    Eigen::Matrix<double, 3, 6> motion;
+    motion.leftCols<3>() = -rotation * skew(object[i]);
+    motion.rightCols<3>() = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix<double, 2, 6> J = projection * motion;
+    information += J.transpose() * J;
+  }
   const int n = static_cast<int>(object.size());
-  Eigen::MatrixXd J(2 * n, 6);
-  for (int r = 0; r < 2 * n; ++r)
-    for (int c = 0; c < 6; ++c) J(r, c) = jacobian.at<double>(r, c);
-  const double pixel_sigma =
-      std::max(0.05, observation.reprojection_rms_px * std::sqrt(2.0 * n / std::max(2.0 * n - 6.0, 1.0)));
-  const Eigen::Matrix<double, 6, 6> covariance = pixel_sigma * pixel_sigma * (J.transpose() * J).inverse();
-  const Eigen::Vector3d normal(R(0, 2), R(1, 2), R(2, 2));
-  observation.offset_sigma = std::sqrt(normal.dot(covariance.bottomRightCorner<3, 3>() * normal));
+  // Per image axis: 2n residuals less the pose's 6 degrees of freedom.
+  const double pixel_sigma = std::max(0.05, std::sqrt(squared / std::max(2.0 * n - 6.0, 1.0)));
+  const Eigen::Matrix<double, 6, 6> pose_covariance = pixel_sigma * pixel_sigma * information.inverse();
+  // The plane's (tilt x, tilt y, centre distance): the normal R exp([w]x) e_z has components -w_y and
+  // w_x along the pattern's x and y axes; the centre t moves by n . dt along the normal.
+  const Eigen::Vector3d normal = rotation.col(2);
+  Eigen::Matrix<double, 3, 6> to_plane = Eigen::Matrix<double, 3, 6>::Zero();
+  to_plane(0, 1) = -1.0;
+  to_plane(1, 0) = 1.0;
+  to_plane.block<1, 3>(2, 3) = normal.transpose();
+  observation.plane.sensor_from_pattern.linear() = rotation;
+  observation.plane.sensor_from_pattern.translation() = Eigen::Vector3d(tvec[0], tvec[1], tvec[2]);
+  observation.plane.covariance = to_plane * pose_covariance * to_plane.transpose();
   return observation;
 }
 

@@ -101,12 +101,12 @@ Eigen::Matrix3d targetFacingRig() {
   return facing;
 }
 
-std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
-                                           double half_width, double half_height, const RigSimulationOptions& options,
-                                           std::mt19937* rng, double* point_sigma) {
-  *point_sigma = 0.0;
+TargetObservation observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
+                                double half_width, double half_height, const RigSimulationOptions& options,
+                                std::mt19937* rng) {
+  TargetObservation observation;
   const Eigen::Isometry3d sensor_from_target = sensor.reference_from_sensor.inverse() * reference_from_target;
-  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d>& points = observation.points;
   if (sensor.spec.type == SensorType::kCamera) {
     // Corners projected with pixel noise; the whole pattern must be in view.
     const PinholeCamera camera = defaultKinectCamera();
@@ -115,14 +115,14 @@ std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const 
     for (const Eigen::Vector3d& corner : options.pattern.corners()) {
       const Eigen::Vector3d p = sensor_from_target * corner;
       const Eigen::Vector2d uv = camera.project(p);
-      if (!(p.z() > 0.3 && camera.contains(uv.x(), uv.y()))) return {};
+      if (!(p.z() > 0.3 && camera.contains(uv.x(), uv.y()))) return observation;
       corners.push_back(uv + (options.pixel_noise > 0.0 ? Eigen::Vector2d(pixel_noise(*rng), pixel_noise(*rng))
                                                         : Eigen::Vector2d::Zero()));
     }
-    const PatternObservation seen = observePattern(corners, options.pattern, camera, sensor.spec.name.c_str());
-    // Every corner carries the same plane error: n corners are worth one offset measurement.
-    *point_sigma = seen.offset_sigma * std::sqrt(static_cast<double>(seen.points.size()));
-    return seen.points;
+    PatternObservation seen = observePattern(corners, options.pattern, camera, sensor.spec.name.c_str());
+    observation.points = std::move(seen.points);
+    observation.plane_measurements.push_back(seen.plane);
+    return observation;
   }
   std::normal_distribution<double> range_noise(0.0, options.range_noise);
   const Eigen::Isometry3d target_from_sensor = sensor_from_target.inverse();
@@ -140,7 +140,7 @@ std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const 
   }
   const std::size_t minimum = sensor.spec.type == SensorType::kLaser2d ? 10 : 30;
   if (points.size() < minimum) points.clear();
-  return points;
+  return observation;
 }
 
 SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigSimulationOptions& options) {
@@ -174,11 +174,10 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
                         rotationFromRollPitchYaw(0.0, 0.8 * unit(rng), 0.8 * unit(rng)) * facing);
       }
       const double scale = outlier && !wrong_pose ? 2.0 : 1.0;
-      TargetObservation observation;
+      TargetObservation observation = observeTarget(sensors[s], seen, scale * 0.5 * options.target_width,
+                                                    scale * 0.5 * options.target_height, options, &rng);
       observation.sensor = static_cast<int>(s);
       observation.target_pose = k;
-      observation.points = observeTarget(sensors[s], seen, scale * 0.5 * options.target_width,
-                                         scale * 0.5 * options.target_height, options, &rng, &observation.point_sigma);
       if (observation.points.empty()) continue;
       rig.observations.push_back(std::move(observation));
       rig.is_outlier.push_back(outlier);

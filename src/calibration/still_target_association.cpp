@@ -109,14 +109,12 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       TargetObservation observation;
       observation.sensor = run.sensor;
       observation.target_pose = static_cast<int>(k);
-      double sigma_sum = 0.0;
+      // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
       for (const TimedObservation* member : run.members) {
         observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());
-        sigma_sum += member->point_sigma;
+        observation.plane_measurements.insert(observation.plane_measurements.end(), member->plane_measurements.begin(),
+                                              member->plane_measurements.end());
       }
-      // Views of a still pattern have independent pixel noise: pooling n views of m corners divides the
-      // offset error by sqrt(n) and multiplies the points by n, so the per-point sigma stays one view's.
-      observation.point_sigma = sigma_sum / run.members.size();
       if (slot[k][run.sensor] >= 0) {
         associated[slot[k][run.sensor]] = std::move(observation);
       } else {

@@ -19,16 +19,27 @@ struct SensorSpec {
   std::string frame_id;
 };
 
+// A camera's measurement of the target plane: the pattern's pose from its corners (PnP) and the
+// covariance of the plane it fixes, from the reprojection error. The plane is measured as the pattern
+// normal's components along the pattern's own x and y axes (its tilt, radians) and the distance of
+// the pattern's centre along the normal (metres); PnP's tilt is far less certain than its offset, and
+// the two are correlated, so the graph weights this measurement by the full 3x3 covariance.
+struct PlaneMeasurement {
+  Eigen::Isometry3d sensor_from_pattern = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // of (tilt x, tilt y, centre distance)
+};
+
 // One sensor's view of the target while it was held at one pose: points on the target in the sensor
-// frame (a depth or lidar sensor's inliers, a camera's pattern corners from its pose estimate).
+// frame (a depth or lidar sensor's inliers, a 2D laser's scan points, a camera's pattern corners
+// placed by its pose estimate).
 struct TargetObservation {
   int sensor = 0;       // index into the sensor list
   int target_pose = 0;  // which still period of the target (association result)
   std::vector<Eigen::Vector3d> points;
-  // Standard deviation of one point's distance to the target plane, metres, in the sense of the
-  // graph's weighting; 0 = estimate it from the points' own fit (range sensors). A camera sets it
-  // from its pose covariance (its corners share one plane error).
-  double point_sigma = 0.0;
+  // Cameras: one measurement per view (several when still views are pooled). The graph then uses
+  // these instead of the points, which all share each view's plane error; range sensors leave it
+  // empty and are weighted by their points' own scatter about the fitted plane.
+  std::vector<PlaneMeasurement> plane_measurements;
 };
 
 }  // namespace vocal

@@ -1,7 +1,8 @@
 #pragma once
 // The global calibration: closed-form pairwise estimates chained along the best-connected paths of the
 // sensor graph initialise one Ceres problem over every sensor pose and every target plane, with the
-// point-to-plane residuals of each observation under a robust loss; the reference sensor stays fixed.
+// point-to-plane residuals of each range observation and the plane measurement of each camera view
+// (whitened by its PnP covariance) under a robust loss; the reference sensor stays fixed.
 
 #include <vector>
 
@@ -31,7 +32,8 @@ struct CalibrationOptions {
 struct SensorCalibration {
   Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();  // in the rig frame
   Eigen::Isometry3d pairwise_estimate = Eigen::Isometry3d::Identity();      // chained closed form
-  Vector6d standard_deviation = Vector6d::Zero();  // translation (m) then rotation (rad), from the solver
+  // From the solver's covariance: translation (m) along and rotation (rad) about the rig frame's axes.
+  Vector6d standard_deviation = Vector6d::Zero();
   double rms = 0.0;                                // point-to-plane, metres
   int observations = 0;
   int rejected_observations = 0;  // by the consensus filter

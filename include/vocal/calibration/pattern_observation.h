@@ -1,11 +1,13 @@
 #pragma once
 // A camera's view of the target: the pattern's pose from its detected corners (PnP), turned into the
-// corners' 3D positions in the camera frame, which the graph treats like a depth sensor's points.
+// corners' 3D positions in the camera frame (for initialisation and residuals) and a plane measurement
+// with its covariance (for the graph).
 
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "vocal/calibration/calibration_types.h"
 #include "vocal/core/image.h"
 #include "vocal/core/pinhole_camera.h"
 
@@ -23,9 +25,9 @@ struct TargetPattern {
 struct PatternObservation {
   std::vector<Eigen::Vector3d> points;  // the corners in the camera frame
   double reprojection_rms_px = 0.0;
-  // Standard deviation of the plane's offset from the PnP covariance (reprojection Jacobian, pixel
-  // noise taken from the reprojection error, at least 0.05 px).
-  double offset_sigma = 0.0;
+  // The pattern's pose and its plane's covariance from the PnP covariance (reprojection Jacobian,
+  // pixel noise taken from the reprojection error, at least 0.05 px).
+  PlaneMeasurement plane;
 };
 
 // The pattern's inner corners in an image, sub-pixel refined, in the order of TargetPattern::corners()

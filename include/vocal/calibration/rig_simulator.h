@@ -45,11 +45,12 @@ struct SimulatedRig {
 // degree steps) and cameras (640x480, ROS default intrinsics), each looking roughly forward (+x).
 std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0, int cameras = 0);
 
-// What one sensor sees of a target rectangle (half extents in metres) at the given pose: its points in the
-// sensor frame, or none when too little is in view; cameras also set the point sigma of their PnP plane.
-std::vector<Eigen::Vector3d> observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
-                                           double half_width, double half_height, const RigSimulationOptions& options,
-                                           std::mt19937* rng, double* point_sigma);
+// What one sensor sees of a target rectangle (half extents in metres) at the given pose: its points in
+// the sensor frame (none when too little is in view) and, for a camera, its plane measurement. The
+// sensor and target_pose fields are left for the caller.
+TargetObservation observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
+                                double half_width, double half_height, const RigSimulationOptions& options,
+                                std::mt19937* rng);
 
 // The target orientation that faces the rig (its z axis along -x of the reference frame).
 Eigen::Matrix3d targetFacingRig();

@@ -14,7 +14,7 @@ struct TimedObservation {
   int sensor = 0;
   double stamp = 0.0;  // seconds
   std::vector<Eigen::Vector3d> points;  // in the sensor frame
-  double point_sigma = 0.0;             // as in TargetObservation
+  std::vector<PlaneMeasurement> plane_measurements;  // a camera's, as in TargetObservation
 };
 
 struct StillnessOptions {
