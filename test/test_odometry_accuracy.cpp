@@ -71,6 +71,39 @@ TEST(OdometryAccuracy, NoiseFreeFramesAreExact) {
             << run.worst_rotation_error_deg << " deg\n";
 }
 
+// The pose covariance lives in the odometry frame: starting the same frames from a rotated and shifted
+// pose moves it by that pose's adjoint; it grows with every increment and a reset clears it.
+TEST(OdometryCovariance, PoseCovarianceGrowsInTheOdometryFrame) {
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  vocal::SyntheticTrajectoryOptions options;
+  options.frames = 4;
+  const vocal::Trajectory truth = vocal::generateSyntheticTrajectory(scene.workspace(), options);
+  const vocal::RgbdSensorModel model = vocal::kinectLikeSensorModel();
+  std::vector<vocal::RgbdFrame> frames;
+  for (int i = 0; i < options.frames; ++i) frames.push_back(vocal::renderSyntheticFrame(scene, camera, truth[i], model, 7 + i));
+  vocal::OdometryConfig config;
+  config.min_icp_inliers = config.min_rgb_inliers = 100;
+  vocal::Vector6d start_twist;
+  start_twist << 0.5, -1.0, 2.0, 0.3, 1.2, -0.7;
+  const Eigen::Isometry3d start = vocal::se3Exp(start_twist);
+  vocal::IcpDvoOdometry from_identity(camera, config), from_start(camera, config);
+  from_start.reset(start);
+  double previous_trace = 0.0;
+  for (const vocal::RgbdFrame& frame : frames) {
+    const vocal::OdometryResult a = from_identity.track(frame);
+    const vocal::OdometryResult b = from_start.track(frame);
+    ASSERT_TRUE(a.quality.trusted && b.quality.trusted) << a.failure << b.failure;
+    const vocal::Matrix6d moved = vocal::adjoint(start) * a.pose_covariance * vocal::adjoint(start).transpose();
+    EXPECT_LT((b.pose_covariance - moved).norm(), 1e-6 * moved.norm() + 1e-15);
+    if (!a.first_frame) EXPECT_GT(a.pose_covariance.trace(), previous_trace);
+    previous_trace = a.pose_covariance.trace();
+  }
+  EXPECT_GT(previous_trace, 0.0);
+  from_identity.reset();
+  EXPECT_EQ(from_identity.poseCovariance(), vocal::Matrix6d::Zero());
+}
+
 TEST(OdometryAccuracy, KinectNoiseKeepsAteUnderOneCentimetre) {
   const RunSummary run = runOnScene(vocal::SceneVariant::kIndoorRoom, vocal::OdometryMode::kFused, 100, true);
   EXPECT_EQ(run.untrusted, 0) << run.first_failure;

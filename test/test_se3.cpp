@@ -20,6 +20,19 @@ TEST(Se3, ExpLogRoundTrip) {
   }
 }
 
+TEST(Se3, AdjointMovesTwistsBetweenFrames) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int k = 0; k < 20; ++k) {
+    Vector6d pose_twist, twist;
+    for (int i = 0; i < 6; ++i) pose_twist[i] = n(rng), twist[i] = 0.2 * n(rng);
+    const Eigen::Isometry3d pose = vocal::se3Exp(pose_twist);
+    const Eigen::Isometry3d moved = vocal::se3Exp(vocal::adjoint(pose) * twist);
+    const Eigen::Isometry3d expected = pose * vocal::se3Exp(twist) * pose.inverse();
+    EXPECT_LT((moved.matrix() - expected.matrix()).norm(), 1e-9);
+  }
+}
+
 TEST(Se3, ExpMatchesAngleAxisAndPureTranslation) {
   Vector6d twist = Vector6d::Zero();
   twist.head<3>() = Eigen::Vector3d(1, 2, 3);

@@ -91,4 +91,13 @@ Eigen::Matrix3d bodyFromOpticalRotation() {
   return R;
 }
 
+Matrix6d adjoint(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d R = pose.rotation();
+  Matrix6d ad = Matrix6d::Zero();
+  ad.topLeftCorner<3, 3>() = R;
+  ad.topRightCorner<3, 3>() = skew(pose.translation()) * R;
+  ad.bottomRightCorner<3, 3>() = R;
+  return ad;
+}
+
 }  // namespace vocal

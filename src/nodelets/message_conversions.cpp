@@ -3,7 +3,12 @@
 #include <cstring>
 #include <limits>
 
+#include <cmath>
+#include <sstream>
+
 #include <sensor_msgs/image_encodings.h>
+
+#include "vocal/core/errors.h"
 
 namespace vocal {
 
@@ -51,6 +56,37 @@ sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& f
   return msg;
 }
 
+sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, const std::string& frame_id,
+                                       const ros::Time& stamp) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame_id;
+  msg.height = 1;
+  msg.width = static_cast<std::uint32_t>(points.size());
+  const char* names[] = {"x", "y", "z", "rgb"};
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    sensor_msgs::PointField field;
+    field.name = names[i];
+    field.offset = 4 * i;
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    msg.fields.push_back(field);
+  }
+  msg.is_bigendian = false;
+  msg.point_step = 16;
+  msg.row_step = msg.point_step * msg.width;
+  msg.is_dense = true;
+  msg.data.resize(static_cast<std::size_t>(msg.row_step));
+  std::uint8_t* out = msg.data.data();
+  for (const ColoredPoint& p : points) {
+    const std::uint32_t rgb = (std::uint32_t{p.color.r} << 16) | (std::uint32_t{p.color.g} << 8) | p.color.b;
+    std::memcpy(out, p.position.data(), 12);
+    std::memcpy(out + 12, &rgb, 4);
+    out += msg.point_step;
+  }
+  return msg;
+}
+
 geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& parent_from_child,
                                                    const std::string& parent, const std::string& child,
                                                    const ros::Time& stamp) {
@@ -68,6 +104,111 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
   msg.transform.rotation.z = q.z();
   msg.transform.rotation.w = q.w();
   return msg;
+}
+
+namespace {
+// The rows of `msg` hold `bytes_per_pixel` bytes per pixel: step and data must cover them.
+void checkLayout(const sensor_msgs::Image& msg, std::size_t bytes_per_pixel, const std::string& what) {
+  std::ostringstream problem;
+  if (msg.width == 0 || msg.height == 0) {
+    problem << "image is empty (" << msg.width << "x" << msg.height << ")";
+  } else if (msg.step < msg.width * bytes_per_pixel) {
+    problem << "step " << msg.step << " is shorter than a row of " << msg.width << " " << msg.encoding << " pixels";
+  } else if (msg.data.size() < static_cast<std::size_t>(msg.step) * msg.height) {
+    problem << "data holds " << msg.data.size() << " bytes, " << msg.height << " rows of step " << msg.step << " need "
+            << static_cast<std::size_t>(msg.step) * msg.height;
+  }
+  if (!problem.str().empty()) throw InputError(what + ": " + problem.str());
+}
+}  // namespace
+
+ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what) {
+  namespace enc = sensor_msgs::image_encodings;
+  int channels = 0, red = 0, blue = 0;
+  if (msg.encoding == enc::RGB8) {
+    channels = 3, red = 0, blue = 2;
+  } else if (msg.encoding == enc::BGR8) {
+    channels = 3, red = 2, blue = 0;
+  } else if (msg.encoding == enc::RGBA8) {
+    channels = 4, red = 0, blue = 2;
+  } else if (msg.encoding == enc::BGRA8) {
+    channels = 4, red = 2, blue = 0;
+  } else if (msg.encoding == enc::MONO8) {
+    channels = 1;
+  } else {
+    throw InputError(what + ": encoding '" + msg.encoding + "' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8)");
+  }
+  checkLayout(msg, channels, what);
+  ColorImage image(msg.width, msg.height);
+  for (int y = 0; y < image.height(); ++y) {
+    const std::uint8_t* row = msg.data.data() + static_cast<std::size_t>(y) * msg.step;
+    for (int x = 0; x < image.width(); ++x) {
+      const std::uint8_t* p = row + static_cast<std::size_t>(x) * channels;
+      image(x, y) = channels == 1 ? Rgb8{p[0], p[0], p[0]} : Rgb8{p[red], p[1], p[blue]};
+    }
+  }
+  return image;
+}
+
+DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what) {
+  namespace enc = sensor_msgs::image_encodings;
+  const bool millimetres = msg.encoding == enc::TYPE_16UC1 || msg.encoding == enc::MONO16;
+  if (!millimetres && msg.encoding != enc::TYPE_32FC1) {
+    throw InputError(what + ": encoding '" + msg.encoding + "' is not a depth image (16UC1 millimetres or 32FC1 metres)");
+  }
+  checkLayout(msg, millimetres ? 2 : 4, what);
+  if (msg.is_bigendian) throw InputError(what + ": big-endian depth is not supported");
+  DepthImage depth(msg.width, msg.height);
+  for (int y = 0; y < depth.height(); ++y) {
+    const std::uint8_t* row = msg.data.data() + static_cast<std::size_t>(y) * msg.step;
+    for (int x = 0; x < depth.width(); ++x) {
+      float metres;
+      if (millimetres) {
+        std::uint16_t raw;
+        std::memcpy(&raw, row + 2 * x, 2);
+        metres = raw * 0.001f;
+      } else {
+        std::memcpy(&metres, row + 4 * x, 4);
+      }
+      depth(x, y) = std::isfinite(metres) && metres > 0.0f ? metres : 0.0f;
+    }
+  }
+  return depth;
+}
+
+PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what) {
+  if (msg.K[0] == 0.0 || msg.K[4] == 0.0) {
+    throw InputError(what + ": K has zero focal lengths: the camera is not calibrated");
+  }
+  if (msg.binning_x > 1 || msg.binning_y > 1 || msg.roi.width != 0 || msg.roi.height != 0) {
+    throw InputError(what + ": binning or a region of interest is set; publish the full-resolution calibration");
+  }
+  PinholeCamera camera;
+  camera.width = static_cast<int>(msg.width);
+  camera.height = static_cast<int>(msg.height);
+  camera.fx = msg.K[0];
+  camera.fy = msg.K[4];
+  camera.cx = msg.K[2];
+  camera.cy = msg.K[5];
+  camera.depth_scale = 1000.0;
+  camera.validate(what);
+  return camera;
+}
+
+RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,
+                      const std::string& depth_what) {
+  RgbdFrame frame;
+  frame.stamp = color.header.stamp.toSec();
+  frame.color = fromColorImage(color, color_what);
+  frame.depth = fromDepthImage(depth, depth_what);
+  if (!frame.color.sameSize(frame.depth)) {
+    std::ostringstream message;
+    message << depth_what << ": depth is " << frame.depth.width() << "x" << frame.depth.height() << " but " << color_what
+            << " is " << frame.color.width() << "x" << frame.color.height()
+            << " (depth must be registered to the colour image)";
+    throw InputError(message.str());
+  }
+  return frame;
 }
 
 }  // namespace vocal

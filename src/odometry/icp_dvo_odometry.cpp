@@ -32,6 +32,7 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   has_reference_ = false;
   pose_ = pose;
+  pose_covariance_.setZero();
 }
 
 OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
@@ -45,6 +46,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   backend_->pushFrame(frame);
   OdometryResult result;
   result.pose = pose_;
+  result.pose_covariance = pose_covariance_;
   if (!has_reference_) {
     has_reference_ = true;
     result.first_frame = true;
@@ -122,8 +124,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   q.trusted = true;
   result.increment = T;
   result.covariance = last_A.inverse();
+  // pose_k = pose_{k-1} T: the increment's left perturbation moves into the odometry frame through
+  // pose_{k-1}'s adjoint, independent of the errors so far.
+  const Matrix6d to_odometry = adjoint(pose_);
+  pose_covariance_ += to_odometry * result.covariance * to_odometry.transpose();
   pose_ = pose_ * T;
   result.pose = pose_;
+  result.pose_covariance = pose_covariance_;
   return result;
 }
 

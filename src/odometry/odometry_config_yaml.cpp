@@ -18,6 +18,11 @@ OdometryConfig readOdometryConfigYaml(const std::string& path, const OdometryCon
   } catch (const YAML::Exception& e) {
     throw InputError(path + ": not valid YAML (" + e.what() + ")");
   }
+  return odometryConfigFromYaml(root, path, defaults, false);
+}
+
+OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string& path, const OdometryConfig& defaults,
+                                      bool ignore_other_keys) {
   OdometryConfig config = defaults;
   using Setter = std::function<void(const YAML::Node&)>;
   const std::map<std::string, Setter> setters = {
@@ -53,7 +58,10 @@ OdometryConfig readOdometryConfigYaml(const std::string& path, const OdometryCon
   for (const auto& entry : root) {
     const std::string key = entry.first.as<std::string>();
     const auto setter = setters.find(key);
-    if (setter == setters.end()) throw InputError(path + ": unknown odometry setting '" + key + "'");
+    if (setter == setters.end()) {
+      if (ignore_other_keys) continue;
+      throw InputError(path + ": unknown odometry setting '" + key + "'");
+    }
     try {
       setter->second(entry.second);
     } catch (const YAML::Exception& e) {

@@ -15,6 +15,10 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v);
 Eigen::Isometry3d se3Exp(const Vector6d& twist);
 Vector6d se3Log(const Eigen::Isometry3d& pose);
 
+// Adjoint of a pose on twists [v; w]: se3Exp(adjoint(T) x) = T se3Exp(x) T^-1. Moves a twist (or its
+// covariance, Ad C Ad^T) from the frame `pose` maps from into the frame it maps to.
+Matrix6d adjoint(const Eigen::Isometry3d& pose);
+
 // Pose from a translation and a quaternion (x y z w order as in TUM files); the quaternion is
 // normalised, so callers must reject zero or non-finite ones first.
 Eigen::Isometry3d poseFromTranslationQuaternion(const Eigen::Vector3d& t, const Eigen::Quaterniond& q);

@@ -1,15 +1,19 @@
 #pragma once
-// Core types -> ROS messages. Kept out of the core so the math never depends on ROS.
+// Core types <-> ROS messages. Kept out of the core so the math never depends on ROS. Conversions
+// from messages throw InputError naming `what` (the topic) and the problem.
 
 #include <string>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <Eigen/Geometry>
 
+#include "vocal/core/colored_point.h"
 #include "vocal/core/image.h"
 #include "vocal/core/pinhole_camera.h"
+#include "vocal/core/rgbd_frame.h"
 
 namespace vocal {
 
@@ -17,8 +21,22 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::str
 sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // 32FC1 metres with NaN where there is no measurement (the TUM bags' and REP-118's convention).
 sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp);
+// x, y, z float32 and rgb packed into a float32 (PCL's PointXYZRGB layout, what rviz colours by).
+sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, const std::string& frame_id,
+                                       const ros::Time& stamp);
 geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& parent_from_child,
                                                    const std::string& parent, const std::string& child,
                                                    const ros::Time& stamp);
+
+// rgb8, bgr8, rgba8, bgra8 or mono8 (grey copied to all three channels).
+ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what);
+// 16UC1 millimetres (0 = none) or 32FC1 metres (NaN, inf or <= 0 = none); metres, 0 where none.
+DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what);
+// Intrinsics from K; depth_scale 1000 (OpenNI millimetres). Refuses an uncalibrated (zero) K and
+// binning or a region of interest.
+PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
+// One frame of registered images: depth and camera_info must match the colour image's size.
+RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,
+                      const std::string& depth_what);
 
 }  // namespace vocal

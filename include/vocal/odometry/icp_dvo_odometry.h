@@ -30,7 +30,11 @@ struct OdometryResult {
   bool first_frame = false;  // the first frame (or the first after a reset) only sets the reference
   Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();  // previous camera <- current camera
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();       // odometry frame <- current camera
-  Matrix6d covariance = Matrix6d::Identity();                   // of the increment's twist [v; w]
+  // Of the increment's twist [v; w] (a left perturbation, in the previous camera frame).
+  Matrix6d covariance = Matrix6d::Identity();
+  // Of the pose's twist in the odometry frame (left perturbation): grows with every increment, zero
+  // after a reset (the start pose is given).
+  Matrix6d pose_covariance = Matrix6d::Zero();
   OdometryQuality quality;
   std::string failure;  // why tracking was not trusted; empty when it was
 };
@@ -50,7 +54,9 @@ class IcpDvoOdometry {
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
 
   const Eigen::Isometry3d& pose() const { return pose_; }
+  const Matrix6d& poseCovariance() const { return pose_covariance_; }
   const OdometryBackend& backend() const { return *backend_; }
+  const PinholeCamera& camera() const { return camera_; }
   const OdometryConfig& config() const { return config_; }
 
  private:
@@ -59,6 +65,7 @@ class IcpDvoOdometry {
   std::unique_ptr<OdometryBackend> backend_;
   bool has_reference_ = false;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  Matrix6d pose_covariance_ = Matrix6d::Zero();
 };
 
 }  // namespace vocal

@@ -1,0 +1,325 @@
+// Nodelet vocal/IcpDvoOdometry: registered RGB + depth + camera_info in, odometry out (nav_msgs/Odometry
+// with covariances, tf odom -> base, the current cloud, a voxel-fused cloud, the path, diagnostics).
+// A thin adapter: parameters -> OdometryConfig, messages -> RgbdFrame, IcpDvoOdometry does the work.
+// Topic and parameter names follow rtabmap_ros's rgbd_odometry.
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Empty.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <yaml-cpp/yaml.h>
+
+#include "vocal/core/colored_point.h"
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+#include "vocal/core/voxel_cloud_map.h"
+#include "vocal/nodelets/message_conversions.h"
+#include "vocal/nodelets/parameter_yaml.h"
+#include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/odometry/odometry_config_yaml.h"
+
+namespace vocal {
+
+namespace {
+using ImageMsg = sensor_msgs::Image;
+using CameraInfoMsg = sensor_msgs::CameraInfo;
+using ApproximatePolicy = message_filters::sync_policies::ApproximateTime<ImageMsg, ImageMsg, CameraInfoMsg>;
+using ExactPolicy = message_filters::sync_policies::ExactTime<ImageMsg, ImageMsg, CameraInfoMsg>;
+
+// nav_msgs covariance (row-major 6x6, x y z then rotation about x y z) from a [v; w] covariance.
+void copyCovariance(const Matrix6d& covariance, boost::array<double, 36>* out) {
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) (*out)[6 * r + c] = covariance(r, c);
+}
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) { return tf2::toMsg(pose); }
+}  // namespace
+
+class IcpDvoOdometryNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    frame_id_ = pnh.param<std::string>("frame_id", "");
+    odom_frame_id_ = pnh.param<std::string>("odom_frame_id", "odom");
+    publish_tf_ = pnh.param("publish_tf", true);
+    wait_for_transform_ = pnh.param("wait_for_transform", 0.2);
+    cloud_stride_ = std::max(1, pnh.param("cloud_stride", 4));
+    fused_cloud_every_ = std::max(1, pnh.param("fused_cloud_every", 10));
+    const bool approx_sync = pnh.param("approx_sync", true);
+    const int queue_size = std::max(1, pnh.param("queue_size", 10));
+    try {
+      XmlRpc::XmlRpcValue parameters;
+      YAML::Node settings;
+      if (pnh.getParam("", parameters)) settings = toYaml(parameters);
+      config_ = odometryConfigFromYaml(settings, "parameters of " + pnh.getNamespace(), OdometryConfig{}, true);
+      fused_map_ = std::make_unique<VoxelCloudMap>(pnh.param("fused_cloud_voxel", 0.02),
+                                                   static_cast<std::size_t>(pnh.param("fused_cloud_max_voxels", 2000000)));
+    } catch (const InputError& e) {
+      setupError(e.what());
+      return;
+    }
+
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
+    path_pub_ = nh.advertise<nav_msgs::Path>("path", 1);
+    cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("cloud", 2);
+    fused_cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("fused_cloud", 1, true);
+    reset_service_ = nh.advertiseService("reset_odom", &IcpDvoOdometryNodelet::resetOdometry, this);
+    tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+
+    updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    updater_->setHardwareID("vocal_icp_dvo_odometry");
+    updater_->add("odometry", this, &IcpDvoOdometryNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
+    watchdog_timer_ = nh.createWallTimer(ros::WallDuration(5.0), &IcpDvoOdometryNodelet::watchdog, this);
+
+    image_transport::ImageTransport rgb_it(nh), depth_it(nh);
+    const image_transport::TransportHints rgb_hints("raw", ros::TransportHints(), pnh, "rgb_image_transport");
+    const image_transport::TransportHints depth_hints("raw", ros::TransportHints(), pnh, "depth_image_transport");
+    rgb_sub_.subscribe(rgb_it, "rgb/image", queue_size, rgb_hints);
+    depth_sub_.subscribe(depth_it, "depth/image", queue_size, depth_hints);
+    info_sub_.subscribe(nh, "rgb/camera_info", queue_size);
+    // Arrivals per topic, so a missing stream can be named.
+    rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_; });
+    depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_; });
+    info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_; });
+    if (approx_sync) {
+      approximate_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(ApproximatePolicy(queue_size), rgb_sub_,
+                                                                                          depth_sub_, info_sub_);
+      approximate_->registerCallback(&IcpDvoOdometryNodelet::onFrame, this);
+    } else {
+      exact_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(ExactPolicy(queue_size), rgb_sub_, depth_sub_,
+                                                                              info_sub_);
+      exact_->registerCallback(&IcpDvoOdometryNodelet::onFrame, this);
+    }
+    NODELET_INFO_STREAM("IcpDvoOdometry: " << odometryModeName(config_.mode) << " odometry on " << rgb_sub_.getTopic() << ", "
+                                           << depth_sub_.getTopic() << ", " << info_sub_.getTopic() << " ("
+                                           << (approx_sync ? "approximate" : "exact") << " sync), publishing "
+                                           << odom_frame_id_ << " -> " << (frame_id_.empty() ? "<camera frame>" : frame_id_));
+  }
+
+  void setupError(const std::string& message) {
+    setup_error_ = message;
+    NODELET_ERROR_STREAM("IcpDvoOdometry: " << message << "; the nodelet stays idle");
+  }
+
+  void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth, const CameraInfoMsg::ConstPtr& info) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++frames_received_;
+    const auto started = std::chrono::steady_clock::now();
+    try {
+      track(*rgb, *depth, *info);
+    } catch (const std::exception& e) {
+      // Bad input is counted and reported; it never reaches the manager.
+      ++frames_dropped_;
+      last_problem_ = e.what();
+      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: frame dropped: " << e.what());
+    }
+    processing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  }
+
+  void track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info) {
+    if (!setup_error_.empty()) throw InputError(setup_error_);
+    if (!last_stamp_.isZero() && rgb.header.stamp <= last_stamp_) {
+      ++frames_out_of_order_;
+      std::ostringstream message;
+      message << rgb_sub_.getTopic() << ": stamp " << rgb.header.stamp << " is not after the previous frame's "
+              << last_stamp_ << " (out of order or a restarted bag; call reset_odom to start again)";
+      throw InputError(message.str());
+    }
+    const PinholeCamera camera = fromCameraInfo(info, info_sub_.getTopic());
+    if (camera.width != static_cast<int>(rgb.width) || camera.height != static_cast<int>(rgb.height)) {
+      std::ostringstream message;
+      message << info_sub_.getTopic() << ": camera_info is " << camera.width << "x" << camera.height << " but "
+              << rgb_sub_.getTopic() << " is " << rgb.width << "x" << rgb.height;
+      throw InputError(message.str());
+    }
+    const RgbdFrame frame = toRgbdFrame(rgb, depth, rgb_sub_.getTopic(), depth_sub_.getTopic());
+    if (!odometry_ || !(odometry_->camera() == camera)) {
+      // First frame, or new intrinsics: the estimator is built for one camera. The camera is already
+      // validated, so a failure here is the configuration's (e.g. backend opencl without a platform).
+      try {
+        odometry_ = std::make_unique<IcpDvoOdometry>(camera, config_);
+      } catch (const InputError& e) {
+        setupError(e.what());
+        throw;
+      }
+      backend_name_ = odometry_->backend().name();
+      NODELET_INFO_STREAM("IcpDvoOdometry: " << camera.width << "x" << camera.height << " camera, backend " << backend_name_);
+    }
+    const std::string camera_frame = rgb.header.frame_id;
+    const std::string base_frame = frame_id_.empty() ? camera_frame : frame_id_;
+    Eigen::Isometry3d base_from_camera = Eigen::Isometry3d::Identity();
+    if (base_frame != camera_frame) {
+      try {
+        base_from_camera = tf2::transformToEigen(
+            tf_buffer_->lookupTransform(base_frame, camera_frame, rgb.header.stamp, ros::Duration(wait_for_transform_)));
+      } catch (const tf2::TransformException& e) {
+        throw InputError("tf " + base_frame + " <- " + camera_frame + " unavailable: " + e.what());
+      }
+    }
+
+    const OdometryResult result = odometry_->track(frame);
+    last_stamp_ = rgb.header.stamp;
+    if (!result.quality.trusted) {
+      ++frames_lost_;
+      last_problem_ = result.failure;
+      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: tracking lost: " << result.failure);
+      return;
+    }
+    ++frames_tracked_;
+    last_problem_.clear();
+    quality_ = result.quality;
+
+    // The odometry frame is the base's pose at the first frame: odom <- base = B (cam0 <- cam) B^-1.
+    const Eigen::Isometry3d camera_to_base = base_from_camera;
+    const Eigen::Isometry3d odom_from_base = camera_to_base * result.pose * camera_to_base.inverse();
+    const Matrix6d to_base = adjoint(camera_to_base);
+    nav_msgs::Odometry odom;
+    odom.header.stamp = rgb.header.stamp;
+    odom.header.frame_id = odom_frame_id_;
+    odom.child_frame_id = base_frame;
+    odom.pose.pose = toPoseMsg(odom_from_base);
+    copyCovariance(to_base * result.pose_covariance * to_base.transpose(), &odom.pose.covariance);
+    const double dt = previous_stamp_.isZero() ? 0.0 : (rgb.header.stamp - previous_stamp_).toSec();
+    if (!result.first_frame && dt > 0.0) {
+      const Vector6d twist = se3Log(camera_to_base * result.increment * camera_to_base.inverse()) / dt;
+      odom.twist.twist.linear.x = twist[0], odom.twist.twist.linear.y = twist[1], odom.twist.twist.linear.z = twist[2];
+      odom.twist.twist.angular.x = twist[3], odom.twist.twist.angular.y = twist[4], odom.twist.twist.angular.z = twist[5];
+      copyCovariance(to_base * result.covariance * to_base.transpose() / (dt * dt), &odom.twist.covariance);
+    }
+    previous_stamp_ = rgb.header.stamp;
+    odom_pub_.publish(odom);
+    if (publish_tf_) tf_broadcaster_.sendTransform(toTransformStamped(odom_from_base, odom_frame_id_, base_frame, rgb.header.stamp));
+
+    geometry_msgs::PoseStamped stamped;
+    stamped.header = odom.header;
+    stamped.pose = odom.pose.pose;
+    path_.header = odom.header;
+    path_.poses.push_back(stamped);
+    if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
+
+    // The map keeps growing while nobody watches, so a late rviz sees the whole run.
+    const std::vector<ColoredPoint> points = backProjectFrame(frame, camera, cloud_stride_);
+    fused_map_->add(points, odom_from_base * base_from_camera);
+    if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(toPointCloud2(points, camera_frame, rgb.header.stamp));
+    if ((frames_tracked_ - 1) % fused_cloud_every_ == 0 && fused_cloud_pub_.getNumSubscribers() > 0) {
+      fused_cloud_pub_.publish(toPointCloud2(fused_map_->points(), odom_frame_id_, rgb.header.stamp));
+    }
+  }
+
+  bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (odometry_) odometry_->reset();
+    last_stamp_ = previous_stamp_ = ros::Time();
+    path_.poses.clear();
+    if (fused_map_) fused_map_->clear();
+    ++resets_;
+    NODELET_INFO("IcpDvoOdometry: odometry reset; the next frame starts at the origin");
+    return true;
+  }
+
+  void watchdog(const ros::WallTimerEvent&) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const bool progressed = frames_received_ != frames_received_at_watchdog_;
+      frames_received_at_watchdog_ = frames_received_;
+      if (progressed || !setup_error_.empty()) return;
+    }
+    NODELET_WARN_STREAM("IcpDvoOdometry: no synchronised frame in 5 s; received so far " << rgb_sub_.getTopic() << ": "
+                                                                                        << rgb_count_ << ", " << depth_sub_.getTopic()
+                                                                                        << ": " << depth_count_ << ", "
+                                                                                        << info_sub_.getTopic() << ": " << info_count_);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    using diagnostic_msgs::DiagnosticStatus;
+    if (!setup_error_.empty()) {
+      status.summary(DiagnosticStatus::ERROR, setup_error_);
+    } else if (frames_received_ == 0) {
+      status.summary(DiagnosticStatus::WARN, "no synchronised rgb/depth/camera_info frame received yet");
+    } else if (!last_problem_.empty()) {
+      status.summary(DiagnosticStatus::WARN, last_problem_);
+    } else {
+      status.summary(DiagnosticStatus::OK, "tracking");
+    }
+    status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
+    status.add("frames received", frames_received_);
+    status.add("frames tracked", frames_tracked_);
+    status.add("frames lost", frames_lost_);
+    status.add("frames dropped", frames_dropped_);
+    status.add("frames out of order", frames_out_of_order_);
+    status.add("resets", resets_);
+    status.add(rgb_sub_.getTopic() + " messages", rgb_count_.load());
+    status.add(depth_sub_.getTopic() + " messages", depth_count_.load());
+    status.add(info_sub_.getTopic() + " messages", info_count_.load());
+    status.add("mean processing ms", frames_received_ ? 1000.0 * processing_seconds_ / frames_received_ : 0.0);
+    status.add("icp inliers", quality_.icp_inliers);
+    status.add("rgb inliers", quality_.rgb_inliers);
+    status.add("condition", quality_.condition);
+    status.add("fused cloud voxels", fused_map_ ? fused_map_->voxels() : 0);
+  }
+
+  // Parameters.
+  std::string frame_id_, odom_frame_id_;
+  bool publish_tf_ = true;
+  double wait_for_transform_ = 0.2;
+  int cloud_stride_ = 4, fused_cloud_every_ = 10;
+  OdometryConfig config_;
+  std::string setup_error_;
+
+  // ROS plumbing.
+  image_transport::SubscriberFilter rgb_sub_, depth_sub_;
+  message_filters::Subscriber<CameraInfoMsg> info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;
+  ros::Publisher odom_pub_, path_pub_, cloud_pub_, fused_cloud_pub_;
+  ros::ServiceServer reset_service_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diagnostics_timer_, watchdog_timer_;
+
+  // State, under mutex_ (arrival counters are atomic: they run outside the synchroniser).
+  std::mutex mutex_;
+  std::unique_ptr<IcpDvoOdometry> odometry_;
+  std::unique_ptr<VoxelCloudMap> fused_map_;
+  std::string backend_name_, last_problem_;
+  ros::Time last_stamp_, previous_stamp_;
+  nav_msgs::Path path_;
+  OdometryQuality quality_;
+  std::size_t frames_received_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
+              resets_ = 0, frames_received_at_watchdog_ = 0;
+  std::atomic<std::size_t> rgb_count_{0}, depth_count_{0}, info_count_{0};
+  double processing_seconds_ = 0.0;
+};
+
+}  // namespace vocal
+
+PLUGINLIB_EXPORT_CLASS(vocal::IcpDvoOdometryNodelet, nodelet::Nodelet)

@@ -1,0 +1,156 @@
+// ROS messages -> core types (what the nodelets receive), without a ROS master: supported encodings
+// convert exactly, everything else is refused with the topic and the problem named.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "test_support.h"
+#include "vocal/core/voxel_cloud_map.h"
+#include "vocal/nodelets/message_conversions.h"
+#include "vocal/nodelets/parameter_yaml.h"
+#include "vocal/odometry/odometry_config_yaml.h"
+
+namespace {
+sensor_msgs::Image imageMsg(const std::string& encoding, int width, int height, int bytes_per_pixel) {
+  sensor_msgs::Image msg;
+  msg.encoding = encoding;
+  msg.width = width;
+  msg.height = height;
+  msg.step = width * bytes_per_pixel + 4;  // padded rows, as some drivers send
+  msg.data.assign(static_cast<std::size_t>(msg.step) * height, 0);
+  return msg;
+}
+}  // namespace
+
+TEST(MessageConversions, ColourEncodingsConvertToRgb) {
+  sensor_msgs::Image bgr = imageMsg("bgr8", 3, 2, 3);
+  const std::uint8_t pixel[] = {10, 20, 30};  // b, g, r
+  std::memcpy(&bgr.data[bgr.step + 3], pixel, 3);  // pixel (1, 1)
+  const vocal::ColorImage from_bgr = vocal::fromColorImage(bgr, "/cam/image");
+  EXPECT_EQ(from_bgr(1, 1), (vocal::Rgb8{30, 20, 10}));
+  EXPECT_EQ(from_bgr(0, 0), (vocal::Rgb8{0, 0, 0}));
+
+  sensor_msgs::Image mono = imageMsg("mono8", 3, 2, 1);
+  mono.data[mono.step + 2] = 77;
+  EXPECT_EQ(vocal::fromColorImage(mono, "/cam/image")(2, 1), (vocal::Rgb8{77, 77, 77}));
+
+  const vocal::ColorImage original(4, 3, vocal::Rgb8{1, 2, 3});
+  EXPECT_EQ(vocal::fromColorImage(vocal::toRgb8Image(original, "f", ros::Time(1)), "/x").pixels(), original.pixels());
+}
+
+TEST(MessageConversions, DepthInMillimetresOrMetresWithMissingValuesAsZero) {
+  sensor_msgs::Image mm = imageMsg("16UC1", 2, 2, 2);
+  const std::uint16_t raw = 1234;
+  std::memcpy(&mm.data[mm.step + 2], &raw, 2);  // pixel (1, 1)
+  const vocal::DepthImage from_mm = vocal::fromDepthImage(mm, "/depth");
+  EXPECT_FLOAT_EQ(from_mm(1, 1), 1.234f);
+  EXPECT_EQ(from_mm(0, 0), 0.0f);
+
+  sensor_msgs::Image metres = imageMsg("32FC1", 3, 1, 4);
+  const float values[] = {2.5f, std::numeric_limits<float>::quiet_NaN(), -1.0f};
+  std::memcpy(metres.data.data(), values, sizeof(values));
+  const vocal::DepthImage from_m = vocal::fromDepthImage(metres, "/depth");
+  EXPECT_EQ(from_m(0, 0), 2.5f);
+  EXPECT_EQ(from_m(1, 0), 0.0f) << "NaN depth is missing";
+  EXPECT_EQ(from_m(2, 0), 0.0f) << "negative depth is missing";
+}
+
+TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
+  using vocal_test::inputErrorOf;
+  EXPECT_EQ(inputErrorOf([] { vocal::fromColorImage(imageMsg("16UC1", 2, 2, 2), "/cam/image"); }),
+            "/cam/image: encoding '16UC1' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8)");
+  EXPECT_EQ(inputErrorOf([] { vocal::fromDepthImage(imageMsg("rgb8", 2, 2, 3), "/depth"); }),
+            "/depth: encoding 'rgb8' is not a depth image (16UC1 millimetres or 32FC1 metres)");
+  sensor_msgs::Image short_data = imageMsg("rgb8", 4, 4, 3);
+  short_data.data.resize(10);
+  EXPECT_EQ(inputErrorOf([&] { vocal::fromColorImage(short_data, "/cam/image"); }),
+            "/cam/image: data holds 10 bytes, 4 rows of step 16 need 64");
+  sensor_msgs::Image short_step = imageMsg("32FC1", 4, 4, 4);
+  short_step.step = 8;
+  EXPECT_EQ(inputErrorOf([&] { vocal::fromDepthImage(short_step, "/depth"); }),
+            "/depth: step 8 is shorter than a row of 4 32FC1 pixels");
+  EXPECT_EQ(inputErrorOf([] { vocal::fromColorImage(imageMsg("rgb8", 0, 0, 3), "/cam/image"); }),
+            "/cam/image: image is empty (0x0)");
+
+  sensor_msgs::CameraInfo info = vocal::toCameraInfo(vocal::defaultKinectCamera(), "f", ros::Time(1));
+  EXPECT_EQ(vocal::fromCameraInfo(info, "/info").fx, 525.0);
+  info.K = {};
+  EXPECT_EQ(inputErrorOf([&] { vocal::fromCameraInfo(info, "/info"); }),
+            "/info: K has zero focal lengths: the camera is not calibrated");
+
+  const sensor_msgs::Image color = vocal::toRgb8Image(vocal::ColorImage(4, 3), "f", ros::Time(1));
+  const sensor_msgs::Image depth = vocal::toDepth32FImage(vocal::DepthImage(2, 2), "f", ros::Time(1));
+  EXPECT_EQ(inputErrorOf([&] { vocal::toRgbdFrame(color, depth, "/rgb", "/depth"); }),
+            "/depth: depth is 2x2 but /rgb is 4x3 (depth must be registered to the colour image)");
+}
+
+TEST(MessageConversions, PointCloudCarriesPositionsAndPackedColour) {
+  const std::vector<vocal::ColoredPoint> points = {{Eigen::Vector3f(1, 2, 3), vocal::Rgb8{255, 128, 1}}};
+  const sensor_msgs::PointCloud2 cloud = vocal::toPointCloud2(points, "odom", ros::Time(5));
+  ASSERT_EQ(cloud.width, 1u);
+  ASSERT_EQ(cloud.fields.size(), 4u);
+  EXPECT_EQ(cloud.fields[3].name, "rgb");
+  float xyz[3];
+  std::uint32_t rgb = 0;
+  std::memcpy(xyz, cloud.data.data(), 12);
+  std::memcpy(&rgb, cloud.data.data() + cloud.fields[3].offset, 4);
+  EXPECT_EQ(xyz[2], 3.0f);
+  EXPECT_EQ(rgb, 0xFF8001u);
+}
+
+TEST(VoxelCloudMap, FusesViewsOfOneSurfaceIntoOnePointPerVoxel) {
+  // The same 1 m x 1 m patch seen from two camera poses lands in the same voxels of the map.
+  std::vector<vocal::ColoredPoint> patch;
+  for (int i = 0; i < 50; ++i)
+    for (int j = 0; j < 50; ++j) patch.push_back({Eigen::Vector3f(0.02f * i + 0.001f, 0.02f * j + 0.001f, 2.0f), vocal::Rgb8{100, 0, 0}});
+  vocal::VoxelCloudMap map(0.04, 100000);
+  map.add(patch, Eigen::Isometry3d::Identity());
+  const std::size_t one_view = map.voxels();
+  EXPECT_EQ(one_view, 25u * 25u);
+  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
+  moved.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
+  std::vector<vocal::ColoredPoint> seen_from_closer = patch;
+  for (auto& p : seen_from_closer) p.position.z() -= 0.5f, p.color = vocal::Rgb8{200, 0, 0};
+  map.add(seen_from_closer, moved);
+  EXPECT_EQ(map.voxels(), one_view);
+  for (const vocal::ColoredPoint& p : map.points()) {
+    EXPECT_NEAR(p.position.z(), 2.0f, 1e-5f);
+    EXPECT_EQ(p.color.r, 150);
+  }
+  // A budget caps memory and counts what it dropped.
+  vocal::VoxelCloudMap small(0.04, 10);
+  small.add(patch, Eigen::Isometry3d::Identity());
+  EXPECT_EQ(small.voxels(), 10u);
+  EXPECT_EQ(small.droppedPoints(), patch.size() - 10 * 4);
+  EXPECT_EQ(vocal_test::inputErrorOf([] { vocal::VoxelCloudMap(0.0, 10); }),
+            "voxel cloud map: voxel size 0.000000 m must be positive");
+}
+
+// A nodelet's private parameters (as rosparam loads them) go through the config file's parser: its
+// own keys are ignored, odometry keys are applied, bad values are named.
+TEST(NodeletParameters, OdometrySettingsFromRosParameters) {
+  XmlRpc::XmlRpcValue parameters;
+  parameters["frame_id"] = std::string("base_link");
+  parameters["rgb_weight"] = 2.0;
+  parameters["min_icp_inliers"] = 300;
+  parameters["mode"] = std::string("icp");
+  parameters["iterations"][0] = 4;
+  parameters["iterations"][1] = 3;
+  parameters["iterations"][2] = 2;
+  const vocal::OdometryConfig config =
+      vocal::odometryConfigFromYaml(vocal::toYaml(parameters), "parameters of /odometry", vocal::OdometryConfig{}, true);
+  EXPECT_EQ(config.rgb_weight, 2.0);
+  EXPECT_EQ(config.min_icp_inliers, 300);
+  EXPECT_EQ(config.mode, vocal::OdometryMode::kIcp);
+  EXPECT_EQ(config.iterations, (std::vector<int>{4, 3, 2}));
+  EXPECT_EQ(config.max_depth, vocal::OdometryConfig{}.max_depth);
+
+  parameters["rgb_weight"] = std::string("heavy");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] {
+              vocal::odometryConfigFromYaml(vocal::toYaml(parameters), "parameters of /odometry", vocal::OdometryConfig{}, true);
+            }).rfind("parameters of /odometry: setting 'rgb_weight' is malformed", 0),
+            0u);
+}
