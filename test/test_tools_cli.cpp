@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "test_support.h"
 #include "vocal/core/se3.h"
@@ -191,4 +192,40 @@ TEST(ToolsCli, SimulateCalibrationPrintsTheComparisonTable) {
   r = runTool("simulate_calibration --poses 10,x");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "simulate_calibration: error: option --poses: 'x' is not an integer\n");
+}
+
+// A simulated recording calibrated by calibrate_rig as a user would: rig.yaml + bag in, the table and
+// the result files out; the result matches the ground truth file within the bounds.
+TEST(ToolsCli, CalibrateRigFromARecordedSession) {
+  const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig");
+  RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 1 --camera 0 --poses 8");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("8 still target poses"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote " + folder + "/calibration.yaml"), std::string::npos) << r.output;
+  // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  ASSERT_EQ(result["sensors"].size(), truth["sensors"].size());
+  for (std::size_t s = 1; s < truth["sensors"].size(); ++s) {
+    const auto pose = truth["sensors"][s]["pose"].as<std::vector<double>>();
+    const auto t = result["sensors"][s]["translation"].as<std::vector<double>>();
+    const auto q = result["sensors"][s]["rotation"].as<std::vector<double>>();
+    const Eigen::Isometry3d expected = vocal::poseFromTranslationQuaternion(
+        Eigen::Vector3d(pose[0], pose[1], pose[2]), Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]));
+    const Eigen::Isometry3d found =
+        vocal::poseFromTranslationQuaternion(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+    const Eigen::Isometry3d error = expected.inverse() * found;
+    EXPECT_LT(error.translation().norm(), 0.005) << s;
+    EXPECT_LT(vocal::rotationAngle(error), 0.005) << s;
+  }
+  // A rig whose topics the bag does not hold.
+  vocal_test::writeText(folder + "/other.yaml",
+                        "reference_frame: base_link\n"
+                        "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}\n"
+                        "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /velodyne_points, pose: [0,0,0,0,0,0,1]}\n");
+  r = runTool("calibrate_rig " + folder + "/other.yaml " + folder + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "calibrate_rig: error: " + folder + "/session.bag: holds none of the rig's topics (/velodyne_points)\n");
 }

@@ -40,6 +40,22 @@ sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame
   return msg;
 }
 
+sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::Image msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame_id;
+  msg.width = image.width();
+  msg.height = image.height();
+  msg.encoding = sensor_msgs::image_encodings::MONO8;
+  msg.step = image.width();
+  msg.data.resize(image.size());
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    const Rgb8& p = image.pixels()[i];
+    msg.data[i] = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
+  }
+  return msg;
+}
+
 sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp) {
   sensor_msgs::Image msg;
   msg.header.stamp = stamp;
@@ -193,6 +209,78 @@ PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::stri
   camera.depth_scale = 1000.0;
   camera.validate(what);
   return camera;
+}
+
+std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what) {
+  int offsets[3] = {-1, -1, -1};
+  std::uint8_t types[3] = {0, 0, 0};
+  const char* names[] = {"x", "y", "z"};
+  for (const sensor_msgs::PointField& field : msg.fields) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (field.name == names[axis]) offsets[axis] = static_cast<int>(field.offset), types[axis] = field.datatype;
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (offsets[axis] < 0) throw InputError(what + ": the cloud has no '" + names[axis] + "' field");
+    if (types[axis] != sensor_msgs::PointField::FLOAT32 && types[axis] != sensor_msgs::PointField::FLOAT64) {
+      throw InputError(what + ": field '" + names[axis] + "' is not float32 or float64");
+    }
+    const std::size_t size = types[axis] == sensor_msgs::PointField::FLOAT32 ? 4 : 8;
+    if (offsets[axis] + size > msg.point_step) throw InputError(what + ": field '" + names[axis] + "' lies outside point_step");
+  }
+  if (msg.is_bigendian) throw InputError(what + ": big-endian clouds are not supported");
+  const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
+  if (msg.height > 0 && (msg.row_step < msg.width * msg.point_step || msg.data.size() < static_cast<std::size_t>(msg.row_step) * msg.height)) {
+    throw InputError(what + ": data holds " + std::to_string(msg.data.size()) + " bytes, too few for " + std::to_string(count) +
+                     " points");
+  }
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(count);
+  for (std::uint32_t row = 0; row < msg.height; ++row) {
+    for (std::uint32_t column = 0; column < msg.width; ++column) {
+      const std::uint8_t* p = msg.data.data() + static_cast<std::size_t>(row) * msg.row_step + column * msg.point_step;
+      Eigen::Vector3d point;
+      for (int axis = 0; axis < 3; ++axis) {
+        if (types[axis] == sensor_msgs::PointField::FLOAT32) {
+          float value;
+          std::memcpy(&value, p + offsets[axis], 4);
+          point[axis] = value;
+        } else {
+          std::memcpy(&point[axis], p + offsets[axis], 8);
+        }
+      }
+      if (point.allFinite()) points.push_back(point);
+    }
+  }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> fromLaserScan(const sensor_msgs::LaserScan& msg, const std::string& what) {
+  if (!(msg.angle_increment != 0.0f) || !std::isfinite(msg.angle_increment) || !std::isfinite(msg.angle_min)) {
+    throw InputError(what + ": angle_increment must be finite and non-zero");
+  }
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t i = 0; i < msg.ranges.size(); ++i) {
+    const float r = msg.ranges[i];
+    if (!std::isfinite(r) || r < msg.range_min || r > msg.range_max) continue;
+    const double angle = msg.angle_min + i * static_cast<double>(msg.angle_increment);
+    points.emplace_back(r * std::cos(angle), r * std::sin(angle), 0.0);
+  }
+  return points;
+}
+
+sensor_msgs::LaserScan toLaserScan(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                                   double range_max, const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::LaserScan msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame_id;
+  msg.angle_min = static_cast<float>(angle_min);
+  msg.angle_increment = static_cast<float>(angle_increment);
+  msg.angle_max = static_cast<float>(angle_min + angle_increment * (ranges.empty() ? 0 : ranges.size() - 1));
+  msg.range_min = 0.05f;
+  msg.range_max = static_cast<float>(range_max);
+  msg.ranges = ranges;
+  return msg;
 }
 
 RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,

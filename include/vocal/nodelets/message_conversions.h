@@ -7,6 +7,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <Eigen/Geometry>
 
@@ -19,6 +20,8 @@ namespace vocal {
 
 sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp);
 sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
+// mono8: the colour image's luma (ITU-R BT.601), as monochrome camera drivers publish.
+sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // 32FC1 metres with NaN where there is no measurement (the TUM bags' and REP-118's convention).
 sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp);
 // x, y, z float32 and rgb packed into a float32 (PCL's PointXYZRGB layout, what rviz colours by).
@@ -35,6 +38,12 @@ DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what
 // Intrinsics from K; depth_scale 1000 (OpenNI millimetres). Refuses an uncalibrated (zero) K and
 // binning or a region of interest.
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
+// The x, y, z (float32 or float64) of every finite point, in the cloud's frame.
+std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what);
+// The scan's returns within [range_min, range_max] as points in its plane (z = 0), in beam order.
+std::vector<Eigen::Vector3d> fromLaserScan(const sensor_msgs::LaserScan& msg, const std::string& what);
+sensor_msgs::LaserScan toLaserScan(const std::vector<float>& ranges, double angle_min, double angle_increment,
+                                   double range_max, const std::string& frame_id, const ros::Time& stamp);
 // One frame of registered images: depth and camera_info must match the colour image's size.
 RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,
                       const std::string& depth_what);

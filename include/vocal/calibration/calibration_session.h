@@ -1,0 +1,54 @@
+#pragma once
+// One calibration session: the raw data of every sensor of a rig (clouds, scans, depth images, camera
+// images) in, the target extracted from each, the still periods associated, the rig calibrated. What
+// the calibrate_rig tool (from a bag) and the MsgCalibration nodelet (live) share.
+
+#include <string>
+#include <vector>
+
+#include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/still_target_association.h"
+#include "vocal/calibration/target_extraction.h"
+#include "vocal/core/image.h"
+#include "vocal/core/pinhole_camera.h"
+
+namespace vocal {
+
+struct SensorDataCounts {
+  int received = 0;      // messages given to the session
+  int target_found = 0;  // of which showed the target
+};
+
+class CalibrationSession {
+ public:
+  explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {});
+
+  // Each returns whether the target was found. Throws InputError naming the sensor when it has another
+  // type or the data is unusable (stamps are seconds).
+  bool addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud);          // lidar3d
+  bool addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan);            // laser2d, in beam order
+  bool addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera);  // rgbd
+  bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera);  // camera
+
+  // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
+  // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does.
+  CalibrationResult calibrate(CalibrationOptions options = {}) const;
+  std::vector<TargetObservation> associatedObservations() const;
+
+  const RigDescription& rig() const { return rig_; }
+  const std::vector<SensorDataCounts>& counts() const { return counts_; }
+  int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
+
+ private:
+  const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
+  bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
+
+  RigDescription rig_;
+  TargetExtractionOptions extraction_;
+  StillnessOptions stillness_;
+  std::vector<SensorDataCounts> counts_;
+  std::vector<TimedObservation> observations_;
+};
+
+}  // namespace vocal

@@ -1,0 +1,55 @@
+#pragma once
+// Calibration sessions as rosbags: a simulated session written with the topics of a rig description
+// (the demo and the end-to-end test), and any recorded session read back into a CalibrationSession.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/rig_simulator.h"
+
+namespace vocal {
+
+// The rig description of simulated sensors: topics /<name>/..., every sensor's true pose when
+// `with_all_poses` (ground truth), else the first sensor's only (what a user knows).
+RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors, const TargetDescription& target,
+                                    bool with_all_poses);
+
+struct SimulatedSessionOptions {
+  int target_poses = 12;
+  int still_ticks = 6;    // messages per sensor while the target is held still
+  int moving_ticks = 4;   // ... while it is carried to the next pose
+  double rate = 10.0;     // Hz per sensor
+  double range_noise = 0.001;
+  double image_noise = 2.0;  // grey levels
+  int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
+  int depth_height = 240;
+  std::uint32_t seed = 1;
+};
+
+struct SimulatedSessionSummary {
+  std::size_t messages = 0;
+  std::vector<Eigen::Isometry3d> reference_from_target;  // the still poses
+};
+
+// Throws InputError naming the bag when it cannot be written.
+SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
+                                                     const SimulatedSessionOptions& options, const std::string& bag_path);
+
+struct BagReadSummary {
+  std::size_t messages = 0;  // on the rig's topics
+  std::vector<std::string> problems;  // per dropped message: topic, stamp and why (first 20)
+  std::size_t dropped = 0;
+};
+
+// Feeds every message on the rig's topics to `session` in bag order (camera_info before its images
+// or depth is required; the latest one is used). A message that cannot be used is dropped and
+// reported, not fatal. Throws InputError naming the bag when it cannot be read or holds none of the
+// rig's topics.
+BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
+                                  const std::function<void(std::size_t)>& progress = nullptr);
+
+}  // namespace vocal

@@ -1,0 +1,170 @@
+#include "vocal/calibration/rig_description.h"
+
+#include <fstream>
+#include <iomanip>
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+std::vector<SensorSpec> RigDescription::specs() const {
+  std::vector<SensorSpec> out;
+  for (const RigSensorDescription& s : sensors) out.push_back(s.spec);
+  return out;
+}
+
+namespace {
+// Reads `node[key]` as T, naming the key in the error.
+template <typename T>
+T required(const YAML::Node& node, const std::string& key, const std::string& where) {
+  if (!node[key]) throw InputError(where + ": missing '" + key + "'");
+  try {
+    return node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    throw InputError(where + ": '" + key + "' is malformed");
+  }
+}
+
+void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& known, const std::string& where) {
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
+  }
+}
+
+TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
+  if (!node.IsMap()) throw InputError(where + ": expected a map");
+  rejectUnknownKeys(node, {"type", "rows", "cols", "square_size", "width", "height"}, where);
+  const std::string type = required<std::string>(node, "type", where);
+  if (type != "checkerboard") throw InputError(where + ": type '" + type + "' is not supported (checkerboard)");
+  TargetDescription target;
+  target.pattern.rows = required<int>(node, "rows", where);
+  target.pattern.cols = required<int>(node, "cols", where);
+  target.pattern.square_size = required<double>(node, "square_size", where);
+  target.width = required<double>(node, "width", where);
+  target.height = required<double>(node, "height", where);
+  if (target.pattern.rows < 2 || target.pattern.cols < 2 || !(target.pattern.square_size > 0.0)) {
+    throw InputError(where + ": rows and cols (inner corners) must be at least 2 and square_size positive");
+  }
+  if (!(target.width > 0.0 && target.height > 0.0) || (target.pattern.cols + 1) * target.pattern.square_size > target.width + 1e-9 ||
+      (target.pattern.rows + 1) * target.pattern.square_size > target.height + 1e-9) {
+    throw InputError(where + ": the " + std::to_string(target.pattern.rows + 1) + "x" + std::to_string(target.pattern.cols + 1) +
+                     " squares do not fit on the " + std::to_string(target.width) + " x " + std::to_string(target.height) +
+                     " m board");
+  }
+  return target;
+}
+
+Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
+  std::vector<double> v;
+  try {
+    v = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    v.clear();
+  }
+  const Eigen::Quaterniond q = v.size() == 7 ? Eigen::Quaterniond(v[6], v[3], v[4], v[5]) : Eigen::Quaterniond::Identity();
+  if (v.size() != 7 || !(std::abs(q.norm() - 1.0) < 1e-3)) {
+    throw InputError(where + ": 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
+  }
+  return poseFromTranslationQuaternion(Eigen::Vector3d(v[0], v[1], v[2]), q);
+}
+}  // namespace
+
+RigDescription readRigDescription(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open rig description");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": not valid YAML (" + e.what() + ")");
+  }
+  if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
+  rejectUnknownKeys(root, {"reference_frame", "target", "sensors"}, path);
+  RigDescription rig;
+  rig.reference_frame = required<std::string>(root, "reference_frame", path);
+  if (!root["target"]) throw InputError(path + ": missing 'target'");
+  rig.target = readTarget(root["target"], path + ": target");
+  if (!root["sensors"] || !root["sensors"].IsSequence() || root["sensors"].size() == 0) {
+    throw InputError(path + ": 'sensors' must list at least one sensor");
+  }
+  std::set<std::string> names;
+  rig.reference_sensor = -1;
+  for (std::size_t i = 0; i < root["sensors"].size(); ++i) {
+    const YAML::Node node = root["sensors"][i];
+    std::string where = path + ": sensors[" + std::to_string(i) + "]";
+    if (!node.IsMap()) throw InputError(where + ": expected a map");
+    RigSensorDescription sensor;
+    sensor.spec.name = required<std::string>(node, "name", where);
+    where += " '" + sensor.spec.name + "'";
+    rejectUnknownKeys(node, {"name", "type", "frame_id", "image_topic", "camera_info_topic", "depth_topic", "cloud_topic",
+                             "scan_topic", "pose"},
+                      where);
+    if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
+    try {
+      sensor.spec.type = parseSensorType(required<std::string>(node, "type", where));
+    } catch (const InputError& e) {
+      throw InputError(where + ": " + e.what());
+    }
+    sensor.spec.frame_id = required<std::string>(node, "frame_id", where);
+    auto topic = [&](const char* key, std::string* into, bool needed) {
+      if (node[key]) *into = required<std::string>(node, key, where);
+      if (needed && into->empty()) {
+        throw InputError(where + ": a " + sensorTypeName(sensor.spec.type) + " sensor needs '" + key + "'");
+      }
+    };
+    const SensorType type = sensor.spec.type;
+    topic("image_topic", &sensor.image_topic, type == SensorType::kCamera);
+    topic("camera_info_topic", &sensor.camera_info_topic, type == SensorType::kCamera || type == SensorType::kRgbd);
+    topic("depth_topic", &sensor.depth_topic, type == SensorType::kRgbd);
+    topic("cloud_topic", &sensor.cloud_topic, type == SensorType::kLidar3d);
+    topic("scan_topic", &sensor.scan_topic, type == SensorType::kLaser2d);
+    if (node["pose"]) {
+      sensor.pose = readPose(node["pose"], where);
+      if (rig.reference_sensor < 0) rig.reference_sensor = static_cast<int>(i);
+    }
+    rig.sensors.push_back(sensor);
+  }
+  if (rig.reference_sensor < 0) {
+    throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
+  }
+  if (rig.sensors[rig.reference_sensor].spec.type == SensorType::kLaser2d) {
+    throw InputError(path + ": the reference sensor '" + rig.sensors[rig.reference_sensor].spec.name +
+                     "' (the first with a pose) is a 2D laser; give the pose of a sensor that sees the target's plane first");
+  }
+  return rig;
+}
+
+void writeRigDescription(const std::string& path, const RigDescription& rig) {
+  std::ofstream file(path);
+  if (!file) throw InputError(path + ": cannot write rig description");
+  const TargetPattern& p = rig.target.pattern;
+  file << std::setprecision(10) << "reference_frame: " << rig.reference_frame << "\n"
+       << "target: {type: checkerboard, rows: " << p.rows << ", cols: " << p.cols << ", square_size: " << p.square_size
+       << ", width: " << rig.target.width << ", height: " << rig.target.height << "}\n"
+       << "sensors:\n";
+  for (const RigSensorDescription& s : rig.sensors) {
+    file << "  - {name: " << s.spec.name << ", type: " << sensorTypeName(s.spec.type) << ", frame_id: " << s.spec.frame_id;
+    const std::pair<const char*, const std::string*> topics[] = {{"image_topic", &s.image_topic},
+                                                                 {"camera_info_topic", &s.camera_info_topic},
+                                                                 {"depth_topic", &s.depth_topic},
+                                                                 {"cloud_topic", &s.cloud_topic},
+                                                                 {"scan_topic", &s.scan_topic}};
+    for (const auto& topic : topics)
+      if (!topic.second->empty()) file << ", " << topic.first << ": " << *topic.second;
+    if (s.pose) {
+      const Eigen::Vector3d t = s.pose->translation();
+      const Eigen::Quaterniond q(s.pose->rotation());
+      file << ",\n     pose: [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z()
+           << ", " << q.w() << "]";
+    }
+    file << "}\n";
+  }
+  if (!file) throw InputError(path + ": write failed");
+}
+
+}  // namespace vocal

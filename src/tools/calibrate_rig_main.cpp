@@ -1,0 +1,76 @@
+// calibrate_rig RIG.yaml BAG [--output-dir DIR] [--no-filter]: MSG-Cal on a recorded session. Reads
+// every message on the rig's topics, extracts the target per sensor, associates the still periods,
+// calibrates, prints each sensor's extrinsic with its standard deviation and residual, and writes the
+// result YAML, a URDF snippet and a static-transform launch file.
+
+#include <cstdio>
+#include <string>
+
+#include "vocal/calibration/calibration_output.h"
+#include "vocal/calibration/calibration_session.h"
+#include "vocal/core/se3.h"
+#include "vocal/tools/calibration_bag.h"
+#include "vocal/tools/command_line.h"
+
+namespace {
+const char kUsage[] =
+    "usage: calibrate_rig RIG.yaml BAG [options]\n"
+    "  RIG.yaml            the rig description (sensors, topics, target, the reference sensor's pose)\n"
+    "  BAG                 a recorded session: the target held still at many poses, moved in between\n"
+    "  --output-dir DIR    write DIR/calibration.yaml, DIR/calibration.urdf, DIR/calibration.launch\n"
+    "  --no-filter         keep every observation (no sampling-consensus filter)\n"
+    "  --quiet             no progress line\n";
+
+int run(const vocal::CommandLine& args) {
+  const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
+  const std::string bag = args.positional()[1];
+  vocal::CalibrationSession session(rig);
+  const bool quiet = args.has("quiet");
+  const vocal::BagReadSummary read = vocal::readCalibrationBag(bag, &session, [&](std::size_t n) {
+    if (!quiet && n % 50 == 0) std::fprintf(stderr, "\rreading message %zu", n);
+  });
+  if (!quiet) std::fprintf(stderr, "\r");
+  std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
+  for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
+  const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
+  int poses = 0;
+  for (const auto& o : associated) poses = std::max(poses, o.target_pose + 1);
+  std::printf("%d still target poses\n", poses);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const vocal::SensorDataCounts& c = session.counts()[s];
+    std::printf("  %-12s %-8s target in %d of %d messages\n", rig.sensors[s].spec.name.c_str(),
+                vocal::sensorTypeName(rig.sensors[s].spec.type).c_str(), c.target_found, c.received);
+  }
+
+  vocal::CalibrationOptions options;
+  options.consensus_filter = !args.has("no-filter");
+  const vocal::CalibrationResult result = session.calibrate(options);
+  std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
+              "sigma t (mm) / r (mrad), rms (mm), observations (rejected)");
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const vocal::SensorCalibration& c = result.sensors[s];
+    const Eigen::Vector3d t = c.reference_from_sensor.translation();
+    const Eigen::Quaterniond q(c.reference_from_sensor.rotation());
+    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f, %.2f, %d (%d)\n",
+                rig.sensors[s].spec.name.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
+                1000 * c.standard_deviation.head<3>().norm(), 1000 * c.standard_deviation.tail<3>().norm(), 1000 * c.rms,
+                c.observations, c.rejected_observations);
+  }
+  std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
+  for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
+  if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
+  if (args.has("output-dir")) {
+    const std::string dir = args.text("output-dir", "");
+    const std::vector<vocal::SensorSpec> specs = rig.specs();
+    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result);
+    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result);
+    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result);
+    std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+  }
+  return result.trusted ? 0 : 1;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet"}, 2);
+}

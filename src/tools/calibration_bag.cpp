@@ -1,0 +1,223 @@
+#include "vocal/tools/calibration_bag.h"
+
+#include <map>
+#include <random>
+#include <sstream>
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include "vocal/calibration/simulated_sensor_data.h"
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+#include "vocal/nodelets/message_conversions.h"
+
+namespace vocal {
+
+RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors, const TargetDescription& target,
+                                    bool with_all_poses) {
+  RigDescription rig;
+  rig.reference_frame = "base_link";
+  rig.target = target;
+  for (std::size_t i = 0; i < sensors.size(); ++i) {
+    RigSensorDescription d;
+    d.spec = sensors[i].spec;
+    const std::string prefix = "/" + d.spec.name;
+    switch (d.spec.type) {
+      case SensorType::kCamera:
+        d.image_topic = prefix + "/image_raw", d.camera_info_topic = prefix + "/camera_info";
+        break;
+      case SensorType::kRgbd:
+        d.depth_topic = prefix + "/depth/image_raw", d.camera_info_topic = prefix + "/depth/camera_info";
+        break;
+      case SensorType::kLidar3d:
+        d.cloud_topic = prefix + "/points";
+        break;
+      case SensorType::kLaser2d:
+        d.scan_topic = prefix + "/scan";
+        break;
+    }
+    if (with_all_poses || i == 0) d.pose = sensors[i].reference_from_sensor;
+    rig.sensors.push_back(d);
+  }
+  rig.reference_sensor = 0;
+  return rig;
+}
+
+SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
+                                                     const SimulatedSessionOptions& options, const std::string& bag_path) {
+  rosbag::Bag bag;
+  try {
+    bag.open(bag_path, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    throw InputError(bag_path + ": cannot open bag for writing (" + e.what() + ")");
+  }
+  // The still poses: those of the rig simulator (spread tilts facing the rig).
+  RigSimulationOptions poses;
+  poses.target_poses = options.target_poses;
+  poses.seed = options.seed;
+  poses.target_width = rig.target.width;
+  poses.target_height = rig.target.height;
+  SimulatedSessionSummary summary;
+  summary.reference_from_target = simulateRig(std::vector<SimulatedSensor>{}, poses).reference_from_target;
+
+  std::mt19937 rng(options.seed);
+  const PinholeCamera image_camera = defaultKinectCamera(640, 480);
+  const PinholeCamera depth_camera = defaultKinectCamera(options.depth_width, options.depth_height);
+  const int ticks_per_pose = options.still_ticks + options.moving_ticks;
+  try {
+    for (int k = 0; k < options.target_poses; ++k) {
+      const Eigen::Isometry3d& still = summary.reference_from_target[k];
+      const Eigen::Isometry3d& next = summary.reference_from_target[(k + 1) % options.target_poses];
+      for (int tick = 0; tick < ticks_per_pose; ++tick) {
+        const double alpha = tick < options.still_ticks ? 0.0 : (tick - options.still_ticks + 1.0) / (options.moving_ticks + 1.0);
+        SimulatedRoomView view;
+        view.reference_from_target = interpolatePose(still, next, alpha);
+        view.target = &rig.target;
+        view.range_noise = options.range_noise;
+        for (std::size_t s = 0; s < sensors.size(); ++s) {
+          view.sensor = &sensors[s];
+          const RigSensorDescription& d = rig.sensors[s];
+          // Sensors are not synchronised: each has its own phase.
+          const ros::Time stamp(1000.0 + (k * ticks_per_pose + tick) / options.rate + 0.013 * s);
+          switch (d.spec.type) {
+            case SensorType::kCamera:
+              bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp));
+              bag.write(d.image_topic, stamp,
+                        toMono8Image(simulateCameraImage(view, image_camera, options.image_noise, &rng), d.spec.frame_id, stamp));
+              summary.messages += 2;
+              break;
+            case SensorType::kRgbd:
+              bag.write(d.camera_info_topic, stamp, toCameraInfo(depth_camera, d.spec.frame_id, stamp));
+              bag.write(d.depth_topic, stamp, toDepth32FImage(simulateDepthImage(view, depth_camera, &rng), d.spec.frame_id, stamp));
+              summary.messages += 2;
+              break;
+            case SensorType::kLidar3d: {
+              std::vector<ColoredPoint> cloud;
+              for (const Eigen::Vector3d& p : simulateLidarCloud(view, &rng)) cloud.push_back({p.cast<float>(), Rgb8{}});
+              bag.write(d.cloud_topic, stamp, toPointCloud2(cloud, d.spec.frame_id, stamp));
+              ++summary.messages;
+              break;
+            }
+            case SensorType::kLaser2d:
+              bag.write(d.scan_topic, stamp,
+                        toLaserScan(simulateLaserRanges(view, &rng), -135.0 * M_PI / 180.0, 0.25 * M_PI / 180.0, 8.0, d.spec.frame_id,
+                                    stamp));
+              ++summary.messages;
+              break;
+          }
+        }
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw InputError(bag_path + ": write failed (" + e.what() + ")");
+  }
+  bag.close();
+  return summary;
+}
+
+BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
+                                  const std::function<void(std::size_t)>& progress) {
+  rosbag::Bag bag;
+  try {
+    bag.open(bag_path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw InputError(bag_path + ": cannot open bag (" + e.what() + ")");
+  }
+  const RigDescription& rig = session->rig();
+  // Topic -> (sensor, what arrives there).
+  enum class Kind { kImage, kInfo, kDepth, kCloud, kScan };
+  std::map<std::string, std::vector<std::pair<int, Kind>>> routes;
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const RigSensorDescription& d = rig.sensors[s];
+    const int i = static_cast<int>(s);
+    if (d.spec.type == SensorType::kCamera) routes[d.image_topic].push_back({i, Kind::kImage});
+    if (d.spec.type == SensorType::kRgbd) routes[d.depth_topic].push_back({i, Kind::kDepth});
+    if (d.spec.type == SensorType::kCamera || d.spec.type == SensorType::kRgbd) routes[d.camera_info_topic].push_back({i, Kind::kInfo});
+    if (d.spec.type == SensorType::kLidar3d) routes[d.cloud_topic].push_back({i, Kind::kCloud});
+    if (d.spec.type == SensorType::kLaser2d) routes[d.scan_topic].push_back({i, Kind::kScan});
+  }
+  std::vector<std::string> topics;
+  for (const auto& route : routes) topics.push_back(route.first);
+
+  BagReadSummary summary;
+  std::map<int, PinholeCamera> cameras;  // latest camera_info per sensor
+  try {
+    // A camera_info stamped like its image may be stored after it: start from each sensor's first one.
+    for (const auto& route : routes) {
+      for (const auto& [sensor, kind] : route.second) {
+        if (kind != Kind::kInfo || cameras.count(sensor)) continue;
+        rosbag::View infos(bag, rosbag::TopicQuery(route.first));
+        for (const rosbag::MessageInstance& m : infos) {
+          if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+            try {
+              cameras[sensor] = fromCameraInfo(*info, m.getTopic());
+              break;
+            } catch (const InputError&) {
+              continue;  // reported when the main pass reaches it
+            }
+          }
+        }
+      }
+    }
+    rosbag::View view(bag, rosbag::TopicQuery(topics));
+    if (view.size() == 0) {
+      std::string list;
+      for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
+      throw InputError(bag_path + ": holds none of the rig's topics (" + list + ")");
+    }
+    for (const rosbag::MessageInstance& m : view) {
+      ++summary.messages;
+      if (progress) progress(summary.messages);
+      for (const auto& [sensor, kind] : routes.at(m.getTopic())) {
+        const std::string& name = rig.sensors[sensor].spec.name;
+        try {
+          switch (kind) {
+            case Kind::kInfo:
+              cameras[sensor] = fromCameraInfo(*m.instantiate<sensor_msgs::CameraInfo>(), m.getTopic());
+              break;
+            case Kind::kImage:
+            case Kind::kDepth: {
+              const auto image = m.instantiate<sensor_msgs::Image>();
+              if (!image) throw InputError(m.getTopic() + ": not a sensor_msgs/Image");
+              if (!cameras.count(sensor)) {
+                throw InputError("no usable camera_info for sensor '" + name + "' on " + rig.sensors[sensor].camera_info_topic);
+              }
+              const double stamp = image->header.stamp.toSec();
+              if (kind == Kind::kImage) {
+                session->addImage(sensor, stamp, fromColorImage(*image, m.getTopic()), cameras[sensor]);
+              } else {
+                session->addDepth(sensor, stamp, fromDepthImage(*image, m.getTopic()), cameras[sensor]);
+              }
+              break;
+            }
+            case Kind::kCloud: {
+              const auto cloud = m.instantiate<sensor_msgs::PointCloud2>();
+              if (!cloud) throw InputError(m.getTopic() + ": not a sensor_msgs/PointCloud2");
+              session->addCloud(sensor, cloud->header.stamp.toSec(), fromPointCloud2(*cloud, m.getTopic()));
+              break;
+            }
+            case Kind::kScan: {
+              const auto scan = m.instantiate<sensor_msgs::LaserScan>();
+              if (!scan) throw InputError(m.getTopic() + ": not a sensor_msgs/LaserScan");
+              session->addScan(sensor, scan->header.stamp.toSec(), fromLaserScan(*scan, m.getTopic()));
+              break;
+            }
+          }
+        } catch (const InputError& e) {
+          if (summary.problems.size() < 20) {
+            std::ostringstream problem;
+            problem << m.getTopic() << " at " << m.getTime() << ": " << e.what();
+            summary.problems.push_back(problem.str());
+          }
+          ++summary.dropped;
+        }
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw InputError(bag_path + ": read failed (" + e.what() + ")");
+  }
+  return summary;
+}
+
+}  // namespace vocal

@@ -1,0 +1,132 @@
+// The calibration session end to end: rig description files, a simulated recording as a rosbag (depth
+// images, lidar clouds, laser scans, camera images of a board moved through a room), extraction,
+// association by stillness and calibration against the known extrinsics.
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+#include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/rig_description.h"
+#include "vocal/core/se3.h"
+#include "vocal/tools/calibration_bag.h"
+
+namespace {
+const char kDesignExample[] = R"(reference_frame: base_link
+target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}
+sensors:
+  - {name: kinect, type: rgbd, frame_id: camera_rgb_optical_frame,
+     image_topic: /camera/rgb/image_raw, camera_info_topic: /camera/rgb/camera_info,
+     depth_topic: /camera/depth_registered/image_raw, pose: [0, 0, 0.5, -0.5, 0.5, -0.5, 0.5]}
+  - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /velodyne_points}
+  - {name: scan, type: laser2d, frame_id: laser, scan_topic: /scan}
+  - {name: cam2, type: camera, frame_id: cam2_optical, image_topic: /cam2/image_raw,
+     camera_info_topic: /cam2/camera_info}
+)";
+
+std::string errorOfRig(const std::string& folder, const std::string& text) {
+  vocal_test::writeText(folder + "/rig.yaml", text);
+  return vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/rig.yaml"); });
+}
+}  // namespace
+
+TEST(RigDescription, ReadsTheDesignExampleAndWritesItBack) {
+  const std::string folder = vocal_test::makeTempFolder("rig_description");
+  vocal_test::writeText(folder + "/rig.yaml", kDesignExample);
+  const vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
+  ASSERT_EQ(rig.sensors.size(), 4u);
+  EXPECT_EQ(rig.reference_frame, "base_link");
+  EXPECT_EQ(rig.target.pattern.rows, 6);
+  EXPECT_EQ(rig.target.pattern.square_size, 0.06);
+  EXPECT_EQ(rig.reference_sensor, 0);
+  EXPECT_EQ(rig.sensors[1].spec.type, vocal::SensorType::kLidar3d);
+  EXPECT_EQ(rig.sensors[3].camera_info_topic, "/cam2/camera_info");
+  ASSERT_TRUE(rig.sensors[0].pose.has_value());
+  EXPECT_NEAR(rig.sensors[0].pose->translation().z(), 0.5, 1e-12);
+  // Optical z (forward) is body x.
+  EXPECT_LT((rig.sensors[0].pose->linear().col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-9);
+  EXPECT_FALSE(rig.sensors[1].pose.has_value());
+
+  vocal::writeRigDescription(folder + "/again.yaml", rig);
+  const vocal::RigDescription again = vocal::readRigDescription(folder + "/again.yaml");
+  ASSERT_EQ(again.sensors.size(), rig.sensors.size());
+  for (std::size_t i = 0; i < rig.sensors.size(); ++i) {
+    EXPECT_EQ(again.sensors[i].spec.name, rig.sensors[i].spec.name);
+    EXPECT_EQ(again.sensors[i].depth_topic, rig.sensors[i].depth_topic);
+    EXPECT_EQ(again.sensors[i].pose.has_value(), rig.sensors[i].pose.has_value());
+  }
+  EXPECT_LT((again.sensors[0].pose->matrix() - rig.sensors[0].pose->matrix()).norm(), 1e-9);
+}
+
+TEST(RigDescription, MistakesNameTheFileAndTheKey) {
+  const std::string folder = vocal_test::makeTempFolder("rig_description_errors");
+  const std::string file = folder + "/rig.yaml";
+  const std::string target = "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}\n";
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: cam, type: camera, frame_id: c, image_topic: /i, pose: [0,0,0,0,0,0,1]}\n"),
+            file + ": sensors[0] 'cam': a camera sensor needs 'camera_info_topic'");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target + "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p}\n"),
+            file + ": no sensor has a 'pose': give the reference sensor's pose in base_link");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: l, type: sonar, frame_id: v, cloud_topic: /p}\n"),
+            file + ": sensors[0] 'l': sensor type 'sonar' is unknown: expected camera, rgbd, lidar3d or laser2d");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: s, type: laser2d, frame_id: v, scan_topic: /s, pose: [0,0,0,0,0,0,1]}\n"),
+            file + ": the reference sensor 's' (the first with a pose) is a 2D laser; give the pose of a sensor that sees "
+                   "the target's plane first");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [0,0,0,0,0,0,1], "
+                                   "colour: red}\n"),
+            file + ": sensors[0] 'l': unknown key 'colour'");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n"
+                               "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.2, width: 0.9, height: 0.7}\n"
+                               "sensors: []\n"),
+            file + ": target: the 7x9 squares do not fit on the 0.900000 x 0.700000 m board");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [0,0,0,0,0,0,2]}\n"),
+            file + ": sensors[0] 'l': 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
+}
+
+// A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,
+// 0.6 s still and 0.3 s moving, sensors at 10 Hz and unsynchronised, 1 mm range noise and 2 grey levels
+// of image noise. The rig must come out within the issue's bounds.
+TEST(CalibrationSession, RecordedBagCalibratesEveryTypeOfSensor) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_session");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::TargetDescription target;
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 10;
+  options.still_ticks = 6;
+  options.moving_ticks = 3;
+  options.depth_width = 160;
+  options.depth_height = 120;
+  options.seed = 3;
+  const vocal::SimulatedSessionSummary written = vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  EXPECT_EQ(written.messages, 10u * 9u * 6u);  // camera and depth also publish camera_info
+
+  vocal::CalibrationSession session(rig);
+  const vocal::BagReadSummary read = vocal::readCalibrationBag(folder + "/session.bag", &session);
+  EXPECT_EQ(read.messages, written.messages);
+  EXPECT_EQ(read.dropped, 0u) << (read.problems.empty() ? "" : read.problems.front());
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    EXPECT_EQ(session.counts()[s].received, 90) << sensors[s].spec.name;
+    EXPECT_GE(session.counts()[s].target_found, 40) << sensors[s].spec.name;
+  }
+  int poses = 0;
+  for (const vocal::TargetObservation& o : session.associatedObservations()) poses = std::max(poses, o.target_pose + 1);
+  EXPECT_EQ(poses, options.target_poses);
+
+  const vocal::CalibrationResult result = session.calibrate();
+  EXPECT_TRUE(result.trusted) << result.failure;
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
+    std::cout << sensors[s].spec.name << ": " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error)
+              << " rad from " << result.sensors[s].observations << " still poses\n";
+    EXPECT_LT(error.translation().norm(), 0.005) << sensors[s].spec.name;
+    EXPECT_LT(vocal::rotationAngle(error), 0.005) << sensors[s].spec.name;
+  }
+
+  // Data of the wrong type for a sensor is refused by name.
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { session.addScan(session.sensorIndex("lidar0"), 1.0, {}); }),
+            "sensor 'lidar0' is a lidar3d sensor: it takes no 2D scan");
+}
