@@ -11,28 +11,16 @@
 #include "vocal/tools/calibration_bag.h"
 
 namespace {
-const char kDesignExample[] = R"(reference_frame: base_link
-target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}
-sensors:
-  - {name: kinect, type: rgbd, frame_id: camera_rgb_optical_frame,
-     image_topic: /camera/rgb/image_raw, camera_info_topic: /camera/rgb/camera_info,
-     depth_topic: /camera/depth_registered/image_raw, pose: [0, 0, 0.5, -0.5, 0.5, -0.5, 0.5]}
-  - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /velodyne_points}
-  - {name: scan, type: laser2d, frame_id: laser, scan_topic: /scan}
-  - {name: cam2, type: camera, frame_id: cam2_optical, image_topic: /cam2/image_raw,
-     camera_info_topic: /cam2/camera_info}
-)";
-
 std::string errorOfRig(const std::string& folder, const std::string& text) {
   vocal_test::writeText(folder + "/rig.yaml", text);
   return vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/rig.yaml"); });
 }
 }  // namespace
 
-TEST(RigDescription, ReadsTheDesignExampleAndWritesItBack) {
+// config/example_rig.yaml is the design's example.
+TEST(RigDescription, ReadsTheShippedExampleAndWritesItBack) {
   const std::string folder = vocal_test::makeTempFolder("rig_description");
-  vocal_test::writeText(folder + "/rig.yaml", kDesignExample);
-  const vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
+  const vocal::RigDescription rig = vocal::readRigDescription(std::string(VOCAL_SOURCE_DIR) + "/config/example_rig.yaml");
   ASSERT_EQ(rig.sensors.size(), 4u);
   EXPECT_EQ(rig.reference_frame, "base_link");
   EXPECT_EQ(rig.target.pattern.rows, 6);

@@ -1,0 +1,231 @@
+// Nodelet vocal/MsgCalibration: live MSG-Cal. Subscribes to every sensor topic of the rig description
+// (parameter `rig`), extracts the target from each message as it arrives, and on the `calibrate`
+// service associates the still poses, calibrates, writes the result files, publishes the extrinsics
+// on /tf_static and the target points of every sensor in the reference frame (`fused_cloud`).
+// A thin adapter over CalibrationSession, which calibrate_rig uses on bags.
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Empty.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+
+#include "vocal/calibration/calibration_output.h"
+#include "vocal/calibration/calibration_session.h"
+#include "vocal/core/errors.h"
+#include "vocal/nodelets/message_conversions.h"
+
+namespace vocal {
+
+class MsgCalibrationNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    output_dir_ = pnh.param<std::string>("output_dir", "");
+    consensus_filter_ = pnh.param("consensus_filter", true);
+    const int queue_size = std::max(1, pnh.param("queue_size", 50));
+    calibrate_service_ = pnh.advertiseService("calibrate", &MsgCalibrationNodelet::calibrate, this);
+    reset_service_ = pnh.advertiseService("reset", &MsgCalibrationNodelet::reset, this);
+    fused_cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("fused_cloud", 1, true);
+    updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    updater_->setHardwareID("vocal_msg_calibration");
+    updater_->add("calibration", this, &MsgCalibrationNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+    std::string rig_path;
+    if (!pnh.getParam("rig", rig_path)) {
+      setup_error_ = "parameter '" + pnh.resolveName("rig") + "' (the rig description YAML) is not set";
+      NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");
+      return;
+    }
+    try {
+      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path));
+    } catch (const InputError& e) {
+      setup_error_ = e.what();
+      NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");
+      return;
+    }
+    const RigDescription& rig = session_->rig();
+    dropped_.assign(rig.sensors.size(), 0);
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+      const RigSensorDescription& d = rig.sensors[s];
+      const int sensor = static_cast<int>(s);
+      switch (d.spec.type) {
+        case SensorType::kCamera:
+        case SensorType::kRgbd: {
+          subscribers_.push_back(nh.subscribe<sensor_msgs::CameraInfo>(
+              d.camera_info_topic, 5, [this, sensor](const sensor_msgs::CameraInfo::ConstPtr& m) { onCameraInfo(sensor, *m); }));
+          const bool depth = d.spec.type == SensorType::kRgbd;
+          subscribers_.push_back(nh.subscribe<sensor_msgs::Image>(
+              depth ? d.depth_topic : d.image_topic, queue_size,
+              [this, sensor, depth](const sensor_msgs::Image::ConstPtr& m) { onImage(sensor, depth, *m); }));
+          break;
+        }
+        case SensorType::kLidar3d:
+          subscribers_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
+              d.cloud_topic, queue_size, [this, sensor](const sensor_msgs::PointCloud2::ConstPtr& m) { onCloud(sensor, *m); }));
+          break;
+        case SensorType::kLaser2d:
+          subscribers_.push_back(nh.subscribe<sensor_msgs::LaserScan>(
+              d.scan_topic, queue_size, [this, sensor](const sensor_msgs::LaserScan::ConstPtr& m) { onScan(sensor, *m); }));
+          break;
+      }
+    }
+    NODELET_INFO_STREAM("MsgCalibration: " << rig.sensors.size() << " sensors from " << rig_path << "; move the target, hold it "
+                                           << "still at many poses, then call " << calibrate_service_.getService());
+  }
+
+  // Runs one message through the session; a bad one is counted against its sensor, never thrown.
+  template <typename F>
+  void guarded(int sensor, const F& add) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    try {
+      add();
+    } catch (const std::exception& e) {
+      ++dropped_[sensor];
+      last_problem_ = e.what();
+      NODELET_WARN_STREAM_THROTTLE(5.0, "MsgCalibration: message dropped: " << e.what());
+    }
+  }
+
+  void onCameraInfo(int sensor, const sensor_msgs::CameraInfo& msg) {
+    guarded(sensor, [&] { cameras_[sensor] = fromCameraInfo(msg, session_->rig().sensors[sensor].camera_info_topic); });
+  }
+
+  void onImage(int sensor, bool depth, const sensor_msgs::Image& msg) {
+    guarded(sensor, [&] {
+      const RigSensorDescription& d = session_->rig().sensors[sensor];
+      const std::string& topic = depth ? d.depth_topic : d.image_topic;
+      const auto camera = cameras_.find(sensor);
+      if (camera == cameras_.end()) throw InputError(topic + ": no usable camera_info on " + d.camera_info_topic + " yet");
+      if (depth) {
+        session_->addDepth(sensor, msg.header.stamp.toSec(), fromDepthImage(msg, topic), camera->second);
+      } else {
+        session_->addImage(sensor, msg.header.stamp.toSec(), fromColorImage(msg, topic), camera->second);
+      }
+    });
+  }
+
+  void onCloud(int sensor, const sensor_msgs::PointCloud2& msg) {
+    guarded(sensor, [&] {
+      session_->addCloud(sensor, msg.header.stamp.toSec(), fromPointCloud2(msg, session_->rig().sensors[sensor].cloud_topic));
+    });
+  }
+
+  void onScan(int sensor, const sensor_msgs::LaserScan& msg) {
+    guarded(sensor, [&] {
+      session_->addScan(sensor, msg.header.stamp.toSec(), fromLaserScan(msg, session_->rig().sensors[sensor].scan_topic));
+    });
+  }
+
+  bool calibrate(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!setup_error_.empty()) {
+      response.success = false;
+      response.message = setup_error_;
+      return true;
+    }
+    try {
+      CalibrationOptions options;
+      options.consensus_filter = consensus_filter_;
+      const CalibrationResult result = session_->calibrate(options);
+      const RigDescription& rig = session_->rig();
+      const std::vector<SensorSpec> specs = rig.specs();
+      std::ostringstream summary;
+      summary << (result.trusted ? "calibrated " : "NOT TRUSTED (" + result.failure + ") ") << rig.sensors.size()
+              << " sensors, rms " << result.rms * 1000 << " mm";
+      for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
+      if (!output_dir_.empty()) {
+        writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result);
+        writeUrdfSnippet(output_dir_ + "/calibration.urdf", rig.reference_frame, specs, result);
+        writeStaticTransformLaunch(output_dir_ + "/calibration.launch", rig.reference_frame, specs, result);
+        summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";
+      }
+      const ros::Time now = ros::Time::now();
+      std::vector<geometry_msgs::TransformStamped> transforms;
+      for (std::size_t s = 0; s < specs.size(); ++s) {
+        transforms.push_back(toTransformStamped(result.sensors[s].reference_from_sensor, rig.reference_frame, specs[s].frame_id, now));
+      }
+      if (result.trusted) static_broadcaster_.sendTransform(transforms);
+      // Every sensor's target points in the reference frame, one colour per sensor: they must coincide.
+      std::vector<ColoredPoint> fused;
+      const Rgb8 palette[] = {{230, 25, 75}, {60, 180, 75}, {0, 130, 200}, {245, 130, 48}, {145, 30, 180}, {70, 240, 240}};
+      for (const TargetObservation& o : session_->associatedObservations()) {
+        for (const Eigen::Vector3d& p : o.points) {
+          fused.push_back({(result.sensors[o.sensor].reference_from_sensor * p).cast<float>(), palette[o.sensor % 6]});
+        }
+      }
+      fused_cloud_pub_.publish(toPointCloud2(fused, rig.reference_frame, now));
+      last_result_ = summary.str();
+      response.success = result.trusted;
+      response.message = summary.str();
+      NODELET_INFO_STREAM("MsgCalibration: " << summary.str());
+    } catch (const InputError& e) {
+      response.success = false;
+      response.message = e.what();
+      last_problem_ = e.what();
+      NODELET_WARN_STREAM("MsgCalibration: calibration failed: " << e.what());
+    }
+    return true;
+  }
+
+  bool reset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (session_) session_ = std::make_unique<CalibrationSession>(session_->rig());
+    dropped_.assign(dropped_.size(), 0);
+    last_problem_.clear();
+    last_result_.clear();
+    return true;
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    using diagnostic_msgs::DiagnosticStatus;
+    if (!setup_error_.empty()) {
+      status.summary(DiagnosticStatus::ERROR, setup_error_);
+      return;
+    }
+    if (!last_problem_.empty()) {
+      status.summary(DiagnosticStatus::WARN, last_problem_);
+    } else {
+      status.summary(DiagnosticStatus::OK, last_result_.empty() ? "collecting observations" : last_result_);
+    }
+    const RigDescription& rig = session_->rig();
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+      const SensorDataCounts& c = session_->counts()[s];
+      std::ostringstream value;
+      value << c.target_found << " of " << c.received << " messages show the target, " << dropped_[s] << " dropped";
+      status.add(rig.sensors[s].spec.name, value.str());
+    }
+  }
+
+  std::string output_dir_, setup_error_, last_problem_, last_result_;
+  bool consensus_filter_ = true;
+  std::mutex mutex_;
+  std::unique_ptr<CalibrationSession> session_;
+  std::map<int, PinholeCamera> cameras_;
+  std::vector<std::size_t> dropped_;
+  std::vector<ros::Subscriber> subscribers_;
+  ros::ServiceServer calibrate_service_, reset_service_;
+  ros::Publisher fused_cloud_pub_;
+  tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diagnostics_timer_;
+};
+
+}  // namespace vocal
+
+PLUGINLIB_EXPORT_CLASS(vocal::MsgCalibrationNodelet, nodelet::Nodelet)
