@@ -1,0 +1,225 @@
+// Nodelet vocal/OpenNI2Driver: RGB + depth + camera_info from a Kinect / Xtion or an .oni recording,
+// with openni2_camera's topics and parameters. Streams start when someone subscribes and stop when
+// the last subscriber leaves. A thin adapter over Openni2Device (ROS-free, src/driver).
+
+#include <atomic>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include <camera_info_manager/camera_info_manager.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <image_transport/image_transport.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include "vocal/core/errors.h"
+#include "vocal/driver/openni2_device.h"
+#include "vocal/nodelets/message_conversions.h"
+
+namespace vocal {
+
+namespace {
+// "640x480@30" -> mode; throws InputError naming the parameter.
+Openni2VideoMode parseMode(const std::string& text, const std::string& parameter) {
+  Openni2VideoMode mode;
+  char x = 0, at = 0;
+  std::istringstream fields(text);
+  if (!(fields >> mode.width >> x >> mode.height >> at >> mode.fps) || x != 'x' || at != '@' || mode.width <= 0 ||
+      mode.height <= 0 || mode.fps <= 0) {
+    throw InputError("parameter " + parameter + ": '" + text + "' is not WIDTHxHEIGHT@FPS, e.g. 640x480@30");
+  }
+  return mode;
+}
+}  // namespace
+
+class Openni2DriverNodelet : public nodelet::Nodelet {
+ public:
+  // Streams stop before the publishers they feed are destroyed.
+  ~Openni2DriverNodelet() override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (device_) {
+      device_->stopColor();
+      device_->stopDepth();
+    }
+  }
+
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    rgb_frame_id_ = pnh.param<std::string>("rgb_frame_id", "camera_rgb_optical_frame");
+    depth_frame_id_ = pnh.param<std::string>("depth_frame_id", "camera_depth_optical_frame");
+    use_device_time_ = pnh.param("use_device_time", true);
+    updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    updater_->setHardwareID("vocal_openni2_driver");
+    updater_->add("device", this, &Openni2DriverNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
+    try {
+      options_.device_id = pnh.param<std::string>("device_id", "");
+      options_.depth_registration = pnh.param("depth_registration", true);
+      options_.color_depth_synchronization = pnh.param("color_depth_synchronization", false);
+      options_.color_mode = parseMode(pnh.param<std::string>("color_mode", "640x480@30"), pnh.resolveName("color_mode"));
+      options_.depth_mode = parseMode(pnh.param<std::string>("depth_mode", "640x480@30"), pnh.resolveName("depth_mode"));
+    } catch (const InputError& e) {
+      problem_ = e.what();
+      NODELET_ERROR_STREAM("OpenNI2Driver: " << problem_ << "; the nodelet stays idle");
+      return;
+    }
+    rgb_info_url_ = pnh.param<std::string>("rgb_camera_info_url", "");
+    depth_info_url_ = pnh.param<std::string>("depth_camera_info_url", "");
+    // The device may be plugged in later: retry until it opens.
+    open_timer_ = nh.createWallTimer(ros::WallDuration(3.0), [this](const ros::WallTimerEvent&) { openDevice(); });
+    openDevice();
+  }
+
+  void openDevice() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (device_) return;
+    try {
+      device_ = std::make_unique<Openni2Device>(options_);
+    } catch (const InputError& e) {
+      if (problem_ != e.what()) NODELET_ERROR_STREAM("OpenNI2Driver: " << e.what() << "; retrying every 3 s");
+      problem_ = e.what();
+      return;
+    }
+    problem_.clear();
+    open_timer_.stop();
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle rgb_nh(nh, "rgb"), depth_nh(nh, "depth"), registered_nh(nh, "depth_registered");
+    rgb_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(rgb_nh, "rgb_" + device_->serial(), rgb_info_url_);
+    depth_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(depth_nh, "depth_" + device_->serial(), depth_info_url_);
+    // Streams follow their subscribers (images and camera_info alike).
+    auto connection = [this](const auto&) { updateStreams(); };
+    image_transport::ImageTransport rgb_it(rgb_nh), depth_it(depth_nh), registered_it(registered_nh);
+    rgb_pub_ = rgb_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
+    depth_pub_ = depth_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
+    if (device_->registrationEnabled()) {
+      registered_pub_ = registered_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
+    }
+    NODELET_INFO_STREAM("OpenNI2Driver: opened " << device_->info().name << " (" << device_->info().uri << ")"
+                                                 << (device_->serial().empty() ? "" : ", serial " + device_->serial())
+                                                 << (device_->registrationEnabled() ? ", depth registered to colour" : ""));
+  }
+
+  void updateStreams() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!device_) return;
+    const bool want_color = rgb_pub_.getNumSubscribers() > 0;
+    const bool want_depth = depth_pub_.getNumSubscribers() > 0 || registered_pub_.getNumSubscribers() > 0;
+    try {
+      if (want_color) {
+        device_->startColor([this](const Openni2ColorFrame& frame) { publishColor(frame); });
+      } else {
+        device_->stopColor();
+      }
+      if (want_depth) {
+        device_->startDepth([this](const Openni2DepthFrame& frame) { publishDepth(frame); });
+      } else {
+        device_->stopDepth();
+      }
+    } catch (const InputError& e) {
+      problem_ = e.what();
+      NODELET_ERROR_STREAM("OpenNI2Driver: " << e.what());
+    }
+  }
+
+  // ROS time of a frame: the device clock moved onto ROS time at the first frame (use_device_time),
+  // else the arrival time.
+  ros::Time stampOf(double device_stamp) {
+    const ros::Time now = ros::Time::now();
+    if (!use_device_time_) return now;
+    std::lock_guard<std::mutex> lock(stamp_mutex_);
+    if (!have_offset_) {
+      device_offset_ = now.toSec() - device_stamp;
+      have_offset_ = true;
+    }
+    return ros::Time(device_stamp + device_offset_);
+  }
+
+  sensor_msgs::CameraInfo cameraInfo(camera_info_manager::CameraInfoManager& manager, const PinholeCamera& fallback,
+                                     const std::string& frame_id, const ros::Time& stamp) {
+    sensor_msgs::CameraInfo info;
+    if (manager.isCalibrated()) {
+      info = manager.getCameraInfo();
+      if (info.width != static_cast<unsigned>(fallback.width) || info.height != static_cast<unsigned>(fallback.height)) {
+        NODELET_WARN_STREAM_THROTTLE(30.0, "OpenNI2Driver: the calibration of " << frame_id << " is " << info.width << "x"
+                                                                                << info.height << " but the stream is "
+                                                                                << fallback.width << "x" << fallback.height
+                                                                                << ": publishing the device's intrinsics");
+        info = toCameraInfo(fallback, frame_id, stamp);
+      }
+    } else {
+      info = toCameraInfo(fallback, frame_id, stamp);
+    }
+    info.header.stamp = stamp;
+    info.header.frame_id = frame_id;
+    return info;
+  }
+
+  void publishColor(const Openni2ColorFrame& frame) {
+    const ros::Time stamp = stampOf(frame.device_stamp);
+    ++color_frames_;
+    auto image = boost::make_shared<sensor_msgs::Image>(toRgb8Image(frame.image, rgb_frame_id_, stamp));
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*rgb_info_, device_->colorCamera(), rgb_frame_id_, stamp));
+    rgb_pub_.publish(image, info);
+  }
+
+  void publishDepth(const Openni2DepthFrame& frame) {
+    const ros::Time stamp = stampOf(frame.device_stamp);
+    ++depth_frames_;
+    // Registered depth lies in the colour camera's frame; unregistered depth in the depth camera's.
+    const bool registered = device_->registrationEnabled();
+    const std::string& frame_id = registered ? rgb_frame_id_ : depth_frame_id_;
+    auto image = boost::make_shared<sensor_msgs::Image>();
+    image->header.stamp = stamp;
+    image->header.frame_id = frame_id;
+    image->width = frame.depth.width();
+    image->height = frame.depth.height();
+    image->encoding = sensor_msgs::image_encodings::TYPE_16UC1;
+    image->step = 2 * frame.depth.width();
+    image->data.resize(static_cast<std::size_t>(image->step) * image->height);
+    std::memcpy(image->data.data(), frame.depth.data(), image->data.size());
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*depth_info_, device_->depthCamera(), frame_id, stamp));
+    if (registered && registered_pub_.getNumSubscribers() > 0) registered_pub_.publish(image, info);
+    if (depth_pub_.getNumSubscribers() > 0) depth_pub_.publish(image, info);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    using diagnostic_msgs::DiagnosticStatus;
+    if (!problem_.empty()) {
+      status.summary(DiagnosticStatus::ERROR, problem_);
+    } else if (!device_) {
+      status.summary(DiagnosticStatus::WARN, "no device opened yet");
+    } else {
+      status.summary(DiagnosticStatus::OK, "streaming on demand");
+      status.add("uri", device_->info().uri);
+      status.add("serial", device_->serial());
+      status.add("depth registration", device_->registrationEnabled());
+    }
+    status.add("colour frames", color_frames_.load());
+    status.add("depth frames", depth_frames_.load());
+  }
+
+  Openni2Options options_;
+  std::string rgb_frame_id_, depth_frame_id_, rgb_info_url_, depth_info_url_, problem_;
+  bool use_device_time_ = true;
+  std::mutex mutex_, stamp_mutex_;
+  std::unique_ptr<Openni2Device> device_;
+  std::unique_ptr<camera_info_manager::CameraInfoManager> rgb_info_, depth_info_;
+  image_transport::CameraPublisher rgb_pub_, depth_pub_, registered_pub_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diagnostics_timer_, open_timer_;
+  bool have_offset_ = false;
+  double device_offset_ = 0.0;
+  std::atomic<std::size_t> color_frames_{0}, depth_frames_{0};
+};
+
+}  // namespace vocal
+
+PLUGINLIB_EXPORT_CLASS(vocal::Openni2DriverNodelet, nodelet::Nodelet)
