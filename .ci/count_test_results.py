@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Counts test cases in catkin's JUnit XML results (catkin_test_results counts gtest suites twice).
 
-Prints one line per failed case and returns (passed, failed, skipped)."""
+Prints one line per failed case and returns (passed, failed, skipped). A test program that did not
+finish (killed, crashed, hung past its limit) leaves no result of its own: `--unfinished N` counts N
+such programs as failures, so they cannot pass unnoticed."""
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -30,7 +32,13 @@ def count(results_dir):
 
 
 if __name__ == "__main__":
+    unfinished = 0
+    if len(sys.argv) == 4 and sys.argv[2] == "--unfinished":
+        unfinished = int(sys.argv[3])
     n_files, passed, failed, skipped = count(sys.argv[1])
+    if unfinished:
+        print(f"FAILED: {unfinished} test program(s) did not finish (see build/run_tests.log)")
+        failed += unfinished
     print(f"{n_files} result files")
     print(f"{passed} passed, {failed} failed, {skipped} skipped")
     sys.exit(1 if failed or passed == 0 else 0)

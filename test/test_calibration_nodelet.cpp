@@ -89,14 +89,7 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   for (const char* file : {"/calibration.yaml", "/calibration.urdf", "/calibration.launch"}) {
     EXPECT_TRUE(std::ifstream(folder + file).good()) << file;
   }
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(5.0);
-  while (ros::WallTime::now() < deadline) {
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (fused) break;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
+  vocal_test::waitUntil(mutex, 5.0, [&] { return fused != nullptr; });
   std::lock_guard<std::mutex> lock(mutex);
   ASSERT_TRUE(fused);
   EXPECT_EQ(fused->header.frame_id, "base_link");

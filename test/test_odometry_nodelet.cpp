@@ -44,19 +44,6 @@ std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, con
   return "";
 }
 
-// Waits up to `seconds` for `done` (checked under the lock).
-bool waitFor(Received* received, double seconds, const std::function<bool()>& done) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < deadline) {
-    {
-      std::lock_guard<std::mutex> lock(received->mutex);
-      if (done()) return true;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  return false;
-}
-
 // Base <- camera: 10 cm ahead, 30 cm up, optical axes turned to REP-103 body axes.
 Eigen::Isometry3d baseFromCamera() {
   return vocal::poseFromTranslationQuaternion(Eigen::Vector3d(0.1, 0.0, 0.3), Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5));
@@ -131,7 +118,7 @@ TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
   int status = 0;
   ASSERT_EQ(::waitpid(player, &status, 0), player);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
-  waitFor(&received_, 10.0, [&] {
+  vocal_test::waitUntil(received_.mutex, 10.0, [&] {
     return received_.odom.size() >= static_cast<std::size_t>(frames) && received_.approx_odom.size() >= frames - 1u;
   });
 
@@ -227,7 +214,8 @@ TEST_F(OdometryNodelet, BadInputIsDroppedAndNamedAndResetRestarts) {
     rgb_pub.publish(rgb);
   };
   auto statusMessageContains = [&](const std::string& text) {
-    return waitFor(&received_, 10.0, [&] { return received_.odometry_status.message.find(text) != std::string::npos; });
+    return vocal_test::waitUntil(received_.mutex, 10.0,
+                                 [&] { return received_.odometry_status.message.find(text) != std::string::npos; });
   };
   const sensor_msgs::Image good = vocal::toRgb8Image(color, T::kRgbFrame, ros::Time(0));
   const sensor_msgs::CameraInfo info = vocal::toCameraInfo(camera, T::kRgbFrame, ros::Time(0));

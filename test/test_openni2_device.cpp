@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "test_support.h"
+#include "virtual_openni2_environment.h"
 #include "vocal/driver/openni2_device.h"
 
 namespace {
@@ -140,18 +141,7 @@ TEST(Openni2Device, RecordsAnOniFileThatOpensAsARecording) {
 }
 
 int main(int argc, char** argv) {
-  // OpenNI2 looks for drivers beside the libOpenNI2.so.0 the process loaded: load the copy in the
-  // test folder, next to the virtual device.
-  const char* marker = std::getenv("VOCAL_OPENNI2_TEST_REEXEC");
-  if (!marker) {
-    const char* old_path = std::getenv("LD_LIBRARY_PATH");
-    const std::string path = std::string(VOCAL_OPENNI2_TEST_DIR) + (old_path ? std::string(":") + old_path : "");
-    ::setenv("LD_LIBRARY_PATH", path.c_str(), 1);
-    ::setenv("VOCAL_OPENNI2_TEST_REEXEC", "1", 1);
-    ::execv("/proc/self/exe", argv);
-    std::perror("re-exec with the virtual OpenNI2 device");
-    return 1;
-  }
+  vocal_test::reexecWithVirtualOpenni2(argv);
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -17,6 +17,9 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
+#include "test_support.h"
+#include "virtual_openni2_environment.h"
+
 namespace {
 // One in-process manager for the whole test program. OpenNI2 crashes when a thread that called it has
 // exited and another thread calls it later (it probes the old thread with pthread_kill); a nodelet
@@ -31,17 +34,6 @@ struct Latest {
   std::string bad_device_status;
 };
 
-bool waitUntil(Latest* latest, double seconds, const std::function<bool()>& done) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < deadline) {
-    {
-      std::lock_guard<std::mutex> lock(latest->mutex);
-      if (done()) return true;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  return false;
-}
 }  // namespace
 
 TEST(Openni2DriverNodelet, PublishesTheVirtualDevicesStreams) {
@@ -78,7 +70,9 @@ TEST(Openni2DriverNodelet, PublishesTheVirtualDevicesStreams) {
         std::lock_guard<std::mutex> lock(latest.mutex);
         latest.depth_info = m;
       });
-  ASSERT_TRUE(waitUntil(&latest, 20.0, [&] { return latest.rgb_count >= 3 && latest.depth_count >= 3 && latest.rgb_info && latest.depth_info; }))
+  ASSERT_TRUE(vocal_test::waitUntil(latest.mutex, 20.0, [&] {
+    return latest.rgb_count >= 3 && latest.depth_count >= 3 && latest.rgb_info && latest.depth_info;
+  }))
       << "rgb " << latest.rgb_count << ", depth " << latest.depth_count;
 
   std::lock_guard<std::mutex> lock(latest.mutex);
@@ -126,7 +120,7 @@ TEST(Openni2DriverNodelet, AnUnknownDeviceIsReportedAndTheManagerLives) {
   nodelet::M_string remappings;
   nodelet::V_string arguments;
   ASSERT_TRUE(manager->load("/missing/driver", "vocal/OpenNI2Driver", remappings, arguments));
-  EXPECT_TRUE(waitUntil(&latest, 10.0, [&] { return latest.bad_device_status.rfind("device_id", 0) == 0; }));
+  EXPECT_TRUE(vocal_test::waitUntil(latest.mutex, 10.0, [&] { return latest.bad_device_status.rfind("device_id", 0) == 0; }));
   ros::WallDuration(4.0).sleep();  // through a retry: still reported, the process alive
   std::lock_guard<std::mutex> lock(latest.mutex);
   EXPECT_EQ(latest.bad_device_status, "device_id '#4': there is no device 4, 1 connected");
@@ -134,17 +128,7 @@ TEST(Openni2DriverNodelet, AnUnknownDeviceIsReportedAndTheManagerLives) {
 }
 
 int main(int argc, char** argv) {
-  // OpenNI2 loads drivers from beside the libOpenNI2.so.0 the process loaded: use the copy next to the
-  // virtual device.
-  if (!std::getenv("VOCAL_OPENNI2_TEST_REEXEC")) {
-    const char* old_path = std::getenv("LD_LIBRARY_PATH");
-    const std::string path = std::string(VOCAL_OPENNI2_TEST_DIR) + (old_path ? std::string(":") + old_path : "");
-    ::setenv("LD_LIBRARY_PATH", path.c_str(), 1);
-    ::setenv("VOCAL_OPENNI2_TEST_REEXEC", "1", 1);
-    ::execv("/proc/self/exe", argv);
-    std::perror("re-exec with the virtual OpenNI2 device");
-    return 1;
-  }
+  vocal_test::reexecWithVirtualOpenni2(argv);
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_openni2_driver_nodelet");
   nodelet::Loader loader(false);

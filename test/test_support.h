@@ -1,10 +1,13 @@
 #pragma once
 // Helpers shared by the tests: temporary folders and small synthetic sequences.
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -31,6 +34,20 @@ inline std::string inputErrorOf(const std::function<void()>& f) {
     return e.what();
   }
   return "(no error)";
+}
+
+// Checks `done` under `mutex` every 50 ms until it holds or `seconds` pass; whether it held.
+inline bool waitUntil(std::mutex& mutex, double seconds, const std::function<bool()>& done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (done()) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  return done();
 }
 
 inline void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }

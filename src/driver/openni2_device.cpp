@@ -198,67 +198,68 @@ const std::string& Openni2Device::serial() const { return impl_->serial; }
 bool Openni2Device::isRecording() const { return impl_->device.isFile(); }
 bool Openni2Device::registrationEnabled() const { return impl_->registration; }
 
+namespace {
+// A frame's rows copied into an image of pixels of sizeof(Pixel) bytes, with its stamp and index.
+template <typename Frame, typename Pixel>
+Frame copyFrame(const openni::VideoFrameRef& frame, Image<Pixel> Frame::*image) {
+  Frame out;
+  out.device_stamp = frame.getTimestamp() * 1e-6;
+  out.index = frame.getFrameIndex();
+  Image<Pixel>& pixels = out.*image;
+  pixels = Image<Pixel>(frame.getWidth(), frame.getHeight());
+  const auto* data = static_cast<const std::uint8_t*>(frame.getData());
+  for (int y = 0; y < frame.getHeight(); ++y) {
+    std::memcpy(&pixels(0, y), data + static_cast<std::size_t>(y) * frame.getStrideInBytes(), sizeof(Pixel) * frame.getWidth());
+  }
+  return out;
+}
+
+// Listens on `stream` and starts it; undone when the start fails.
+void startStream(openni::VideoStream& stream, std::unique_ptr<FrameListener>* listener, FrameListener* fresh,
+                 const std::string& what, const char* name) {
+  listener->reset(fresh);
+  stream.addNewFrameListener(fresh);
+  if (stream.start() != openni::STATUS_OK) {
+    stream.removeNewFrameListener(fresh);
+    listener->reset();
+    throw InputError(what + ": the " + name + " stream could not start: " + lastError());
+  }
+}
+
+// The listener goes first: stopping a stream while its callback may still run, then unregistering,
+// can deadlock inside OpenNI2 (a callback's readFrame against the unregistering thread); openni2_camera
+// uses the same order.
+void stopStream(openni::VideoStream& stream, std::unique_ptr<FrameListener>* listener) {
+  if (!*listener) return;
+  stream.removeNewFrameListener(listener->get());
+  stream.stop();
+  listener->reset();
+}
+}  // namespace
+
 void Openni2Device::startColor(std::function<void(const Openni2ColorFrame&)> callback) {
   Impl& d = *impl_;
   if (d.color_listener) return;
   if (!d.has_color) throw InputError(d.what + ": the recording holds no colour stream");
-  d.color_listener = std::make_unique<FrameListener>([callback](const openni::VideoFrameRef& frame) {
-    Openni2ColorFrame out;
-    out.device_stamp = frame.getTimestamp() * 1e-6;
-    out.index = frame.getFrameIndex();
-    out.image = ColorImage(frame.getWidth(), frame.getHeight());
-    const auto* data = static_cast<const std::uint8_t*>(frame.getData());
-    for (int y = 0; y < frame.getHeight(); ++y) {
-      std::memcpy(&out.image(0, y), data + static_cast<std::size_t>(y) * frame.getStrideInBytes(), 3 * frame.getWidth());
-    }
-    callback(out);
-  });
-  d.color.addNewFrameListener(d.color_listener.get());
-  if (d.color.start() != openni::STATUS_OK) {
-    d.color.removeNewFrameListener(d.color_listener.get());
-    d.color_listener.reset();
-    throw InputError(d.what + ": the colour stream could not start: " + lastError());
-  }
+  startStream(d.color, &d.color_listener, new FrameListener([callback](const openni::VideoFrameRef& frame) {
+                callback(copyFrame(frame, &Openni2ColorFrame::image));
+              }),
+              d.what, "colour");
 }
 
-void Openni2Device::stopColor() {
-  Impl& d = *impl_;
-  if (!d.color_listener) return;
-  d.color.stop();
-  d.color.removeNewFrameListener(d.color_listener.get());
-  d.color_listener.reset();
-}
+void Openni2Device::stopColor() { stopStream(impl_->color, &impl_->color_listener); }
 
 void Openni2Device::startDepth(std::function<void(const Openni2DepthFrame&)> callback) {
   Impl& d = *impl_;
   if (d.depth_listener) return;
   if (!d.has_depth) throw InputError(d.what + ": the recording holds no depth stream");
-  d.depth_listener = std::make_unique<FrameListener>([callback](const openni::VideoFrameRef& frame) {
-    Openni2DepthFrame out;
-    out.device_stamp = frame.getTimestamp() * 1e-6;
-    out.index = frame.getFrameIndex();
-    out.depth = DepthMillimetres(frame.getWidth(), frame.getHeight());
-    const auto* data = static_cast<const std::uint8_t*>(frame.getData());
-    for (int y = 0; y < frame.getHeight(); ++y) {
-      std::memcpy(&out.depth(0, y), data + static_cast<std::size_t>(y) * frame.getStrideInBytes(), 2 * frame.getWidth());
-    }
-    callback(out);
-  });
-  d.depth.addNewFrameListener(d.depth_listener.get());
-  if (d.depth.start() != openni::STATUS_OK) {
-    d.depth.removeNewFrameListener(d.depth_listener.get());
-    d.depth_listener.reset();
-    throw InputError(d.what + ": the depth stream could not start: " + lastError());
-  }
+  startStream(d.depth, &d.depth_listener, new FrameListener([callback](const openni::VideoFrameRef& frame) {
+                callback(copyFrame(frame, &Openni2DepthFrame::depth));
+              }),
+              d.what, "depth");
 }
 
-void Openni2Device::stopDepth() {
-  Impl& d = *impl_;
-  if (!d.depth_listener) return;
-  d.depth.stop();
-  d.depth.removeNewFrameListener(d.depth_listener.get());
-  d.depth_listener.reset();
-}
+void Openni2Device::stopDepth() { stopStream(impl_->depth, &impl_->depth_listener); }
 
 PinholeCamera Openni2Device::colorCamera() const {
   if (!impl_->has_color) throw InputError(impl_->what + ": the recording holds no colour stream");
