@@ -184,6 +184,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     }
 
     const OdometryResult result = odometry_->track(frame);
+    // An increment spans the previous frame, trusted or not, to this one: velocities divide by that.
+    const double dt = last_stamp_.isZero() ? 0.0 : (rgb.header.stamp - last_stamp_).toSec();
     last_stamp_ = rgb.header.stamp;
     if (!result.quality.trusted) {
       ++frames_lost_;
@@ -196,23 +198,21 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     quality_ = result.quality;
 
     // The odometry frame is the base's pose at the first frame: odom <- base = B (cam0 <- cam) B^-1.
-    const Eigen::Isometry3d camera_to_base = base_from_camera;
-    const Eigen::Isometry3d odom_from_base = camera_to_base * result.pose * camera_to_base.inverse();
-    const Matrix6d to_base = adjoint(camera_to_base);
+    const Eigen::Isometry3d& B = base_from_camera;
+    const Eigen::Isometry3d odom_from_base = B * result.pose * B.inverse();
+    const Matrix6d to_base = adjoint(B);
     nav_msgs::Odometry odom;
     odom.header.stamp = rgb.header.stamp;
     odom.header.frame_id = odom_frame_id_;
     odom.child_frame_id = base_frame;
     odom.pose.pose = toPoseMsg(odom_from_base);
     copyCovariance(to_base * result.pose_covariance * to_base.transpose(), &odom.pose.covariance);
-    const double dt = previous_stamp_.isZero() ? 0.0 : (rgb.header.stamp - previous_stamp_).toSec();
     if (!result.first_frame && dt > 0.0) {
-      const Vector6d twist = se3Log(camera_to_base * result.increment * camera_to_base.inverse()) / dt;
+      const Vector6d twist = se3Log(B * result.increment * B.inverse()) / dt;
       odom.twist.twist.linear.x = twist[0], odom.twist.twist.linear.y = twist[1], odom.twist.twist.linear.z = twist[2];
       odom.twist.twist.angular.x = twist[3], odom.twist.twist.angular.y = twist[4], odom.twist.twist.angular.z = twist[5];
       copyCovariance(to_base * result.covariance * to_base.transpose() / (dt * dt), &odom.twist.covariance);
     }
-    previous_stamp_ = rgb.header.stamp;
     odom_pub_.publish(odom);
     if (publish_tf_) tf_broadcaster_.sendTransform(toTransformStamped(odom_from_base, odom_frame_id_, base_frame, rgb.header.stamp));
 
@@ -235,7 +235,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (odometry_) odometry_->reset();
-    last_stamp_ = previous_stamp_ = ros::Time();
+    last_stamp_ = ros::Time();
     path_.poses.clear();
     if (fused_map_) fused_map_->clear();
     ++resets_;
@@ -311,7 +311,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::unique_ptr<IcpDvoOdometry> odometry_;
   std::unique_ptr<VoxelCloudMap> fused_map_;
   std::string backend_name_, last_problem_;
-  ros::Time last_stamp_, previous_stamp_;
+  ros::Time last_stamp_;
   nav_msgs::Path path_;
   OdometryQuality quality_;
   std::size_t frames_received_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
