@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "vocal/core/errors.h"
+#include "vocal/odometry/feature_alignment.h"
 
 namespace vocal {
 
@@ -49,6 +50,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   result.pose_covariance = pose_covariance_;
   if (!has_reference_) {
     has_reference_ = true;
+    if (config_.feature_initialisation) reference_frame_ = frame;
     result.first_frame = true;
     result.quality.trusted = true;
     return result;
@@ -57,6 +59,14 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (config_.feature_initialisation) {
+    const FeatureAlignment features = alignByFeatures(reference_frame_, frame, camera_);
+    if (features.found) {
+      T = features.reference_from_current;
+      result.quality.feature_inliers = features.inliers;
+    }
+    reference_frame_ = frame;
+  }
   double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
   NormalEquations last_icp, last_rgb;
   Matrix6d last_A = Matrix6d::Zero();

@@ -41,6 +41,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"rgb_min_gradient", [&](const YAML::Node& n) { config.rgb_min_gradient = n.as<std::vector<double>>(); }},
       {"rgb_huber_factor", [&](const YAML::Node& n) { config.rgb_huber_factor = n.as<double>(); }},
       {"rgb_weight", [&](const YAML::Node& n) { config.rgb_weight = n.as<double>(); }},
+      {"feature_initialisation", [&](const YAML::Node& n) { config.feature_initialisation = n.as<bool>(); }},
       {"min_depth", [&](const YAML::Node& n) { config.min_depth = n.as<double>(); }},
       {"max_depth", [&](const YAML::Node& n) { config.max_depth = n.as<double>(); }},
       {"max_translation", [&](const YAML::Node& n) { config.max_translation = n.as<double>(); }},

@@ -24,6 +24,7 @@ struct OdometryQuality {
   double condition = 0.0;     // of the final system (largest / smallest eigenvalue)
   double weakest_information = 0.0;  // smallest eigenvalue of the final system per inlier
   bool trusted = false;       // the increment passed every check and was applied
+  int feature_inliers = 0;    // features agreeing on the starting motion (0: started from none)
 };
 
 struct OdometryResult {
@@ -66,6 +67,7 @@ class IcpDvoOdometry {
   bool has_reference_ = false;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   Matrix6d pose_covariance_ = Matrix6d::Zero();
+  RgbdFrame reference_frame_;  // kept for feature initialisation
 };
 
 }  // namespace vocal

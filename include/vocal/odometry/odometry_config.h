@@ -42,6 +42,11 @@ struct OdometryConfig {
   // variance of its residuals in that iteration: 1 trusts both by their measured noise.
   double rgb_weight = 3.0;
 
+  // Start each frame's dense solve from the motion ORB features of the two frames agree on, when
+  // enough do (FeatureAlignment): the dense terms converge only within a few centimetres and degrees,
+  // features also find faster motion. Off: every solve starts from no motion.
+  bool feature_initialisation = true;
+
   // Depth outside this range is treated as missing.
   double min_depth = 0.3;
   double max_depth = 8.0;
