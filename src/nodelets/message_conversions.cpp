@@ -26,29 +26,31 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::str
   return info;
 }
 
-sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+namespace {
+// An image message of tightly packed rows, data allocated, pixels left to fill.
+sensor_msgs::Image emptyImage(int width, int height, const std::string& encoding, int bytes_per_pixel,
+                              const std::string& frame_id, const ros::Time& stamp) {
   sensor_msgs::Image msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = frame_id;
-  msg.width = image.width();
-  msg.height = image.height();
-  msg.encoding = sensor_msgs::image_encodings::RGB8;
-  msg.step = 3 * image.width();
+  msg.width = width;
+  msg.height = height;
+  msg.encoding = encoding;
+  msg.step = bytes_per_pixel * width;
   msg.data.resize(static_cast<std::size_t>(msg.step) * msg.height);
+  return msg;
+}
+}  // namespace
+
+sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::Image msg = emptyImage(image.width(), image.height(), sensor_msgs::image_encodings::RGB8, 3, frame_id, stamp);
   static_assert(sizeof(Rgb8) == 3, "Rgb8 must be tightly packed");
   std::memcpy(msg.data.data(), image.data(), msg.data.size());
   return msg;
 }
 
 sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
-  sensor_msgs::Image msg;
-  msg.header.stamp = stamp;
-  msg.header.frame_id = frame_id;
-  msg.width = image.width();
-  msg.height = image.height();
-  msg.encoding = sensor_msgs::image_encodings::MONO8;
-  msg.step = image.width();
-  msg.data.resize(image.size());
+  sensor_msgs::Image msg = emptyImage(image.width(), image.height(), sensor_msgs::image_encodings::MONO8, 1, frame_id, stamp);
   for (std::size_t i = 0; i < image.size(); ++i) {
     const Rgb8& p = image.pixels()[i];
     msg.data[i] = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
@@ -57,14 +59,8 @@ sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& fram
 }
 
 sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp) {
-  sensor_msgs::Image msg;
-  msg.header.stamp = stamp;
-  msg.header.frame_id = frame_id;
-  msg.width = depth.width();
-  msg.height = depth.height();
-  msg.encoding = sensor_msgs::image_encodings::TYPE_32FC1;
-  msg.step = sizeof(float) * depth.width();
-  msg.data.resize(static_cast<std::size_t>(msg.step) * msg.height);
+  sensor_msgs::Image msg =
+      emptyImage(depth.width(), depth.height(), sensor_msgs::image_encodings::TYPE_32FC1, 4, frame_id, stamp);
   float* out = reinterpret_cast<float*>(msg.data.data());
   for (std::size_t i = 0; i < depth.size(); ++i) {
     out[i] = isValidDepth(depth.pixels()[i]) ? depth.pixels()[i] : std::numeric_limits<float>::quiet_NaN();
