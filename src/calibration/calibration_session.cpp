@@ -72,8 +72,7 @@ bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& im
   try {
     corners = detectPattern(image, rig_.target.pattern, name);
   } catch (const InputError&) {
-    ++counts_[sensor].received;  // no board in view: normal while the target moves
-    return false;
+    return record(sensor, stamp, {}, {});  // no board in view: normal while the target moves
   }
   PatternObservation seen = observePattern(corners, rig_.target.pattern, camera, name);
   return record(sensor, stamp, std::move(seen.points), {seen.plane});
@@ -84,9 +83,14 @@ std::vector<TargetObservation> CalibrationSession::associatedObservations() cons
 }
 
 CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) const {
+  return calibrate(associatedObservations(), options);
+}
+
+CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservation>& associated,
+                                                CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
-  return calibrateRig(rig_.specs(), associatedObservations(), options);
+  return calibrateRig(rig_.specs(), associated, options);
 }
 
 }  // namespace vocal

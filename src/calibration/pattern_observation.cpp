@@ -23,12 +23,8 @@ std::vector<Eigen::Vector3d> TargetPattern::corners() const {
 
 std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const TargetPattern& pattern, const char* what) {
   cv::Mat gray(image.height(), image.width(), CV_8UC1);
-  for (int y = 0; y < image.height(); ++y) {
-    for (int x = 0; x < image.width(); ++x) {
-      const Rgb8& p = image(x, y);
-      gray.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
-    }
-  }
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) gray.at<std::uint8_t>(y, x) = luma8(image(x, y));
   std::vector<cv::Point2f> corners;
   const cv::Size size(pattern.cols, pattern.rows);
   // A plain threshold first (about 5 ms for 640x480, FAST_CHECK rejects board-free images early); the

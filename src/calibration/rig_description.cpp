@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/yaml_file.h"
 #include "vocal/core/se3.h"
 
 namespace vocal {
@@ -75,14 +76,7 @@ Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
 }  // namespace
 
 RigDescription readRigDescription(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open rig description");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML (" + e.what() + ")");
-  }
+  const YAML::Node root = loadYamlFile(path, "rig description");
   if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
   rejectUnknownKeys(root, {"reference_frame", "target", "sensors"}, path);
   RigDescription rig;

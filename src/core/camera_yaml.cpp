@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/yaml_file.h"
 
 namespace vocal {
 
@@ -25,14 +26,7 @@ T required(const YAML::Node& root, const std::string& path, const std::string& k
 }  // namespace
 
 PinholeCamera readCameraYaml(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open camera file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML (" + e.what() + ")");
-  }
+  const YAML::Node root = loadYamlFile(path, "camera file");
   PinholeCamera camera;
   camera.width = required<int>(root, path, "image_width");
   camera.height = required<int>(root, path, "image_height");

@@ -51,10 +51,7 @@ sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame
 
 sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
   sensor_msgs::Image msg = emptyImage(image.width(), image.height(), sensor_msgs::image_encodings::MONO8, 1, frame_id, stamp);
-  for (std::size_t i = 0; i < image.size(); ++i) {
-    const Rgb8& p = image.pixels()[i];
-    msg.data[i] = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
-  }
+  for (std::size_t i = 0; i < image.size(); ++i) msg.data[i] = luma8(image.pixels()[i]);
   return msg;
 }
 

@@ -141,7 +141,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     try {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
-      const CalibrationResult result = session_->calibrate(options);
+      const std::vector<TargetObservation> associated = session_->associatedObservations();
+      const CalibrationResult result = session_->calibrate(associated, options);
       const RigDescription& rig = session_->rig();
       const std::vector<SensorSpec> specs = rig.specs();
       std::ostringstream summary;
@@ -163,7 +164,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       // Every sensor's target points in the reference frame, one colour per sensor: they must coincide.
       std::vector<ColoredPoint> fused;
       const Rgb8 palette[] = {{230, 25, 75}, {60, 180, 75}, {0, 130, 200}, {245, 130, 48}, {145, 30, 180}, {70, 240, 240}};
-      for (const TargetObservation& o : session_->associatedObservations()) {
+      for (const TargetObservation& o : associated) {
         for (const Eigen::Vector3d& p : o.points) {
           fused.push_back({(result.sensors[o.sensor].reference_from_sensor * p).cast<float>(), palette[o.sensor % 6]});
         }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
@@ -10,15 +11,17 @@
 
 namespace vocal {
 
+struct FrameFeatures {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  std::vector<Eigen::Vector3d> points;  // per keypoint; NaN where its depth is missing or on an edge
+};
+
 namespace {
 cv::Mat grey(const ColorImage& image) {
   cv::Mat out(image.height(), image.width(), CV_8UC1);
-  for (int y = 0; y < image.height(); ++y) {
-    for (int x = 0; x < image.width(); ++x) {
-      const Rgb8& p = image(x, y);
-      out.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000);
-    }
-  }
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) out.at<std::uint8_t>(y, x) = luma8(image(x, y));
   return out;
 }
 
@@ -38,17 +41,32 @@ bool onDepthEdge(const DepthImage& depth, int u, int v) {
 }
 }  // namespace
 
+std::shared_ptr<const FrameFeatures> extractFrameFeatures(const RgbdFrame& frame, const PinholeCamera& camera,
+                                                          const FeatureAlignmentOptions& options) {
+  auto features = std::make_shared<FrameFeatures>();
+  cv::ORB::create(options.max_features)->detectAndCompute(grey(frame.color), cv::noArray(), features->keypoints,
+                                                          features->descriptors);
+  const Eigen::Vector3d missing = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  for (const cv::KeyPoint& k : features->keypoints) {
+    const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));
+    const bool usable = camera.contains(u, v) && isValidDepth(frame.depth(u, v)) && !onDepthEdge(frame.depth, u, v);
+    features->points.push_back(usable ? camera.backProject(k.pt.x, k.pt.y, frame.depth(u, v)) : missing);
+  }
+  return features;
+}
+
 FeatureAlignment alignByFeatures(const RgbdFrame& reference, const RgbdFrame& current, const PinholeCamera& camera,
                                  const FeatureAlignmentOptions& options) {
+  return alignFrameFeatures(*extractFrameFeatures(reference, camera, options), *extractFrameFeatures(current, camera, options),
+                            camera, options);
+}
+
+FeatureAlignment alignFrameFeatures(const FrameFeatures& reference, const FrameFeatures& current, const PinholeCamera& camera,
+                                    const FeatureAlignmentOptions& options) {
   FeatureAlignment result;
-  cv::Ptr<cv::ORB> orb = cv::ORB::create(options.max_features);
-  std::vector<cv::KeyPoint> keys_ref, keys_cur;
-  cv::Mat desc_ref, desc_cur;
-  orb->detectAndCompute(grey(reference.color), cv::noArray(), keys_ref, desc_ref);
-  orb->detectAndCompute(grey(current.color), cv::noArray(), keys_cur, desc_cur);
-  if (desc_ref.empty() || desc_cur.empty()) return result;
+  if (reference.descriptors.empty() || current.descriptors.empty()) return result;
   std::vector<cv::DMatch> matches;
-  cv::BFMatcher(cv::NORM_HAMMING, true).match(desc_cur, desc_ref, matches);
+  cv::BFMatcher(cv::NORM_HAMMING, true).match(current.descriptors, reference.descriptors, matches);
 
   // Reference keypoints lifted to 3D with their depth, paired with the current keypoints in pixels:
   // the motion is fitted on reprojection errors (PnP), so keypoints on depth edges and far away, whose
@@ -56,12 +74,9 @@ FeatureAlignment alignByFeatures(const RgbdFrame& reference, const RgbdFrame& cu
   std::vector<cv::Point3d> reference_points;
   std::vector<cv::Point2d> current_pixels;
   for (const cv::DMatch& m : matches) {
-    const cv::Point2f pc = keys_cur[m.queryIdx].pt, pr = keys_ref[m.trainIdx].pt;
-    const int ur = static_cast<int>(std::lround(pr.x)), vr = static_cast<int>(std::lround(pr.y));
-    if (!camera.contains(ur, vr)) continue;
-    const float zr = reference.depth(ur, vr);
-    if (!isValidDepth(zr) || onDepthEdge(reference.depth, ur, vr)) continue;
-    const Eigen::Vector3d p = camera.backProject(pr.x, pr.y, zr);
+    const Eigen::Vector3d& p = reference.points[m.trainIdx];
+    if (!p.allFinite()) continue;
+    const cv::Point2f pc = current.keypoints[m.queryIdx].pt;
     reference_points.emplace_back(p.x(), p.y(), p.z());
     current_pixels.emplace_back(pc.x, pc.y);
   }

@@ -7,7 +7,6 @@
 #include <Eigen/Eigenvalues>
 
 #include "vocal/core/errors.h"
-#include "vocal/odometry/feature_alignment.h"
 
 namespace vocal {
 
@@ -48,9 +47,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   OdometryResult result;
   result.pose = pose_;
   result.pose_covariance = pose_covariance_;
+  // Each frame's features are extracted once: matched now as the current frame, next time as the
+  // reference.
+  std::shared_ptr<const FrameFeatures> features;
+  if (config_.feature_initialisation) features = extractFrameFeatures(frame, camera_);
   if (!has_reference_) {
     has_reference_ = true;
-    if (config_.feature_initialisation) reference_frame_ = frame;
+    reference_features_ = features;
     result.first_frame = true;
     result.quality.trusted = true;
     return result;
@@ -59,14 +62,14 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (config_.feature_initialisation) {
-    const FeatureAlignment features = alignByFeatures(reference_frame_, frame, camera_);
-    if (features.found) {
-      T = features.reference_from_current;
-      result.quality.feature_inliers = features.inliers;
+  if (features && reference_features_) {
+    const FeatureAlignment start = alignFrameFeatures(*reference_features_, *features, camera_);
+    if (start.found) {
+      T = start.reference_from_current;
+      result.quality.feature_inliers = start.inliers;
     }
-    reference_frame_ = frame;
   }
+  reference_features_ = features;
   double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
   NormalEquations last_icp, last_rgb;
   Matrix6d last_A = Matrix6d::Zero();

@@ -6,19 +6,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/yaml_file.h"
 
 namespace vocal {
 
 OdometryConfig readOdometryConfigYaml(const std::string& path, const OdometryConfig& defaults) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open odometry config");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML (" + e.what() + ")");
-  }
-  return odometryConfigFromYaml(root, path, defaults, false);
+  return odometryConfigFromYaml(loadYamlFile(path, "odometry config"), path, defaults, false);
 }
 
 OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string& path, const OdometryConfig& defaults,

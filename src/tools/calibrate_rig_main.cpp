@@ -44,7 +44,7 @@ int run(const vocal::CommandLine& args) {
 
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
-  const vocal::CalibrationResult result = session.calibrate(options);
+  const vocal::CalibrationResult result = session.calibrate(associated, options);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
               "sigma t (mm) / r (mrad), rms (mm), observations (rejected)");
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {

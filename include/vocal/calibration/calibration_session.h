@@ -35,6 +35,8 @@ class CalibrationSession {
   // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does.
   CalibrationResult calibrate(CalibrationOptions options = {}) const;
   std::vector<TargetObservation> associatedObservations() const;
+  // The same on observations already associated (callers that also show or count them).
+  CalibrationResult calibrate(const std::vector<TargetObservation>& associated, CalibrationOptions options = {}) const;
 
   const RigDescription& rig() const { return rig_; }
   const std::vector<SensorDataCounts>& counts() const { return counts_; }

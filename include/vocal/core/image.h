@@ -15,6 +15,9 @@ struct Rgb8 {
 
 inline bool operator==(const Rgb8& a, const Rgb8& b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 
+// 8-bit luma (ITU-R BT.601 weights), as OpenCV's and ROS's mono conversions compute it.
+inline std::uint8_t luma8(const Rgb8& p) { return static_cast<std::uint8_t>((299 * p.r + 587 * p.g + 114 * p.b) / 1000); }
+
 template <typename T>
 class Image {
  public:

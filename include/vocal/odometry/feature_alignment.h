@@ -5,6 +5,8 @@
 // starting point: dense ICP + DVO converge only within a few centimetres and degrees of the truth,
 // features find larger motions.
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "vocal/core/pinhole_camera.h"
@@ -27,6 +29,16 @@ struct FeatureAlignment {
   int inliers = 0;
 };
 
+// A frame's ORB keypoints and descriptors, each with its 3D point where the depth is usable (OpenCV's
+// types stay in the .cpp). Extracted once per frame: a frame is the current one, then the reference.
+struct FrameFeatures;
+std::shared_ptr<const FrameFeatures> extractFrameFeatures(const RgbdFrame& frame, const PinholeCamera& camera,
+                                                          const FeatureAlignmentOptions& options = {});
+
+FeatureAlignment alignFrameFeatures(const FrameFeatures& reference, const FrameFeatures& current, const PinholeCamera& camera,
+                                    const FeatureAlignmentOptions& options = {});
+
+// Both steps for two frames.
 FeatureAlignment alignByFeatures(const RgbdFrame& reference, const RgbdFrame& current, const PinholeCamera& camera,
                                  const FeatureAlignmentOptions& options = {});
 

@@ -10,6 +10,7 @@
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/se3.h"
+#include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/odometry_config.h"
 
@@ -67,7 +68,7 @@ class IcpDvoOdometry {
   bool has_reference_ = false;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   Matrix6d pose_covariance_ = Matrix6d::Zero();
-  RgbdFrame reference_frame_;  // kept for feature initialisation
+  std::shared_ptr<const FrameFeatures> reference_features_;  // for feature initialisation
 };
 
 }  // namespace vocal

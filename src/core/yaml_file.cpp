@@ -1,0 +1,17 @@
+#include "vocal/core/yaml_file.h"
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open " + what);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ": not valid YAML (" + e.what() + ")");
+  }
+}
+
+}  // namespace vocal
