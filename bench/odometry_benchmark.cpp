@@ -1,5 +1,5 @@
-// Google Benchmark of the odometry per stage and per frame pair, CPU reference vs OpenCL, at 640x480
-// and 320x240, on synthetic Kinect-like frames (no data needed).
+// Google Benchmark of the odometry per stage and per frame pair, CPU reference vs fast CPU vs OpenCL,
+// at 640x480 and 320x240, on synthetic Kinect-like frames (no data needed).
 //   devel/lib/vocal/odometry_benchmark [--benchmark_filter=...]
 
 #include <benchmark/benchmark.h>
@@ -10,13 +10,14 @@
 #include "vocal/core/errors.h"
 #include "vocal/core/synthetic_sequence.h"
 #include "vocal/odometry/cpu_backend.h"
+#include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #ifdef VOCAL_HAVE_OPENCL
 #include "vocal/odometry/opencl_backend.h"
 #endif
 
 namespace {
-enum Backend { kCpu = 0, kOpenCl = 1 };
+enum Backend { kReference = 0, kOpenCl = 1, kFastCpu = 2 };
 
 struct Frames {
   vocal::PinholeCamera camera;
@@ -42,7 +43,8 @@ const Frames& frames(int width) {
 
 std::unique_ptr<vocal::OdometryBackend> makeBackend(Backend backend, const vocal::PinholeCamera& camera,
                                                     const vocal::OdometryConfig& config) {
-  if (backend == kCpu) return std::make_unique<vocal::CpuOdometryBackend>(camera, config);
+  if (backend == kReference) return std::make_unique<vocal::CpuOdometryBackend>(camera, config);
+  if (backend == kFastCpu) return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config);
 #ifdef VOCAL_HAVE_OPENCL
   return std::make_unique<vocal::OpenClOdometryBackend>(camera, config);
 #else
@@ -71,7 +73,9 @@ void BM_Preprocess(benchmark::State& state) {
   state.counters["memory_MB"] = backend->memoryBytes() / 1048576.0;
 }
 
-void systemBenchmark(benchmark::State& state, bool icp) {
+enum Terms { kIcpTerm, kRgbTerm, kBothTerms };
+
+void systemBenchmark(benchmark::State& state, Terms terms) {
   const Frames& f = frames(static_cast<int>(state.range(1)));
   const int level = static_cast<int>(state.range(2));
   std::unique_ptr<vocal::OdometryBackend> backend;
@@ -80,17 +84,23 @@ void systemBenchmark(benchmark::State& state, bool icp) {
   backend->pushFrame(f.frames[1]);
   const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(icp ? backend->icpSystem(level, T) : backend->rgbSystem(level, T, 0.02));
+    vocal::NormalEquations icp, rgb;
+    backend->trackingSystems(level, T, 0.02, terms != kRgbTerm ? &icp : nullptr, terms != kIcpTerm ? &rgb : nullptr);
+    benchmark::DoNotOptimize(icp);
+    benchmark::DoNotOptimize(rgb);
   }
 }
-void BM_IcpSystem(benchmark::State& state) { systemBenchmark(state, true); }
-void BM_RgbSystem(benchmark::State& state) { systemBenchmark(state, false); }
+void BM_IcpSystem(benchmark::State& state) { systemBenchmark(state, kIcpTerm); }
+void BM_RgbSystem(benchmark::State& state) { systemBenchmark(state, kRgbTerm); }
+// Both systems of one iteration, as the fused estimator asks for them (one pass on the fast backend).
+void BM_BothSystems(benchmark::State& state) { systemBenchmark(state, kBothTerms); }
 
 // Preprocessing of the new frame plus the full coarse-to-fine solve: the cost of one frame of odometry.
 void BM_FramePair(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(1)));
   vocal::OdometryConfig config;
   config.mode = static_cast<vocal::OdometryMode>(state.range(2));
+  config.feature_initialisation = state.range(3) != 0;
   std::unique_ptr<vocal::OdometryBackend> backend;
   if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, config, &backend)) return;
   vocal::IcpDvoOdometry odometry(f.camera, config, std::move(backend));
@@ -100,24 +110,25 @@ void BM_FramePair(benchmark::State& state) {
 }
 
 void stageArguments(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"opencl", "width"});
-  for (int backend : {kCpu, kOpenCl})
+  b->ArgNames({"backend", "width"});
+  for (int backend : {kReference, kFastCpu, kOpenCl})
     for (int width : {640, 320}) b->Args({backend, width});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 void levelArguments(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"opencl", "width", "level"});
-  for (int backend : {kCpu, kOpenCl})
+  b->ArgNames({"backend", "width", "level"});
+  for (int backend : {kReference, kFastCpu, kOpenCl})
     for (int width : {640, 320}) b->Args({backend, width, 0});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 void pairArguments(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"opencl", "width", "mode"});
-  for (int backend : {kCpu, kOpenCl})
-    for (int width : {640, 320})
-      for (int mode : {static_cast<int>(vocal::OdometryMode::kFused)}) b->Args({backend, width, mode});
-  b->Args({kOpenCl, 640, static_cast<int>(vocal::OdometryMode::kIcp)});
-  b->Args({kOpenCl, 640, static_cast<int>(vocal::OdometryMode::kRgb)});
+  b->ArgNames({"backend", "width", "mode", "features"});
+  const int fused = static_cast<int>(vocal::OdometryMode::kFused);
+  for (int backend : {kReference, kFastCpu, kOpenCl})
+    for (int width : {640, 320}) b->Args({backend, width, fused, 1});
+  for (int width : {640, 320}) b->Args({kFastCpu, width, fused, 0});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kIcp), 1});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 }  // namespace
@@ -125,5 +136,6 @@ void pairArguments(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Preprocess)->Apply(stageArguments);
 BENCHMARK(BM_IcpSystem)->Apply(levelArguments);
 BENCHMARK(BM_RgbSystem)->Apply(levelArguments);
+BENCHMARK(BM_BothSystems)->Apply(levelArguments);
 BENCHMARK(BM_FramePair)->Apply(pairArguments);
 BENCHMARK_MAIN();

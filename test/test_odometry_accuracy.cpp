@@ -1,5 +1,5 @@
 // Accuracy of the estimator against synthetic ground truth, and its behaviour on bad input.
-// Uses the OpenCL backend (PoCL in CI) when a platform exists, else the CPU reference.
+// Uses the backend `auto` picks: OpenCL on a GPU, else (CI) the fast CPU backend.
 
 #include <gtest/gtest.h>
 
@@ -317,6 +317,7 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.max_condition, defaults.max_condition);
   EXPECT_EQ(file.feature_initialisation, defaults.feature_initialisation);
   EXPECT_EQ(file.backend, defaults.backend);
+  EXPECT_EQ(file.cpu_threads, defaults.cpu_threads);
 }
 
 TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
@@ -327,6 +328,12 @@ TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
   vocal_test::writeText(path, "mode: sideways\n");
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
             path + ": odometry mode 'sideways' is unknown: expected icp, rgb or fused");
+  vocal_test::writeText(path, "backend: gpu\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
+            path + ": odometry backend 'gpu' is unknown: expected auto, cpu, reference or opencl");
+  vocal_test::writeText(path, "cpu_threads: -1\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
+            path + ": odometry config: cpu_threads must be in [0, 256] (0 = every core), got -1");
   vocal_test::writeText(path, "levels: 2\n");
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
             path + ": odometry config: iterations lists 3 values for 2 levels");

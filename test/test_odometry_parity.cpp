@@ -1,7 +1,9 @@
-// The OpenCL kernels (on PoCL in tests) and the CPU reference compute the same normal equations and,
-// after a full solve, the same pose.
+// The OpenCL kernels (on PoCL in tests), the fast CPU backend and the CPU reference compute the same
+// preprocessed maps and normal equations and, after a full solve, the same pose.
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "test_support.h"
 
@@ -9,6 +11,7 @@
 #include "vocal/core/se3.h"
 #include "vocal/core/synthetic_sequence.h"
 #include "vocal/odometry/cpu_backend.h"
+#include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #ifdef VOCAL_HAVE_OPENCL
 #include "vocal/odometry/opencl_backend.h"
@@ -52,7 +55,163 @@ void expectSameSystem(const vocal::NormalEquations& cpu, const vocal::NormalEqua
   EXPECT_LT((gpu.b - cpu.b).norm(), 2e-3 * cpu.b.norm() + 1e-6 * cpu.A.norm()) << what;
   EXPECT_NEAR(gpu.squared_residual_sum, cpu.squared_residual_sum, 2e-3 * cpu.squared_residual_sum + 1e-9) << what;
 }
+
+vocal::OdometryConfig withThreads(int threads) {
+  vocal::OdometryConfig config;
+  config.cpu_threads = threads;
+  return config;
+}
+
+// NaN in the same places, values within `tolerance` elsewhere.
+void expectSameMap(const std::vector<float>& fast, const std::vector<float>& reference, float tolerance,
+                   const std::string& what) {
+  ASSERT_EQ(fast.size(), reference.size()) << what;
+  std::size_t differ = 0, first = 0;
+  for (std::size_t i = 0; i < fast.size(); ++i) {
+    const bool same = std::isnan(fast[i]) ? std::isnan(reference[i]) : std::fabs(fast[i] - reference[i]) <= tolerance;
+    if (!same && differ++ == 0) first = i;
+  }
+  EXPECT_EQ(differ, 0u) << what << ": first at pixel " << first << ": " << fast[first] << " vs " << reference[first];
+}
 }  // namespace
+
+TEST(FastCpuParity, SameMapsOnEveryLevel) {
+  const FramePair pair = renderPair(3, true);
+  const vocal::OdometryConfig config;
+  const vocal::FramePyramid reference = vocal::buildFramePyramid(pair.second, pair.camera, config);
+  vocal::FastCpuOdometryBackend fast(pair.camera, config);
+  fast.pushFrame(pair.second);
+  for (int level = 0; level < config.levels; ++level) {
+    const vocal::PyramidLevel& r = reference[level];
+    const vocal::SoaPyramidLevel& f = fast.current()[level];
+    const std::string where = "level " + std::to_string(level);
+    ASSERT_EQ(f.width, r.depth.width()) << where;
+    ASSERT_EQ(f.height, r.depth.height()) << where;
+    expectSameMap(f.depth, r.depth.pixels(), 0.0f, "depth " + where);
+    expectSameMap(f.intensity, r.intensity.pixels(), 0.0f, "intensity " + where);
+    expectSameMap(f.gradient_x, r.gradient_x.pixels(), 0.0f, "gradient_x " + where);
+    expectSameMap(f.gradient_y, r.gradient_y.pixels(), 0.0f, "gradient_y " + where);
+    std::vector<float> vertex[3], normal[3], reference_vertex[3], reference_normal[3];
+    for (std::size_t i = 0; i < f.surface.size(); ++i) {
+      const vocal::SurfaceRecord& s = f.surface[i];
+      const float fast_values[6] = {s.vx, s.vy, s.vz, s.nx, s.ny, s.nz};
+      for (int k = 0; k < 3; ++k) {
+        vertex[k].push_back(fast_values[k]);
+        normal[k].push_back(fast_values[3 + k]);
+        reference_vertex[k].push_back(r.vertices.pixels()[i][k]);
+        reference_normal[k].push_back(r.normals.pixels()[i][k]);
+      }
+      ASSERT_EQ(f.photometric[i].depth, f.depth[i]);
+      ASSERT_EQ(f.photometric[i].gradient_x, f.gradient_x[i]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      expectSameMap(vertex[k], reference_vertex[k], 0.0f, "vertex " + std::to_string(k) + " " + where);
+      expectSameMap(normal[k], reference_normal[k], 1e-6f, "normal " + std::to_string(k) + " " + where);
+    }
+  }
+}
+
+TEST(FastCpuParity, SameNormalEquationsOnEveryLevel) {
+  for (bool noise : {false, true}) {
+    const FramePair pair = renderPair(3, noise);
+    const vocal::OdometryConfig config;
+    vocal::CpuOdometryBackend reference(pair.camera, config);
+    vocal::FastCpuOdometryBackend fast(pair.camera, config);
+    for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
+      reference.pushFrame(*frame);
+      fast.pushFrame(*frame);
+    }
+    vocal::Vector6d offset;
+    offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
+    for (const Eigen::Isometry3d& T : {pair.first_from_second, vocal::se3Exp(offset) * pair.first_from_second}) {
+      for (int level = 0; level < config.levels; ++level) {
+        const std::string where = std::string(noise ? "noisy" : "clean") + " level " + std::to_string(level);
+        // Built together in one pass, as the estimator asks for them, and one at a time.
+        vocal::NormalEquations icp, rgb;
+        fast.trackingSystems(level, T, 0.02, &icp, &rgb);
+        expectSameSystem(reference.icpSystem(level, T), icp, "icp " + where);
+        expectSameSystem(reference.rgbSystem(level, T, 0.02), rgb, "rgb " + where);
+        expectSameSystem(reference.icpSystem(level, T), fast.icpSystem(level, T), "icp alone " + where);
+        expectSameSystem(reference.rgbSystem(level, T, 0.02), fast.rgbSystem(level, T, 0.02), "rgb alone " + where);
+      }
+    }
+  }
+}
+
+// The sum is split by thread: other thread counts differ in float rounding only, and the same count
+// gives the same bits every time (a bag replayed gives the same trajectory).
+TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
+  const FramePair pair = renderPair(3, true);
+  std::vector<vocal::NormalEquations> systems;
+  for (int threads : {1, 2, 3, 2}) {
+    vocal::FastCpuOdometryBackend fast(pair.camera, withThreads(threads));
+    EXPECT_EQ(fast.threads(), threads);
+    fast.pushFrame(pair.first);
+    fast.pushFrame(pair.second);
+    vocal::NormalEquations icp, rgb;
+    fast.trackingSystems(0, pair.first_from_second, 0.02, &icp, &rgb);
+    if (!systems.empty()) {
+      expectSameSystem(systems.front(), icp, std::to_string(threads) + " threads icp");
+    }
+    systems.push_back(icp);
+  }
+  EXPECT_EQ(systems[1].A, systems[3].A);
+  EXPECT_EQ(systems[1].b, systems[3].b);
+  EXPECT_EQ(systems[1].squared_residual_sum, systems[3].squared_residual_sum);
+}
+
+TEST(FastCpuParity, SamePoseAfterAFullSolve) {
+  for (bool noise : {false, true}) {
+    const double tolerance = noise ? 3e-4 : 2e-5;
+    const FramePair pair = renderPair(4, noise);
+    for (vocal::OdometryMode mode : {vocal::OdometryMode::kIcp, vocal::OdometryMode::kRgb, vocal::OdometryMode::kFused}) {
+      vocal::OdometryConfig config;
+      config.mode = mode;
+      vocal::IcpDvoOdometry reference(pair.camera, config, std::make_unique<vocal::CpuOdometryBackend>(pair.camera, config));
+      vocal::IcpDvoOdometry fast(pair.camera, config, std::make_unique<vocal::FastCpuOdometryBackend>(pair.camera, config));
+      reference.track(pair.first);
+      fast.track(pair.first);
+      const vocal::OdometryResult a = reference.track(pair.second);
+      const vocal::OdometryResult b = fast.track(pair.second);
+      ASSERT_TRUE(a.quality.trusted) << a.failure;
+      ASSERT_TRUE(b.quality.trusted) << b.failure;
+      const Eigen::Isometry3d difference = a.increment.inverse() * b.increment;
+      const std::string what = vocal::odometryModeName(mode) + (noise ? " noisy" : " clean");
+      EXPECT_LT(difference.translation().norm(), tolerance) << what;
+      EXPECT_LT(vocal::rotationAngle(difference), tolerance) << what;
+      // Against the truth too (a 4-frame step of about 3 cm), so that agreeing on a wrong answer cannot
+      // pass. ICP alone is the weak term on the noisy room's far, quantised depth.
+      const Eigen::Isometry3d error = pair.first_from_second.inverse() * b.increment;
+      const double bound = !noise ? 1e-3 : mode == vocal::OdometryMode::kIcp ? 0.02 : 0.005;
+      EXPECT_LT(error.translation().norm(), bound) << what;
+    }
+  }
+}
+
+TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  vocal::OdometryConfig config;
+  config.backend = vocal::OdometryBackendKind::kReference;
+  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu reference");
+  config.backend = vocal::OdometryBackendKind::kCpu;
+  config.cpu_threads = 3;
+  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (3 threads)");
+  config.cpu_threads = 1;
+  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (1 thread)");
+  // Auto: OpenCL only on a GPU; everywhere else (CI, PoCL's CPU device) the fast CPU backend, said so.
+  config.backend = vocal::OdometryBackendKind::kAuto;
+  std::string notice;
+  const std::unique_ptr<vocal::OdometryBackend> automatic = vocal::makeOdometryBackend(camera, config, &notice);
+#ifdef VOCAL_HAVE_OPENCL
+  bool has_gpu = false;
+  for (const vocal::OpenClDeviceInfo& d : vocal::listOpenClDevices()) has_gpu |= d.is_gpu;
+  if (has_gpu) GTEST_SKIP() << "a GPU is present: auto picks OpenCL (" << automatic->name() << ")";
+  EXPECT_EQ(notice, "no GPU OpenCL device found: using the fast CPU backend");
+#else
+  EXPECT_EQ(notice, "OpenCL was not found at build time: using the fast CPU backend");
+#endif
+  EXPECT_EQ(automatic->name(), "cpu fast (1 thread)");
+}
 
 #ifdef VOCAL_HAVE_OPENCL
 TEST(OdometryParity, SameNormalEquationsOnEveryLevel) {

@@ -78,11 +78,9 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   for (int level = config_.levels - 1; level >= 0; --level) {
     for (int iteration = 0; iteration < config_.iterations[level]; ++iteration) {
       NormalEquations icp, rgb;
-      if (use_icp) icp = backend_->icpSystem(level, T);
-      if (use_rgb) {
-        rgb = backend_->rgbSystem(level, T, config_.rgb_huber_factor * rgb_sigma);
-        if (rgb.count > 0) rgb_sigma = rgb.rmse();
-      }
+      backend_->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, use_icp ? &icp : nullptr,
+                                use_rgb ? &rgb : nullptr);
+      if (rgb.count > 0) rgb_sigma = rgb.rmse();
       // Each term is scaled by the inverse variance of its residuals (the fused system is then the
       // information of both); rgb_weight scales the photometric term on top.
       const double icp_scale = use_icp && icp.count > 0 ? 1.0 / std::max(icp.squared_residual_sum / icp.count, kMinIcpVariance) : 0.0;

@@ -23,6 +23,7 @@ void OdometryConfig::validate() const {
   if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
   if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
   if (!(max_translation > 0.0)) fail("max_translation must be positive");
+  if (cpu_threads < 0 || cpu_threads > 256) fail("cpu_threads must be in [0, 256] (0 = every core), got " + std::to_string(cpu_threads));
 }
 
 OdometryMode parseOdometryMode(const std::string& name) {
@@ -44,8 +45,9 @@ std::string odometryModeName(OdometryMode mode) {
 OdometryBackendKind parseOdometryBackend(const std::string& name) {
   if (name == "auto") return OdometryBackendKind::kAuto;
   if (name == "cpu") return OdometryBackendKind::kCpu;
+  if (name == "reference") return OdometryBackendKind::kReference;
   if (name == "opencl") return OdometryBackendKind::kOpenCl;
-  throw InputError("odometry backend '" + name + "' is unknown: expected auto, cpu or opencl");
+  throw InputError("odometry backend '" + name + "' is unknown: expected auto, cpu, reference or opencl");
 }
 
 }  // namespace vocal

@@ -31,6 +31,11 @@ class OdometryBackend {
   virtual NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) = 0;
   virtual NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                                     double huber_threshold) = 0;
+  // Both systems of one level for one motion (either pointer may be null: that term is not built).
+  // This calls icpSystem and rgbSystem; a backend that builds both in one pass over the pixels
+  // overrides it.
+  virtual void trackingSystems(int level, const Eigen::Isometry3d& reference_from_current, double huber_threshold,
+                               NormalEquations* icp, NormalEquations* rgb);
 
   // Bytes of frame buffers the backend holds (both frames, all levels).
   virtual std::size_t memoryBytes() const = 0;
@@ -40,9 +45,9 @@ class OdometryBackend {
 // intrinsics simply scale by 2^-level.
 PinholeCamera pyramidLevelCamera(const PinholeCamera& camera, int level);
 
-// Makes the backend the config asks for. kAuto: OpenCL when a usable device exists, else the CPU
-// reference (a note goes to `notice`). kOpenCl throws InputError naming what was found when nothing
-// usable is there.
+// Makes the backend the config asks for. kAuto: OpenCL on a GPU when one is there, else the fast CPU
+// backend (`notice` says which and why). kOpenCl throws InputError naming what was found when no
+// device is usable (a CPU device such as PoCL's counts).
 std::unique_ptr<OdometryBackend> makeOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
                                                      std::string* notice = nullptr);
 

@@ -9,7 +9,7 @@
 namespace vocal {
 
 enum class OdometryMode { kIcp, kRgb, kFused };
-enum class OdometryBackendKind { kAuto, kCpu, kOpenCl };
+enum class OdometryBackendKind { kAuto, kCpu, kReference, kOpenCl };
 
 struct OdometryConfig {
   OdometryMode mode = OdometryMode::kFused;
@@ -58,7 +58,10 @@ struct OdometryConfig {
   int min_rgb_inliers = 500;
   double max_condition = 1e5;            // of the final 6x6 system; a plane alone gives ~1e7
 
+  // kAuto: OpenCL on a GPU when there is one, else the fast CPU backend. kCpu: the fast CPU backend.
+  // kReference: the plain CPU reference (parity tests). kOpenCl: any OpenCL device, PoCL's CPU one too.
   OdometryBackendKind backend = OdometryBackendKind::kAuto;
+  int cpu_threads = 0;  // threads of the fast CPU backend; 0 = every core
   // OpenCL device choice: empty = first GPU, else first CPU device. Matched as substrings of the
   // platform and device names.
   std::string opencl_platform;
@@ -70,6 +73,6 @@ struct OdometryConfig {
 
 OdometryMode parseOdometryMode(const std::string& name);         // icp, rgb, fused
 std::string odometryModeName(OdometryMode mode);
-OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, opencl
+OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, reference, opencl
 
 }  // namespace vocal

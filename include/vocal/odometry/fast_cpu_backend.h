@@ -1,0 +1,38 @@
+#pragma once
+// Fast CPU backend, the default where no GPU is there: the math of the CPU reference (parity-tested
+// against it) on all cores. Preprocessing runs over rows in parallel into reused float planes; one
+// pass over the current frame's pixels builds the ICP and the photometric rows together, and the
+// rows are reduced in float blocks (vectorised, with run-time dispatch to AVX2 on x86-64) summed in
+// double.
+
+#include "vocal/odometry/odometry_backend.h"
+#include "vocal/odometry/soa_frame_pyramid.h"
+
+namespace vocal {
+
+class FastCpuOdometryBackend : public OdometryBackend {
+ public:
+  // config.cpu_threads threads (0: every core).
+  FastCpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config);
+
+  std::string name() const override;
+  void pushFrame(const RgbdFrame& frame) override;
+  NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
+  NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
+                            double huber_threshold) override;
+  void trackingSystems(int level, const Eigen::Isometry3d& reference_from_current, double huber_threshold,
+                       NormalEquations* icp, NormalEquations* rgb) override;
+  std::size_t memoryBytes() const override;
+
+  int threads() const { return threads_; }
+  const SoaFramePyramid& current() const { return frames_[current_]; }
+
+ private:
+  PinholeCamera camera_;
+  OdometryConfig config_;
+  int threads_;
+  SoaFramePyramid frames_[2];  // the reference is the one that is not current; buffers swap roles
+  int current_ = 0;
+};
+
+}  // namespace vocal

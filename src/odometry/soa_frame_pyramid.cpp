@@ -1,0 +1,266 @@
+#include "vocal/odometry/soa_frame_pyramid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "vocal/odometry/odometry_backend.h"
+#include "vector_dispatch.h"
+
+namespace vocal {
+
+namespace {
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+int clampIndex(int i, int size) { return std::min(std::max(i, 0), size - 1); }
+
+void resizeLevel(SoaPyramidLevel* l, const PinholeCamera& camera) {
+  l->camera = camera;
+  l->width = camera.width;
+  l->height = camera.height;
+  const std::size_t n = static_cast<std::size_t>(camera.width) * camera.height;
+  for (std::vector<float>* plane : {&l->depth, &l->intensity, &l->gradient_x, &l->gradient_y}) plane->resize(n);
+  l->surface.resize(n);
+  l->photometric.resize(n);
+}
+
+// Level 0: depth outside [min, max] (and NaN) becomes missing; BT.601 intensity in [0, 1].
+void sanitizeAndConvert(const RgbdFrame& frame, float min_depth, float max_depth, int threads, SoaPyramidLevel* l) {
+  const int n = static_cast<int>(l->depth.size());
+  const float* depth_in = frame.depth.data();
+  const Rgb8* color = frame.color.data();
+  float* depth = l->depth.data();
+  float* intensity = l->intensity.data();
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int i = 0; i < n; ++i) {
+    const float z = depth_in[i];
+    depth[i] = (z >= min_depth && z <= max_depth) ? z : 0.0f;
+    const Rgb8 p = color[i];
+    intensity[i] = (0.299f * p.r + 0.587f * p.g + 0.114f * p.b) * (1.0f / 255.0f);
+  }
+}
+
+// One tap of the smoothing window over a row: where the tap's depth is valid and within the centre's
+// limit, its inverse depth and a count are added. Branch-free so that it vectorises; adding 0 leaves
+// each pixel's sum exactly as the reference's.
+VOCAL_VECTOR_CLONES
+void addSmoothingTap(const float* __restrict tap_depth, const float* __restrict tap_inverse,
+                     const float* __restrict centre, const float* __restrict limit, float* __restrict sum,
+                     float* __restrict count, int x0, int x1) {
+  for (int x = x0; x < x1; ++x) {
+    const float difference = tap_depth[x] - centre[x];
+    const float distance = difference < 0.0f ? -difference : difference;
+    const float inside = (tap_depth[x] > 0.0f) & (distance < limit[x]) ? 1.0f : 0.0f;
+    sum[x] += inside * tap_inverse[x];
+    count[x] += inside;
+  }
+}
+
+// smoothDepth of frame_pyramid.cpp: the average of the inverse depths within `radius` whose depth is
+// within factor * z^2 of the centre. Interior rows accumulate tap by tap over the whole row, so the
+// inner loop runs over x (vectorised) while each pixel sums in the reference's order.
+void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads,
+                 std::vector<float>* inverse_scratch, std::vector<float>* out_depth) {
+  std::vector<float>& inv = *inverse_scratch;
+  std::vector<float>& out = *out_depth;
+  inv.resize(depth.size());
+  out.resize(depth.size());
+  const int n = static_cast<int>(depth.size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int i = 0; i < n; ++i) inv[i] = depth[i] > 0.0f ? 1.0f / depth[i] : 0.0f;
+
+  auto pixelWithShrunkWindow = [&](int x, int y) {
+    const float c = depth[y * w + x];
+    if (!(c > 0.0f)) return 0.0f;
+    const float limit = factor * c * c;
+    const int r = std::min({radius, x, y, w - 1 - x, h - 1 - y});
+    float sum = 0.0f;
+    int count = 0;
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        const float d = depth[(y + dy) * w + x + dx];
+        if (d > 0.0f && std::fabs(d - c) < limit) {
+          sum += inv[(y + dy) * w + x + dx];
+          ++count;
+        }
+      }
+    }
+    return count / sum;
+  };
+
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<float> sum(w), count(w), limit(w);
+#pragma omp for schedule(static)
+    for (int y = 0; y < h; ++y) {
+      float* out_row = out.data() + static_cast<std::size_t>(y) * w;
+      const float* centre = depth.data() + static_cast<std::size_t>(y) * w;
+      if (y < radius || y >= h - radius || w <= 2 * radius) {
+        for (int x = 0; x < w; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
+        continue;
+      }
+      for (int x = 0; x < radius; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
+      for (int x = w - radius; x < w; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
+      const int x0 = radius, x1 = w - radius;
+      float* __restrict s = sum.data();
+      float* __restrict c = count.data();
+      float* __restrict l = limit.data();
+      for (int x = x0; x < x1; ++x) {
+        s[x] = 0.0f;
+        c[x] = 0.0f;
+        l[x] = factor * centre[x] * centre[x];
+      }
+      for (int dy = -radius; dy <= radius; ++dy) {
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const std::size_t offset = static_cast<std::size_t>(y + dy) * w + dx;
+          addSmoothingTap(depth.data() + offset, inv.data() + offset, centre, l, s, c, x0, x1);
+        }
+      }
+      for (int x = x0; x < x1; ++x) out_row[x] = centre[x] > 0.0f ? c[x] / s[x] : 0.0f;
+    }
+  }
+}
+
+// downsampleDepth of frame_pyramid.cpp: 5x5 average of the neighbours within 3 sigma of the centre.
+void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, SoaPyramidLevel* out) {
+  const float limit = 3.0f * sigma;
+  const int w = in.width, h = in.height;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < out->height; ++y) {
+    for (int x = 0; x < out->width; ++x) {
+      const float centre = in.depth[2 * y * w + 2 * x];
+      float value = 0.0f;
+      if (centre > 0.0f) {
+        float sum = 0.0f;
+        int count = 0;
+        for (int dy = -2; dy <= 2; ++dy) {
+          const int sy = 2 * y + dy;
+          if (sy < 0 || sy >= h) continue;
+          for (int dx = -2; dx <= 2; ++dx) {
+            const int sx = 2 * x + dx;
+            if (sx < 0 || sx >= w) continue;
+            const float d = in.depth[sy * w + sx];
+            if (d > 0.0f && std::fabs(d - centre) < limit) {
+              sum += d;
+              ++count;
+            }
+          }
+        }
+        value = sum / count;
+      }
+      out->depth[y * out->width + x] = value;
+    }
+  }
+}
+
+// downsampleIntensity of frame_pyramid.cpp: 5x5 binomial blur, then every second pixel.
+void downsampleIntensity(const SoaPyramidLevel& in, int threads, SoaPyramidLevel* out) {
+  static const float kWeights[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};
+  const int w = in.width, h = in.height;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < out->height; ++y) {
+    for (int x = 0; x < out->width; ++x) {
+      float sum = 0.0f;
+      for (int dy = -2; dy <= 2; ++dy) {
+        const int sy = clampIndex(2 * y + dy, h);
+        for (int dx = -2; dx <= 2; ++dx) {
+          sum += kWeights[dy + 2] * kWeights[dx + 2] * in.intensity[sy * w + clampIndex(2 * x + dx, w)];
+        }
+      }
+      out->intensity[y * out->width + x] = sum;
+    }
+  }
+}
+
+// Sobel / 8 with clamped borders, as computeGradients of frame_pyramid.cpp.
+void gradients(int threads, SoaPyramidLevel* l) {
+  const int w = l->width, h = l->height;
+  const float* I = l->intensity.data();
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; ++y) {
+    const float* up = I + clampIndex(y - 1, h) * w;
+    const float* row = I + y * w;
+    const float* down = I + clampIndex(y + 1, h) * w;
+    float* gx = l->gradient_x.data() + y * w;
+    float* gy = l->gradient_y.data() + y * w;
+    auto at = [&](int x) {
+      const int xm = clampIndex(x - 1, w), xp = clampIndex(x + 1, w);
+      gx[x] = ((up[xp] - up[xm]) + 2.0f * (row[xp] - row[xm]) + (down[xp] - down[xm])) * 0.125f;
+      gy[x] = ((down[xm] - up[xm]) + 2.0f * (down[x] - up[x]) + (down[xp] - up[xp])) * 0.125f;
+    };
+    at(0);
+    for (int x = 1; x + 1 < w; ++x) {
+      gx[x] = ((up[x + 1] - up[x - 1]) + 2.0f * (row[x + 1] - row[x - 1]) + (down[x + 1] - down[x - 1])) * 0.125f;
+      gy[x] = ((down[x - 1] - up[x - 1]) + 2.0f * (down[x] - up[x]) + (down[x + 1] - up[x + 1])) * 0.125f;
+    }
+    if (w > 1) at(w - 1);
+  }
+}
+
+// Vertices from `depth`, normals from `normal_depth` (the smoothed depth at level 0, else the same):
+// computeVertices and computeNormals of frame_pyramid.cpp, written into the per-pixel records.
+void records(const float* normal_depth, int threads, SoaPyramidLevel* l) {
+  const int w = l->width, h = l->height;
+  const float fx_inv = static_cast<float>(1.0 / l->camera.fx), fy_inv = static_cast<float>(1.0 / l->camera.fy);
+  const float cx = static_cast<float>(l->camera.cx), cy = static_cast<float>(l->camera.cy);
+  auto vertex = [&](const float* depth, int x, int y) {
+    const float z = depth[y * w + x];
+    return z > 0.0f ? Eigen::Vector3f((x - cx) * fx_inv * z, (y - cy) * fy_inv * z, z) : Eigen::Vector3f::Constant(kNaN);
+  };
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int i = y * w + x;
+      const Eigen::Vector3f v = vertex(l->depth.data(), x, y);
+      Eigen::Vector3f n = Eigen::Vector3f::Constant(kNaN);
+      if (x + 1 < w && y + 1 < h) {
+        const Eigen::Vector3f c = normal_depth == l->depth.data() ? v : vertex(normal_depth, x, y);
+        const Eigen::Vector3f right = vertex(normal_depth, x + 1, y), down = vertex(normal_depth, x, y + 1);
+        if (!std::isnan(c.z()) && !std::isnan(right.z()) && !std::isnan(down.z())) {
+          // (down - v) x (right - v) points towards the camera for a surface facing it.
+          const Eigen::Vector3f cross = (down - c).cross(right - c);
+          const float length = cross.norm();
+          if (length > 0.0f) n = cross / length;
+        }
+      }
+      l->surface[i] = {v.x(), v.y(), v.z(), n.x(), n.y(), n.z()};
+      l->photometric[i] = {l->intensity[i], l->gradient_x[i], l->gradient_y[i], l->depth[i]};
+    }
+  }
+}
+}  // namespace
+
+std::size_t SoaPyramidLevel::memoryBytes() const {
+  return (depth.size() + intensity.size() + gradient_x.size() + gradient_y.size()) * sizeof(float) +
+         surface.size() * sizeof(SurfaceRecord) + photometric.size() * sizeof(PhotometricRecord);
+}
+
+void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
+                          int threads, SoaFramePyramid* pyramid) {
+  pyramid->resize(config.levels);
+  std::vector<float> inverse_depth, smoothed_depth;  // level 0's smoothing scratch
+  for (int level = 0; level < config.levels; ++level) {
+    SoaPyramidLevel& l = (*pyramid)[level];
+    resizeLevel(&l, pyramidLevelCamera(camera, level));
+    if (level == 0) {
+      sanitizeAndConvert(frame, static_cast<float>(config.min_depth), static_cast<float>(config.max_depth), threads, &l);
+    } else {
+      downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), threads, &l);
+      downsampleIntensity((*pyramid)[level - 1], threads, &l);
+    }
+    gradients(threads, &l);
+    const float* normal_depth = l.depth.data();
+    if (level == 0 && config.depth_smoothing_radius > 0) {
+      // Normals from smoothed depth, points raw (see buildFramePyramid).
+      smoothDepth(l.depth, l.width, l.height, config.depth_smoothing_radius,
+                  static_cast<float>(config.depth_smoothing_factor), threads, &inverse_depth, &smoothed_depth);
+      normal_depth = smoothed_depth.data();
+    }
+    records(normal_depth, threads, &l);
+  }
+}
+
+}  // namespace vocal

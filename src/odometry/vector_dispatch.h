@@ -1,0 +1,10 @@
+#pragma once
+// Hot loops marked VOCAL_VECTOR_CLONES are compiled twice on x86-64 with GCC and picked when the
+// library loads: AVX2 + FMA where the CPU has them, SSE2 (every x86-64) otherwise. The default build
+// thus runs on any x86-64 without -march=native. Elsewhere (arm64: NEON) the baseline build is used.
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define VOCAL_VECTOR_CLONES __attribute__((target_clones("arch=haswell", "default")))
+#else
+#define VOCAL_VECTOR_CLONES
+#endif
