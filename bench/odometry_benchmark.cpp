@@ -95,6 +95,21 @@ void BM_RgbSystem(benchmark::State& state) { systemBenchmark(state, kRgbTerm); }
 // Both systems of one iteration, as the fused estimator asks for them (one pass on the fast backend).
 void BM_BothSystems(benchmark::State& state) { systemBenchmark(state, kBothTerms); }
 
+// Feature initialisation of one frame: ORB extraction (arg 1) or extraction plus matching and PnP
+// RANSAC against the previous frame (arg 2), with detection on an image at most `max_width` wide.
+void BM_Features(benchmark::State& state) {
+  const Frames& f = frames(static_cast<int>(state.range(0)));
+  vocal::FeatureAlignmentOptions options;
+  options.max_detection_width = static_cast<int>(state.range(2));
+  const auto reference = vocal::extractFrameFeatures(f.frames[0], f.camera, options);
+  int found = 0;
+  for (auto _ : state) {
+    const auto current = vocal::extractFrameFeatures(f.frames[1], f.camera, options);
+    if (state.range(1) == 2) found += vocal::alignFrameFeatures(*reference, *current, f.camera, options).found;
+  }
+  state.counters["found_share"] = state.range(1) == 2 ? static_cast<double>(found) / state.iterations() : 0.0;
+}
+
 // Preprocessing of the new frame plus the full coarse-to-fine solve: the cost of one frame of odometry.
 void BM_FramePair(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(1)));
@@ -137,5 +152,10 @@ BENCHMARK(BM_Preprocess)->Apply(stageArguments);
 BENCHMARK(BM_IcpSystem)->Apply(levelArguments);
 BENCHMARK(BM_RgbSystem)->Apply(levelArguments);
 BENCHMARK(BM_BothSystems)->Apply(levelArguments);
+BENCHMARK(BM_Features)
+    ->ArgNames({"width", "stage", "max_width"})
+    ->ArgsProduct({{640}, {1, 2}, {640, 320}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_FramePair)->Apply(pairArguments);
 BENCHMARK_MAIN();

@@ -1,6 +1,7 @@
 // rostest: the vocal/IcpDvoOdometry nodelet on a synthetic sequence played by rosbag play: the base's
 // odometry matches ground truth through the base <- camera transform, path, clouds and diagnostics
-// are published, reset_odom restarts it, and bad input is dropped with a message naming the topic.
+// are published, reset_odom restarts it, bad input is dropped with a message naming the topic, and a
+// burst faster than the estimator is tracked newest first with the skipped frames counted.
 
 #include <gtest/gtest.h>
 
@@ -22,6 +23,8 @@
 
 #include "test_support.h"
 #include "vocal/core/se3.h"
+#include "vocal/core/synthetic_sequence.h"
+#include "vocal/core/synthetic_trajectory.h"
 #include "vocal/core/tum_sequence.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
@@ -32,10 +35,10 @@ using T = vocal::TumBagTopics;
 namespace {
 struct Received {
   std::mutex mutex;
-  std::vector<nav_msgs::Odometry::ConstPtr> odom, approx_odom;
+  std::vector<nav_msgs::Odometry::ConstPtr> odom, approx_odom, newest_odom;
   nav_msgs::Path::ConstPtr path;
   sensor_msgs::PointCloud2::ConstPtr cloud, fused_cloud;
-  diagnostic_msgs::DiagnosticStatus odometry_status;
+  diagnostic_msgs::DiagnosticStatus odometry_status, newest_status;
 };
 
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key) {
@@ -63,6 +66,11 @@ class OdometryNodelet : public ::testing::Test {
                                             std::lock_guard<std::mutex> lock(received_.mutex);
                                             received_.approx_odom.push_back(m);
                                           }),
+        nh_.subscribe<nav_msgs::Odometry>("/newest/odom", 100,
+                                          [this](const nav_msgs::Odometry::ConstPtr& m) {
+                                            std::lock_guard<std::mutex> lock(received_.mutex);
+                                            received_.newest_odom.push_back(m);
+                                          }),
         nh_.subscribe<nav_msgs::Path>("/exact/path", 10,
                                       [this](const nav_msgs::Path::ConstPtr& m) {
                                         std::lock_guard<std::mutex> lock(received_.mutex);
@@ -84,6 +92,8 @@ class OdometryNodelet : public ::testing::Test {
                                                           for (const auto& s : m->status)
                                                             if (s.name.find("exact/icp_dvo_odometry") != std::string::npos)
                                                               received_.odometry_status = s;
+                                                            else if (s.name.find("newest/icp_dvo_odometry") != std::string::npos)
+                                                              received_.newest_status = s;
                                                         })};
     spinner_.start();
     static_broadcaster_.sendTransform(vocal::toTransformStamped(baseFromCamera(), "base_link", T::kCameraFrame, ros::Time(0)));
@@ -243,6 +253,73 @@ TEST_F(OdometryNodelet, BadInputIsDroppedAndNamedAndResetRestarts) {
   EXPECT_EQ(diagnosticValue(received_.odometry_status, "frames out of order"), "1");
   EXPECT_EQ(diagnosticValue(received_.odometry_status, "frames dropped"), "3");
   EXPECT_EQ(diagnosticValue(received_.odometry_status, "resets"), "1");
+}
+
+// Frames arrive far faster than a 640x480 frame is tracked: the nodelet works on the newest one,
+// skips (and counts) those that were overtaken, and leaves nothing queued behind the last frame.
+TEST_F(OdometryNodelet, ABurstIsTrackedNewestFirstWithSkipsCounted) {
+  std_srvs::Empty reset;  // the bag played before left later stamps behind
+  ASSERT_TRUE(ros::service::waitForService("/newest/reset_odom", ros::Duration(10.0)));
+  ASSERT_TRUE(ros::service::call("/newest/reset_odom", reset));
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(640, 480);
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  vocal::SyntheticTrajectoryOptions path_options;
+  path_options.frames = 2;
+  const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), path_options);
+  std::vector<vocal::RgbdFrame> views;
+  for (int i = 0; i < 2; ++i) views.push_back(vocal::renderSyntheticFrame(scene, camera, path[i], vocal::kinectLikeSensorModel(), i));
+
+  ros::Publisher rgb_pub = nh_.advertise<sensor_msgs::Image>(T::kRgbImage, 100);
+  ros::Publisher depth_pub = nh_.advertise<sensor_msgs::Image>(T::kDepthImage, 100);
+  ros::Publisher info_pub = nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, 100);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while ((rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0) &&
+         ros::WallTime::now() < deadline) {
+    ros::WallDuration(0.05).sleep();
+  }
+  const int burst = 30;
+  const double first_stamp = 3000.0, period = 1.0 / 30;
+  for (int i = 0; i < burst; ++i) {
+    const ros::Time t(first_stamp + i * period);
+    const vocal::RgbdFrame& view = views[i % 2];
+    depth_pub.publish(vocal::toDepth32FImage(view.depth, T::kRgbFrame, t));
+    info_pub.publish(vocal::toCameraInfo(camera, T::kRgbFrame, t));
+    rgb_pub.publish(vocal::toRgb8Image(view.color, T::kRgbFrame, t));
+  }
+  const ros::Time last(first_stamp + (burst - 1) * period);
+  auto burstOdometry = [&] {
+    std::vector<ros::Time> stamps;
+    for (const auto& odom : received_.newest_odom)
+      if (odom->header.stamp >= ros::Time(first_stamp)) stamps.push_back(odom->header.stamp);
+    return stamps;
+  };
+  ASSERT_TRUE(vocal_test::waitUntil(received_.mutex, 60.0, [&] {
+    const std::vector<ros::Time> stamps = burstOdometry();
+    return !stamps.empty() && stamps.back() == last;
+  })) << "the newest frame of the burst was not tracked: " << burstOdometry().size() << " burst frames tracked; "
+         << received_.newest_status.message << "; received " << diagnosticValue(received_.newest_status, "frames received")
+         << ", skipped " << diagnosticValue(received_.newest_status, "frames skipped") << ", lost "
+         << diagnosticValue(received_.newest_status, "frames lost");
+  // Nothing was queued behind it: a second later it is still the last message.
+  ros::WallDuration(1.0).sleep();
+  std::size_t tracked_in_burst = 0;
+  {
+    std::lock_guard<std::mutex> lock(received_.mutex);
+    const std::vector<ros::Time> stamps = burstOdometry();
+    EXPECT_EQ(stamps.back(), last);
+    tracked_in_burst = stamps.size();
+  }
+  EXPECT_LT(tracked_in_burst, static_cast<std::size_t>(burst)) << "no frame was skipped";
+  // Every received frame is accounted for: skipped, or tracked, lost or dropped.
+  auto count = [&](const char* key) { return std::stoul("0" + diagnosticValue(received_.newest_status, key)); };
+  EXPECT_TRUE(vocal_test::waitUntil(received_.mutex, 5.0, [&] {
+    return count("frames skipped") > 0 &&
+           count("frames received") ==
+               count("frames skipped") + count("frames tracked") + count("frames lost") + count("frames dropped");
+  })) << "received " << count("frames received") << ", skipped " << count("frames skipped") << ", tracked "
+      << count("frames tracked") << ", lost " << count("frames lost") << ", dropped " << count("frames dropped");
+  std::cout << "burst of " << burst << " frames at 640x480: " << tracked_in_burst << " tracked, mean solve "
+            << diagnosticValue(received_.newest_status, "mean solve ms") << " ms\n";
 }
 }  // namespace
 

@@ -5,10 +5,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <image_transport/image_transport.h>
@@ -56,9 +58,37 @@ void copyCovariance(const Matrix6d& covariance, boost::array<double, 36>* out) {
 }
 
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) { return tf2::toMsg(pose); }
+
+double millisecondsSince(std::chrono::steady_clock::time_point* start) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - *start).count();
+  *start = now;
+  return ms;
+}
+
+// One synchronised frame waiting for the worker.
+struct PendingFrame {
+  ImageMsg::ConstPtr rgb, depth;
+  CameraInfoMsg::ConstPtr info;
+};
+
+// Sums of the per-stage wall-clock times, reported as means per processed frame.
+struct StageTimes {
+  double conversion = 0.0, preprocess = 0.0, features = 0.0, solve = 0.0, clouds = 0.0;
+};
 }  // namespace
 
 class IcpDvoOdometryNodelet : public nodelet::Nodelet {
+ public:
+  ~IcpDvoOdometryNodelet() override {
+    {
+      std::lock_guard<std::mutex> lock(pending_mutex_);
+      stopping_ = true;
+    }
+    pending_ready_.notify_all();
+    if (worker_.joinable()) worker_.join();
+  }
+
  private:
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
@@ -70,6 +100,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     cloud_stride_ = std::max(1, pnh.param("cloud_stride", 4));
     fused_cloud_every_ = std::max(1, pnh.param("fused_cloud_every", 10));
     const bool approx_sync = pnh.param("approx_sync", true);
+    skip_to_newest_ = pnh.param("skip_to_newest", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 10));
     try {
       XmlRpc::XmlRpcValue parameters;
@@ -107,6 +138,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_; });
     depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_; });
     info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_; });
+    // Frames are tracked on a worker thread, newest first: a frame that arrives while one is being
+    // tracked replaces any frame still waiting (counted as skipped), so no queue and no latency grow
+    // when the camera is faster than the estimator.
+    worker_ = std::thread([this] { trackNewestFrames(); });
     if (approx_sync) {
       approximate_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(ApproximatePolicy(queue_size), rgb_sub_,
                                                                                           depth_sub_, info_sub_);
@@ -128,22 +163,50 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   }
 
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth, const CameraInfoMsg::ConstPtr& info) {
-    std::lock_guard<std::mutex> lock(mutex_);
     ++frames_received_;
+    if (!skip_to_newest_) {
+      trackFrame({rgb, depth, info});  // every frame, in the synchroniser's thread
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(pending_mutex_);
+      if (pending_.rgb) ++frames_skipped_;
+      pending_ = {rgb, depth, info};
+    }
+    pending_ready_.notify_one();
+  }
+
+  void trackNewestFrames() {
+    while (true) {
+      PendingFrame frame;
+      {
+        std::unique_lock<std::mutex> lock(pending_mutex_);
+        pending_ready_.wait(lock, [this] { return stopping_ || pending_.rgb; });
+        if (stopping_) return;
+        std::swap(frame, pending_);
+      }
+      trackFrame(frame);
+    }
+  }
+
+  void trackFrame(const PendingFrame& frame) {
+    std::lock_guard<std::mutex> lock(mutex_);
     const auto started = std::chrono::steady_clock::now();
     try {
-      track(*rgb, *depth, *info);
+      track(*frame.rgb, *frame.depth, *frame.info);
     } catch (const std::exception& e) {
       // Bad input is counted and reported; it never reaches the manager.
       ++frames_dropped_;
       last_problem_ = e.what();
       NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: frame dropped: " << e.what());
     }
+    ++frames_processed_;
     processing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }
 
   void track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info) {
     if (!setup_error_.empty()) throw InputError(setup_error_);
+    auto clock = std::chrono::steady_clock::now();
     if (!last_stamp_.isZero() && rgb.header.stamp <= last_stamp_) {
       ++frames_out_of_order_;
       std::ostringstream message;
@@ -159,6 +222,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       throw InputError(message.str());
     }
     const RgbdFrame frame = toRgbdFrame(rgb, depth, rgb_sub_.getTopic(), depth_sub_.getTopic());
+    stage_sums_.conversion += millisecondsSince(&clock);
     if (!odometry_ || !(odometry_->camera() == camera)) {
       // First frame, or new intrinsics: the estimator is built for one camera. The camera is already
       // validated, so a failure here is the configuration's (e.g. backend opencl without a platform).
@@ -183,7 +247,11 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       }
     }
 
+    clock = std::chrono::steady_clock::now();  // the tf wait is not the odometry's
     const OdometryResult result = odometry_->track(frame);
+    stage_sums_.preprocess += result.timings.preprocess_ms;
+    stage_sums_.features += result.timings.features_ms;
+    stage_sums_.solve += result.timings.solve_ms;
     // An increment spans the previous frame, trusted or not, to this one: velocities divide by that.
     const double dt = last_stamp_.isZero() ? 0.0 : (rgb.header.stamp - last_stamp_).toSec();
     last_stamp_ = rgb.header.stamp;
@@ -224,12 +292,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
 
     // The map keeps growing while nobody watches, so a late rviz sees the whole run.
+    clock = std::chrono::steady_clock::now();
     const std::vector<ColoredPoint> points = backProjectFrame(frame, camera, cloud_stride_);
     fused_map_->add(points, odom_from_base * base_from_camera);
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(toPointCloud2(points, camera_frame, rgb.header.stamp));
     if ((frames_tracked_ - 1) % fused_cloud_every_ == 0 && fused_cloud_pub_.getNumSubscribers() > 0) {
       fused_cloud_pub_.publish(toPointCloud2(fused_map_->points(), odom_frame_id_, rgb.header.stamp));
     }
+    stage_sums_.clouds += millisecondsSince(&clock);
   }
 
   bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -259,9 +329,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
     std::lock_guard<std::mutex> lock(mutex_);
     using diagnostic_msgs::DiagnosticStatus;
+    const std::size_t received = frames_received_;
     if (!setup_error_.empty()) {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
-    } else if (frames_received_ == 0) {
+    } else if (received == 0) {
       status.summary(DiagnosticStatus::WARN, "no synchronised rgb/depth/camera_info frame received yet");
     } else if (!last_problem_.empty()) {
       status.summary(DiagnosticStatus::WARN, last_problem_);
@@ -269,7 +340,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::OK, "tracking");
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
-    status.add("frames received", frames_received_);
+    status.add("frames received", received);
+    status.add("frames skipped", frames_skipped_.load());
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);
     status.add("frames dropped", frames_dropped_);
@@ -278,7 +350,13 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add(rgb_sub_.getTopic() + " messages", rgb_count_.load());
     status.add(depth_sub_.getTopic() + " messages", depth_count_.load());
     status.add(info_sub_.getTopic() + " messages", info_count_.load());
-    status.add("mean processing ms", frames_received_ ? 1000.0 * processing_seconds_ / frames_received_ : 0.0);
+    const double per_frame = frames_processed_ ? 1.0 / frames_processed_ : 0.0;
+    status.add("mean processing ms", 1000.0 * processing_seconds_ * per_frame);
+    status.add("mean conversion ms", stage_sums_.conversion * per_frame);
+    status.add("mean preprocessing ms", stage_sums_.preprocess * per_frame);
+    status.add("mean features ms", stage_sums_.features * per_frame);
+    status.add("mean solve ms", stage_sums_.solve * per_frame);
+    status.add("mean clouds ms", stage_sums_.clouds * per_frame);
     status.add("icp inliers", quality_.icp_inliers);
     status.add("rgb inliers", quality_.rgb_inliers);
     status.add("condition", quality_.condition);
@@ -288,6 +366,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   // Parameters.
   std::string frame_id_, odom_frame_id_;
   bool publish_tf_ = true;
+  bool skip_to_newest_ = true;  // false: every synchronised frame, in order (slow playback, parity tests)
   double wait_for_transform_ = 0.2;
   int cloud_stride_ = 4, fused_cloud_every_ = 10;
   OdometryConfig config_;
@@ -314,10 +393,20 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   ros::Time last_stamp_;
   nav_msgs::Path path_;
   OdometryQuality quality_;
-  std::size_t frames_received_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
+  std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
               resets_ = 0, frames_received_at_watchdog_ = 0;
-  std::atomic<std::size_t> rgb_count_{0}, depth_count_{0}, info_count_{0};
   double processing_seconds_ = 0.0;
+  StageTimes stage_sums_;
+
+  // The newest synchronised frame and the worker that tracks it (under pending_mutex_; arrival counts
+  // are atomic: they change outside both locks).
+  std::mutex pending_mutex_;
+  std::condition_variable pending_ready_;
+  PendingFrame pending_;
+  bool stopping_ = false;
+  std::thread worker_;
+  std::atomic<std::size_t> frames_received_{0}, frames_skipped_{0};
+  std::atomic<std::size_t> rgb_count_{0}, depth_count_{0}, info_count_{0};
 };
 
 }  // namespace vocal

@@ -8,6 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace vocal {
 
@@ -44,8 +45,15 @@ bool onDepthEdge(const DepthImage& depth, int u, int v) {
 std::shared_ptr<const FrameFeatures> extractFrameFeatures(const RgbdFrame& frame, const PinholeCamera& camera,
                                                           const FeatureAlignmentOptions& options) {
   auto features = std::make_shared<FrameFeatures>();
-  cv::ORB::create(options.max_features)->detectAndCompute(grey(frame.color), cv::noArray(), features->keypoints,
-                                                          features->descriptors);
+  cv::Mat image = grey(frame.color);
+  int scale = 1;
+  while (image.cols > options.max_detection_width) {
+    cv::resize(image, image, cv::Size(image.cols / 2, image.rows / 2), 0, 0, cv::INTER_AREA);
+    scale *= 2;
+  }
+  cv::ORB::create(options.max_features)->detectAndCompute(image, cv::noArray(), features->keypoints, features->descriptors);
+  // Back to full-resolution pixels: detection pixel u covers full pixels scale*u .. scale*u + scale-1.
+  for (cv::KeyPoint& k : features->keypoints) k.pt = k.pt * scale + cv::Point2f(0.5f, 0.5f) * (scale - 1);
   const Eigen::Vector3d missing = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   for (const cv::KeyPoint& k : features->keypoints) {
     const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));

@@ -234,14 +234,14 @@ void records(const float* normal_depth, int threads, SoaPyramidLevel* l) {
 }  // namespace
 
 std::size_t SoaPyramidLevel::memoryBytes() const {
-  return (depth.size() + intensity.size() + gradient_x.size() + gradient_y.size()) * sizeof(float) +
+  return (depth.size() + intensity.size() + gradient_x.size() + gradient_y.size() + smoothed_depth.size() +
+          inverse_depth.size()) * sizeof(float) +
          surface.size() * sizeof(SurfaceRecord) + photometric.size() * sizeof(PhotometricRecord);
 }
 
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
                           int threads, SoaFramePyramid* pyramid) {
   pyramid->resize(config.levels);
-  std::vector<float> inverse_depth, smoothed_depth;  // level 0's smoothing scratch
   for (int level = 0; level < config.levels; ++level) {
     SoaPyramidLevel& l = (*pyramid)[level];
     resizeLevel(&l, pyramidLevelCamera(camera, level));
@@ -256,8 +256,8 @@ void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, c
     if (level == 0 && config.depth_smoothing_radius > 0) {
       // Normals from smoothed depth, points raw (see buildFramePyramid).
       smoothDepth(l.depth, l.width, l.height, config.depth_smoothing_radius,
-                  static_cast<float>(config.depth_smoothing_factor), threads, &inverse_depth, &smoothed_depth);
-      normal_depth = smoothed_depth.data();
+                  static_cast<float>(config.depth_smoothing_factor), threads, &l.inverse_depth, &l.smoothed_depth);
+      normal_depth = l.smoothed_depth.data();
     }
     records(normal_depth, threads, &l);
   }

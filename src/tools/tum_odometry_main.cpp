@@ -52,6 +52,7 @@ int run(const vocal::CommandLine& args) {
 
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
+  vocal::OdometryTimings stage_sums;
   int failures = 0;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
@@ -60,6 +61,9 @@ int run(const vocal::CommandLine& args) {
     const vocal::OdometryResult result = odometry.track(frame);
     tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     trajectory.push_back({frame.stamp, result.pose});
+    stage_sums.preprocess_ms += result.timings.preprocess_ms;
+    stage_sums.features_ms += result.timings.features_ms;
+    stage_sums.solve_ms += result.timings.solve_ms;
     if (!result.quality.trusted) {
       ++failures;
       std::fprintf(stderr, "\nframe %zu (%.6f): tracking not trusted: %s\n", i, frame.stamp, result.failure.c_str());
@@ -77,6 +81,9 @@ int run(const vocal::CommandLine& args) {
   vocal::writeTumTrajectory(args.text("output", ""), trajectory);
   std::printf("frames: %zu\ntracking_failures: %d\nframes_per_second: %.2f\nbackend_memory_mb: %.1f\n", frames, failures,
               frames / std::max(tracking_seconds, 1e-9), odometry.backend().memoryBytes() / 1048576.0);
+  const double n = std::max<double>(frames, 1);
+  std::printf("mean_stage_ms: preprocess %.2f features %.2f solve %.2f\n", stage_sums.preprocess_ms / n,
+              stage_sums.features_ms / n, stage_sums.solve_ms / n);
   if (sequence.hasGroundTruth()) {
     const double delta = args.number("delta", 1.0);
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(sequence.groundTruth(), trajectory),

@@ -20,6 +20,9 @@ struct FeatureAlignmentOptions {
   int min_inliers = 25;
   double min_inlier_fraction = 0.3;  // of the matches with reference depth
   int iterations = 200;
+  // Keypoints are detected on the grey image halved (2x2 means) while it is wider than this: a
+  // starting point needs no full-resolution corners, and ORB costs 4x less per halving.
+  int max_detection_width = 320;
 };
 
 struct FeatureAlignment {

@@ -28,6 +28,13 @@ struct OdometryQuality {
   int feature_inliers = 0;    // features agreeing on the starting motion (0: started from none)
 };
 
+// Wall-clock milliseconds of one track() call per stage.
+struct OdometryTimings {
+  double preprocess_ms = 0.0;  // pyramids, maps, gradients (the backend's pushFrame)
+  double features_ms = 0.0;    // ORB extraction, matching and PnP (feature initialisation)
+  double solve_ms = 0.0;       // the coarse-to-fine dense solve and the result checks
+};
+
 struct OdometryResult {
   bool first_frame = false;  // the first frame (or the first after a reset) only sets the reference
   Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();  // previous camera <- current camera
@@ -38,6 +45,7 @@ struct OdometryResult {
   // after a reset (the start pose is given).
   Matrix6d pose_covariance = Matrix6d::Zero();
   OdometryQuality quality;
+  OdometryTimings timings;
   std::string failure;  // why tracking was not trusted; empty when it was
 };
 

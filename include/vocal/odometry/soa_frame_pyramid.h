@@ -31,6 +31,9 @@ struct SoaPyramidLevel {
   std::vector<float> gradient_x, gradient_y;  // Sobel / 8
   std::vector<SurfaceRecord> surface;
   std::vector<PhotometricRecord> photometric;
+  // Level 0 only: the smoothed depth the normals come from, and its inverse-depth scratch (kept, so
+  // that a frame allocates nothing).
+  std::vector<float> smoothed_depth, inverse_depth;
 
   std::size_t memoryBytes() const;
 };
