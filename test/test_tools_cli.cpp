@@ -120,7 +120,8 @@ TEST(ToolsCli, TumOdometryWritesTrajectoryAndMetrics) {
   r = runTool("tum_odometry " + folder + "/seq --output " + folder + "/estimate.txt --delta 0.3 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto metrics = parseMetrics(r.output);
-  for (const char* name : {"frames", "tracking_failures", "frames_per_second", "ate_rmse_m", "rpe_trans_m_per_s"}) {
+  for (const char* name : {"frames", "tracking_failures", "frames_per_second", "preprocess_ms", "features_ms", "solve_ms",
+                           "ate_rmse_m", "rpe_trans_m_per_s"}) {
     ASSERT_EQ(metrics.count(name), 1u) << name << " missing in:\n" << r.output;
   }
   EXPECT_EQ(metrics.at("frames"), 20);

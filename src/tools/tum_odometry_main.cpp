@@ -82,7 +82,7 @@ int run(const vocal::CommandLine& args) {
   std::printf("frames: %zu\ntracking_failures: %d\nframes_per_second: %.2f\nbackend_memory_mb: %.1f\n", frames, failures,
               frames / std::max(tracking_seconds, 1e-9), odometry.backend().memoryBytes() / 1048576.0);
   const double n = std::max<double>(frames, 1);
-  std::printf("mean_stage_ms: preprocess %.2f features %.2f solve %.2f\n", stage_sums.preprocess_ms / n,
+  std::printf("preprocess_ms: %.2f\nfeatures_ms: %.2f\nsolve_ms: %.2f\n", stage_sums.preprocess_ms / n,
               stage_sums.features_ms / n, stage_sums.solve_ms / n);
   if (sequence.hasGroundTruth()) {
     const double delta = args.number("delta", 1.0);

@@ -21,7 +21,8 @@ struct FeatureAlignmentOptions {
   double min_inlier_fraction = 0.3;  // of the matches with reference depth
   int iterations = 200;
   // Keypoints are detected on the grey image halved (2x2 means) while it is wider than this: a
-  // starting point needs no full-resolution corners, and ORB costs 4x less per halving.
+  // starting point needs no full-resolution corners (measured at 640x480: extraction 2.0 instead of
+  // 3.8 ms, fr1_xyz RPE 0.01929 vs 0.01928 m/s).
   int max_detection_width = 320;
 };
 
