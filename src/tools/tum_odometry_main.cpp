@@ -19,7 +19,7 @@ const char kUsage[] =
     "usage: tum_odometry TUM_FOLDER --output TRAJ.txt [options]\n"
     "  --config FILE.yaml          odometry settings (keys: see config/odometry.yaml)\n"
     "  --mode icp|rgb|fused        overrides the config's mode\n"
-    "  --backend auto|cpu|opencl   overrides the config's backend\n"
+    "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
     "  --rgb-weight W              overrides the fusion weight of the photometric term\n"
     "  --frames N                  only the first N associated frames\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"

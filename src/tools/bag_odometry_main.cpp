@@ -1,0 +1,192 @@
+// bag_odometry BAG --output TRAJ.txt [options]: the odometry straight from a bag (no master, no
+// playback), as fast as the estimator runs: colour and depth paired by stamp (the TUM benchmark's
+// rule, as tum_odometry pairs a folder), the latest camera_info for intrinsics; writes the camera trajectory in TUM format,
+// prints frames per second and, with ground truth, ATE / RPE.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/stamp_association.h"
+#include "vocal/core/trajectory_evaluation.h"
+#include "vocal/core/tum_trajectory.h"
+#include "vocal/nodelets/message_conversions.h"
+#include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/odometry/odometry_config_yaml.h"
+#include "vocal/tools/command_line.h"
+#include "vocal/tools/trajectory_report.h"
+
+namespace {
+const char kUsage[] =
+    "usage: bag_odometry BAG --output TRAJ.txt [options]\n"
+    "  --rgb-topic T          colour images (default /camera/rgb/image_rect_color)\n"
+    "  --depth-topic T        depth registered to colour, 16UC1 mm or 32FC1 m\n"
+    "                         (default /camera/depth_registered/image_raw)\n"
+    "  --camera-info-topic T  the colour camera's camera_info (default /camera/rgb/camera_info)\n"
+    "                         (a TUM benchmark bag: --rgb-topic /camera/rgb/image_color\n"
+    "                          --depth-topic /camera/depth/image)\n"
+    "  --max-difference S     colour and depth stamps paired within this (default 0.02 s)\n"
+    "  --config FILE.yaml     odometry settings (keys: see config/odometry.yaml)\n"
+    "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
+    "  --groundtruth FILE     TUM trajectory to evaluate against (ATE / RPE)\n"
+    "  --delta S              RPE interval (default 1 s)\n"
+    "  --quiet                no progress bar\n";
+
+using ImageMsg = sensor_msgs::Image;
+using CameraInfoMsg = sensor_msgs::CameraInfo;
+
+// Every required topic is in the bag with the right type, or an error names what is there.
+void checkTopics(const rosbag::Bag& bag, const std::string& path, const std::map<std::string, std::string>& wanted) {
+  std::map<std::string, std::string> present;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* c : all.getConnections()) present[c->topic] = c->datatype;
+  for (const auto& [topic, type] : wanted) {
+    const auto found = present.find(topic);
+    if (found != present.end() && found->second == type) continue;
+    std::ostringstream message;
+    message << path << ": ";
+    if (found == present.end()) {
+      message << "no messages on " << topic << " (" << type << ")";
+    } else {
+      message << topic << " carries " << found->second << ", expected " << type;
+    }
+    message << "; the bag has:";
+    for (const auto& [t, ty] : present) message << " " << t << " [" << ty << "]";
+    throw vocal::InputError(message.str());
+  }
+}
+
+void progress(std::size_t done, std::size_t total) {
+  const int width = 30;
+  const int filled = total ? static_cast<int>(width * done / total) : width;
+  std::fprintf(stderr, "\r[%s%s] %zu/%zu messages", std::string(filled, '#').c_str(),
+               std::string(width - filled, ' ').c_str(), done, total);
+}
+
+int run(const vocal::CommandLine& args) {
+  if (!args.has("output")) throw vocal::InputError("--output TRAJ.txt is required");
+  vocal::OdometryConfig config;
+  if (args.has("config")) config = vocal::readOdometryConfigYaml(args.text("config", ""));
+  if (args.has("backend")) config.backend = vocal::parseOdometryBackend(args.text("backend", ""));
+  const std::string rgb_topic = args.text("rgb-topic", "/camera/rgb/image_rect_color");
+  const std::string depth_topic = args.text("depth-topic", "/camera/depth_registered/image_raw");
+  const std::string info_topic = args.text("camera-info-topic", "/camera/rgb/camera_info");
+  const double max_difference = args.number("max-difference", 0.02);
+  const bool quiet = args.has("quiet");
+  vocal::Trajectory groundtruth;
+  if (args.has("groundtruth")) groundtruth = vocal::readTumTrajectory(args.text("groundtruth", ""));
+
+  const std::string path = args.positional()[0];
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw vocal::InputError(path + ": cannot open bag (" + e.what() + ")");
+  }
+  checkTopics(bag, path,
+              {{rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}});
+
+  std::unique_ptr<vocal::IcpDvoOdometry> odometry;
+  vocal::Trajectory trajectory;
+  double tracking_seconds = 0.0;
+  int failures = 0;
+  CameraInfoMsg::ConstPtr info;
+
+  auto track = [&](const ImageMsg& rgb, const ImageMsg& depth) {
+    if (!info) throw vocal::InputError(path + ": " + rgb_topic + " at " + std::to_string(rgb.header.stamp.toSec()) +
+                                       " comes before any message on " + info_topic);
+    const vocal::PinholeCamera camera = vocal::fromCameraInfo(*info, info_topic);
+    if (!odometry || !(odometry->camera() == camera)) {
+      std::string notice;
+      auto backend = vocal::makeOdometryBackend(camera, config, &notice);
+      if (!notice.empty() && !odometry) std::fprintf(stderr, "%s\n", notice.c_str());
+      odometry = std::make_unique<vocal::IcpDvoOdometry>(camera, config, std::move(backend));
+      if (!trajectory.empty()) odometry->reset(trajectory.back().pose);  // new intrinsics: continue the path
+    }
+    const vocal::RgbdFrame frame = vocal::toRgbdFrame(rgb, depth, rgb_topic, depth_topic);
+    const auto start = std::chrono::steady_clock::now();
+    const vocal::OdometryResult result = odometry->track(frame);
+    tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    trajectory.push_back({rgb.header.stamp.toSec(), result.pose});
+    if (!result.quality.trusted) {
+      ++failures;
+      if (!quiet) std::fprintf(stderr, "\nframe at %.6f: tracking not trusted: %s\n", rgb.header.stamp.toSec(), result.failure.c_str());
+    }
+  };
+  // Pass 1: the stamps of both image streams, paired by the TUM benchmark's rule (as tum_odometry
+  // pairs a TUM folder's lists). Pass 2: each pair tracked as soon as both of its messages are read,
+  // so only the messages between a pair's halves are held.
+  rosbag::View view(bag, rosbag::TopicQuery({rgb_topic, depth_topic, info_topic}));
+  const std::size_t total = 2 * view.size();
+  std::size_t done = 0;
+  auto step = [&] {
+    if (!quiet && (++done % 20 == 0 || done == total)) progress(done, total);
+  };
+  std::vector<double> rgb_stamps, depth_stamps;
+  for (const rosbag::MessageInstance& m : view) {
+    if (m.getTopic() == rgb_topic) rgb_stamps.push_back(m.instantiate<ImageMsg>()->header.stamp.toSec());
+    if (m.getTopic() == depth_topic) depth_stamps.push_back(m.instantiate<ImageMsg>()->header.stamp.toSec());
+    step();
+  }
+  for (const auto* stamps : {&rgb_stamps, &depth_stamps}) {
+    if (!std::is_sorted(stamps->begin(), stamps->end())) {
+      throw vocal::InputError(path + ": " + (stamps == &rgb_stamps ? rgb_topic : depth_topic) +
+                              ": header stamps are not in order in the bag");
+    }
+  }
+  const std::vector<vocal::StampMatch> pairs = vocal::associateStamps(rgb_stamps, depth_stamps, max_difference);
+  const int unpaired = static_cast<int>(rgb_stamps.size() - pairs.size());
+  std::vector<bool> rgb_needed(rgb_stamps.size()), depth_needed(depth_stamps.size());
+  for (const vocal::StampMatch& pair : pairs) rgb_needed[pair.first] = depth_needed[pair.second] = true;
+  std::map<std::size_t, ImageMsg::ConstPtr> rgb_held, depth_held;
+  std::size_t next_pair = 0, rgb_index = 0, depth_index = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    if (m.getTopic() == info_topic) {
+      info = m.instantiate<CameraInfoMsg>();
+    } else if (m.getTopic() == rgb_topic) {
+      const std::size_t i = rgb_index++;
+      if (rgb_needed[i]) rgb_held[i] = m.instantiate<ImageMsg>();
+    } else {
+      const std::size_t i = depth_index++;
+      if (depth_needed[i]) depth_held[i] = m.instantiate<ImageMsg>();
+    }
+    while (next_pair < pairs.size() && rgb_held.count(pairs[next_pair].first) && depth_held.count(pairs[next_pair].second)) {
+      const vocal::StampMatch& pair = pairs[next_pair++];
+      track(*rgb_held[pair.first], *depth_held[pair.second]);
+      rgb_held.erase(rgb_held.begin(), rgb_held.upper_bound(pair.first));
+      depth_held.erase(depth_held.begin(), depth_held.upper_bound(pair.second));
+    }
+    step();
+  }
+  if (!quiet) std::fprintf(stderr, "\n");
+  if (trajectory.empty()) {
+    throw vocal::InputError(path + ": no colour image on " + rgb_topic + " has a depth image on " + depth_topic +
+                            " within " + std::to_string(max_difference) + " s");
+  }
+  vocal::writeTumTrajectory(args.text("output", ""), trajectory);
+  std::printf("frames: %zu\nunpaired_colour_images: %d\ntracking_failures: %d\nframes_per_second: %.2f\n", trajectory.size(),
+              unpaired, failures, trajectory.size() / std::max(tracking_seconds, 1e-9));
+  if (!groundtruth.empty()) {
+    vocal::printTrajectoryMetrics(stdout, vocal::computeAte(groundtruth, trajectory),
+                                  vocal::computeRpe(groundtruth, trajectory, args.number("delta", 1.0)));
+  }
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return vocal::runTool("bag_odometry", kUsage, run, argc, argv,
+                        {"output", "rgb-topic", "depth-topic", "camera-info-topic", "max-difference", "config", "backend",
+                         "groundtruth", "delta"},
+                        {"quiet"}, 1);
+}
