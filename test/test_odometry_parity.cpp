@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "test_support.h"
 
@@ -72,6 +73,39 @@ void expectSameMap(const std::vector<float>& fast, const std::vector<float>& ref
     if (!same && differ++ == 0) first = i;
   }
   EXPECT_EQ(differ, 0u) << what << ": first at pixel " << first << ": " << fast[first] << " vs " << reference[first];
+}
+
+using BackendFactory =
+    std::function<std::unique_ptr<vocal::OdometryBackend>(const vocal::PinholeCamera&, const vocal::OdometryConfig&)>;
+
+// Noise-free frames determine the pose sharply, so float rounding must not move it; with sensor noise a
+// few threshold decisions that flip between float orders move a flat optimum by a fraction of the
+// estimate's own error (about 2 mm per frame for ICP alone here). Both are also held to the truth (a
+// 4-frame step of about 3 cm), so that agreeing on a wrong answer cannot pass; ICP alone is the weak
+// term on the noisy room's far, quantised depth.
+void expectSamePoseAsTheReference(const BackendFactory& make_other) {
+  for (bool noise : {false, true}) {
+    const double tolerance = noise ? 3e-4 : 2e-5;
+    const FramePair pair = renderPair(4, noise);
+    for (vocal::OdometryMode mode : {vocal::OdometryMode::kIcp, vocal::OdometryMode::kRgb, vocal::OdometryMode::kFused}) {
+      vocal::OdometryConfig config;
+      config.mode = mode;
+      vocal::IcpDvoOdometry reference(pair.camera, config, std::make_unique<vocal::CpuOdometryBackend>(pair.camera, config));
+      vocal::IcpDvoOdometry other(pair.camera, config, make_other(pair.camera, config));
+      reference.track(pair.first);
+      other.track(pair.first);
+      const vocal::OdometryResult a = reference.track(pair.second);
+      const vocal::OdometryResult b = other.track(pair.second);
+      const std::string what = vocal::odometryModeName(mode) + (noise ? " noisy" : " clean");
+      ASSERT_TRUE(a.quality.trusted) << what << ": " << a.failure;
+      ASSERT_TRUE(b.quality.trusted) << what << ": " << b.failure;
+      const Eigen::Isometry3d difference = a.increment.inverse() * b.increment;
+      EXPECT_LT(difference.translation().norm(), tolerance) << what;
+      EXPECT_LT(vocal::rotationAngle(difference), tolerance) << what;
+      const Eigen::Isometry3d error = pair.first_from_second.inverse() * b.increment;
+      EXPECT_LT(error.translation().norm(), !noise ? 1e-3 : mode == vocal::OdometryMode::kIcp ? 0.02 : 0.005) << what;
+    }
+  }
 }
 }  // namespace
 
@@ -161,31 +195,9 @@ TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
 }
 
 TEST(FastCpuParity, SamePoseAfterAFullSolve) {
-  for (bool noise : {false, true}) {
-    const double tolerance = noise ? 3e-4 : 2e-5;
-    const FramePair pair = renderPair(4, noise);
-    for (vocal::OdometryMode mode : {vocal::OdometryMode::kIcp, vocal::OdometryMode::kRgb, vocal::OdometryMode::kFused}) {
-      vocal::OdometryConfig config;
-      config.mode = mode;
-      vocal::IcpDvoOdometry reference(pair.camera, config, std::make_unique<vocal::CpuOdometryBackend>(pair.camera, config));
-      vocal::IcpDvoOdometry fast(pair.camera, config, std::make_unique<vocal::FastCpuOdometryBackend>(pair.camera, config));
-      reference.track(pair.first);
-      fast.track(pair.first);
-      const vocal::OdometryResult a = reference.track(pair.second);
-      const vocal::OdometryResult b = fast.track(pair.second);
-      ASSERT_TRUE(a.quality.trusted) << a.failure;
-      ASSERT_TRUE(b.quality.trusted) << b.failure;
-      const Eigen::Isometry3d difference = a.increment.inverse() * b.increment;
-      const std::string what = vocal::odometryModeName(mode) + (noise ? " noisy" : " clean");
-      EXPECT_LT(difference.translation().norm(), tolerance) << what;
-      EXPECT_LT(vocal::rotationAngle(difference), tolerance) << what;
-      // Against the truth too (a 4-frame step of about 3 cm), so that agreeing on a wrong answer cannot
-      // pass. ICP alone is the weak term on the noisy room's far, quantised depth.
-      const Eigen::Isometry3d error = pair.first_from_second.inverse() * b.increment;
-      const double bound = !noise ? 1e-3 : mode == vocal::OdometryMode::kIcp ? 0.02 : 0.005;
-      EXPECT_LT(error.translation().norm(), bound) << what;
-    }
-  }
+  expectSamePoseAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
+    return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config);
+  });
 }
 
 TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
@@ -238,30 +250,11 @@ TEST(OdometryParity, SameNormalEquationsOnEveryLevel) {
   }
 }
 
-// Noise-free frames determine the pose sharply, so float rounding must not move it; with sensor noise a
-// few threshold decisions that flip between float orders move a flat optimum by a fraction of the
-// estimate's own error (about 2 mm per frame for ICP alone here).
 TEST(OdometryParity, SamePoseAfterAFullSolve) {
   if (!openClAvailable()) GTEST_SKIP() << "no OpenCL platform on this machine";
-  for (bool noise : {false, true}) {
-  const double tolerance = noise ? 3e-4 : 2e-5;
-  const FramePair pair = renderPair(4, noise);
-  for (vocal::OdometryMode mode : {vocal::OdometryMode::kIcp, vocal::OdometryMode::kRgb, vocal::OdometryMode::kFused}) {
-    vocal::OdometryConfig config;
-    config.mode = mode;
-    vocal::IcpDvoOdometry cpu(pair.camera, config, std::make_unique<vocal::CpuOdometryBackend>(pair.camera, config));
-    vocal::IcpDvoOdometry gpu(pair.camera, config, std::make_unique<vocal::OpenClOdometryBackend>(pair.camera, config));
-    cpu.track(pair.first);
-    gpu.track(pair.first);
-    const vocal::OdometryResult a = cpu.track(pair.second);
-    const vocal::OdometryResult b = gpu.track(pair.second);
-    ASSERT_TRUE(a.quality.trusted) << a.failure;
-    ASSERT_TRUE(b.quality.trusted) << b.failure;
-    const Eigen::Isometry3d difference = a.increment.inverse() * b.increment;
-    EXPECT_LT(difference.translation().norm(), tolerance) << vocal::odometryModeName(mode) << (noise ? " noisy" : "");
-    EXPECT_LT(vocal::rotationAngle(difference), tolerance) << vocal::odometryModeName(mode) << (noise ? " noisy" : "");
-  }
-  }
+  expectSamePoseAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
+    return std::make_unique<vocal::OpenClOdometryBackend>(camera, config);
+  });
 }
 
 TEST(OdometryParity, DeviceChoiceErrorsNameWhatWasFound) {
