@@ -36,6 +36,7 @@
 
 #include "vocal/core/colored_point.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/lap_timer.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/voxel_cloud_map.h"
 #include "vocal/nodelets/message_conversions.h"
@@ -58,13 +59,6 @@ void copyCovariance(const Matrix6d& covariance, boost::array<double, 36>* out) {
 }
 
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) { return tf2::toMsg(pose); }
-
-double millisecondsSince(std::chrono::steady_clock::time_point* start) {
-  const auto now = std::chrono::steady_clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - *start).count();
-  *start = now;
-  return ms;
-}
 
 // One synchronised frame waiting for the worker.
 struct PendingFrame {
@@ -222,7 +216,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       throw InputError(message.str());
     }
     const RgbdFrame frame = toRgbdFrame(rgb, depth, rgb_sub_.getTopic(), depth_sub_.getTopic());
-    stage_sums_.conversion += millisecondsSince(&clock);
+    stage_sums_.conversion += lapMilliseconds(&clock);
     if (!odometry_ || !(odometry_->camera() == camera)) {
       // First frame, or new intrinsics: the estimator is built for one camera. The camera is already
       // validated, so a failure here is the configuration's (e.g. backend opencl without a platform).
@@ -247,7 +241,6 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       }
     }
 
-    clock = std::chrono::steady_clock::now();  // the tf wait is not the odometry's
     const OdometryResult result = odometry_->track(frame);
     stage_sums_.preprocess += result.timings.preprocess_ms;
     stage_sums_.features += result.timings.features_ms;
@@ -299,7 +292,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     if ((frames_tracked_ - 1) % fused_cloud_every_ == 0 && fused_cloud_pub_.getNumSubscribers() > 0) {
       fused_cloud_pub_.publish(toPointCloud2(fused_map_->points(), odom_frame_id_, rgb.header.stamp));
     }
-    stage_sums_.clouds += millisecondsSince(&clock);
+    stage_sums_.clouds += lapMilliseconds(&clock);
   }
 
   bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/lap_timer.h"
 
 namespace vocal {
 
@@ -16,14 +17,6 @@ namespace {
 // make one term infinitely trusted.
 constexpr double kMinIcpVariance = 1e-3 * 1e-3;          // (1 mm)^2
 constexpr double kMinRgbVariance = (1.0 / 255) * (1.0 / 255);  // one 8-bit level
-
-// Milliseconds since `start`; restarts it.
-double lap(std::chrono::steady_clock::time_point* start) {
-  const auto now = std::chrono::steady_clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - *start).count();
-  *start = now;
-  return ms;
-}
 }  // namespace
 
 IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
@@ -55,7 +48,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   auto clock = std::chrono::steady_clock::now();
   backend_->pushFrame(frame);
   OdometryResult result;
-  result.timings.preprocess_ms = lap(&clock);
+  result.timings.preprocess_ms = lapMilliseconds(&clock);
   result.pose = pose_;
   result.pose_covariance = pose_covariance_;
   // Each frame's features are extracted once: matched now as the current frame, next time as the
@@ -63,7 +56,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   std::shared_ptr<const FrameFeatures> features;
   if (config_.feature_initialisation) features = extractFrameFeatures(frame, camera_);
   if (!has_reference_) {
-    result.timings.features_ms = lap(&clock);
+    result.timings.features_ms = lapMilliseconds(&clock);
     has_reference_ = true;
     reference_features_ = features;
     result.first_frame = true;
@@ -82,7 +75,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     }
   }
   reference_features_ = features;
-  result.timings.features_ms = lap(&clock);
+  result.timings.features_ms = lapMilliseconds(&clock);
   double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
   NormalEquations last_icp, last_rgb;
   Matrix6d last_A = Matrix6d::Zero();
@@ -142,7 +135,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
             << " deg)";
   }
   result.failure = failure.str();
-  result.timings.solve_ms = lap(&clock);
+  result.timings.solve_ms = lapMilliseconds(&clock);
   if (!result.failure.empty()) {
     return result;  // increment stays identity, the pose is not moved
   }
