@@ -78,6 +78,36 @@ void expectSameMap(const std::vector<float>& fast, const std::vector<float>& ref
 using BackendFactory =
     std::function<std::unique_ptr<vocal::OdometryBackend>(const vocal::PinholeCamera&, const vocal::OdometryConfig&)>;
 
+// Every level's systems from the reference and from `make_other`'s backend, at the true motion and
+// away from it (where more pairs are rejected): each built alone, and both together as the estimator
+// asks for them (one pass on the fast backend).
+void expectSameSystemsAsTheReference(const BackendFactory& make_other) {
+  for (bool noise : {false, true}) {
+    const FramePair pair = renderPair(3, noise);
+    const vocal::OdometryConfig config;
+    vocal::CpuOdometryBackend reference(pair.camera, config);
+    const std::unique_ptr<vocal::OdometryBackend> other = make_other(pair.camera, config);
+    for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
+      reference.pushFrame(*frame);
+      other->pushFrame(*frame);
+    }
+    vocal::Vector6d offset;
+    offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
+    for (const Eigen::Isometry3d& T : {pair.first_from_second, vocal::se3Exp(offset) * pair.first_from_second}) {
+      for (int level = 0; level < config.levels; ++level) {
+        const std::string where = std::string(noise ? "noisy" : "clean") + " level " + std::to_string(level);
+        const vocal::NormalEquations icp = reference.icpSystem(level, T), rgb = reference.rgbSystem(level, T, 0.02);
+        vocal::NormalEquations icp_together, rgb_together;
+        other->trackingSystems(level, T, 0.02, &icp_together, &rgb_together);
+        expectSameSystem(icp, icp_together, "icp " + where);
+        expectSameSystem(rgb, rgb_together, "rgb " + where);
+        expectSameSystem(icp, other->icpSystem(level, T), "icp alone " + where);
+        expectSameSystem(rgb, other->rgbSystem(level, T, 0.02), "rgb alone " + where);
+      }
+    }
+  }
+}
+
 // Noise-free frames determine the pose sharply, so float rounding must not move it; with sensor noise a
 // few threshold decisions that flip between float orders move a flat optimum by a fraction of the
 // estimate's own error (about 2 mm per frame for ICP alone here). Both are also held to the truth (a
@@ -146,30 +176,9 @@ TEST(FastCpuParity, SameMapsOnEveryLevel) {
 }
 
 TEST(FastCpuParity, SameNormalEquationsOnEveryLevel) {
-  for (bool noise : {false, true}) {
-    const FramePair pair = renderPair(3, noise);
-    const vocal::OdometryConfig config;
-    vocal::CpuOdometryBackend reference(pair.camera, config);
-    vocal::FastCpuOdometryBackend fast(pair.camera, config);
-    for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
-      reference.pushFrame(*frame);
-      fast.pushFrame(*frame);
-    }
-    vocal::Vector6d offset;
-    offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
-    for (const Eigen::Isometry3d& T : {pair.first_from_second, vocal::se3Exp(offset) * pair.first_from_second}) {
-      for (int level = 0; level < config.levels; ++level) {
-        const std::string where = std::string(noise ? "noisy" : "clean") + " level " + std::to_string(level);
-        // Built together in one pass, as the estimator asks for them, and one at a time.
-        vocal::NormalEquations icp, rgb;
-        fast.trackingSystems(level, T, 0.02, &icp, &rgb);
-        expectSameSystem(reference.icpSystem(level, T), icp, "icp " + where);
-        expectSameSystem(reference.rgbSystem(level, T, 0.02), rgb, "rgb " + where);
-        expectSameSystem(reference.icpSystem(level, T), fast.icpSystem(level, T), "icp alone " + where);
-        expectSameSystem(reference.rgbSystem(level, T, 0.02), fast.rgbSystem(level, T, 0.02), "rgb alone " + where);
-      }
-    }
-  }
+  expectSameSystemsAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
+    return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config);
+  });
 }
 
 // The sum is split by thread: other thread counts differ in float rounding only, and the same count
@@ -228,26 +237,9 @@ TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
 #ifdef VOCAL_HAVE_OPENCL
 TEST(OdometryParity, SameNormalEquationsOnEveryLevel) {
   if (!openClAvailable()) GTEST_SKIP() << "no OpenCL platform on this machine";
-  for (bool noise : {false, true}) {
-    const FramePair pair = renderPair(3, noise);
-    vocal::OdometryConfig config;
-    vocal::CpuOdometryBackend cpu(pair.camera, config);
-    vocal::OpenClOdometryBackend gpu(pair.camera, config);
-    for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
-      cpu.pushFrame(*frame);
-      gpu.pushFrame(*frame);
-    }
-    // Evaluate away from the solution too, where more pairs are rejected.
-    vocal::Vector6d offset;
-    offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
-    for (const Eigen::Isometry3d& T : {pair.first_from_second, vocal::se3Exp(offset) * pair.first_from_second}) {
-      for (int level = 0; level < config.levels; ++level) {
-        const std::string where = std::string(noise ? "noisy" : "clean") + " level " + std::to_string(level);
-        expectSameSystem(cpu.icpSystem(level, T), gpu.icpSystem(level, T), "icp " + where);
-        expectSameSystem(cpu.rgbSystem(level, T, 0.02), gpu.rgbSystem(level, T, 0.02), "rgb " + where);
-      }
-    }
-  }
+  expectSameSystemsAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
+    return std::make_unique<vocal::OpenClOdometryBackend>(camera, config);
+  });
 }
 
 TEST(OdometryParity, SamePoseAfterAFullSolve) {
