@@ -26,10 +26,10 @@ struct FramePair {
   Eigen::Isometry3d first_from_second;
 };
 
-FramePair renderPair(int frame_gap, bool kinect_noise) {
+FramePair renderPair(int frame_gap, bool kinect_noise, int width = 320, int height = 240) {
   const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
   FramePair pair;
-  pair.camera = vocal::defaultKinectCamera(320, 240);
+  pair.camera = vocal::defaultKinectCamera(width, height);
   vocal::SyntheticTrajectoryOptions options;
   options.frames = frame_gap + 1;
   const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), options);
@@ -81,9 +81,9 @@ using BackendFactory =
 // Every level's systems from the reference and from `make_other`'s backend, at the true motion and
 // away from it (where more pairs are rejected): each built alone, and both together as the estimator
 // asks for them (one pass on the fast backend).
-void expectSameSystemsAsTheReference(const BackendFactory& make_other) {
+void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width = 320, int height = 240) {
   for (bool noise : {false, true}) {
-    const FramePair pair = renderPair(3, noise);
+    const FramePair pair = renderPair(3, noise, width, height);
     const vocal::OdometryConfig config;
     vocal::CpuOdometryBackend reference(pair.camera, config);
     const std::unique_ptr<vocal::OdometryBackend> other = make_other(pair.camera, config);
@@ -175,10 +175,47 @@ TEST(FastCpuParity, SameMapsOnEveryLevel) {
   }
 }
 
+BackendFactory fastBackend(vocal::CpuTrackingPass pass) {
+  return [pass](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
+    return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config, pass);
+  };
+}
+
+const vocal::CpuTrackingPass kBothPasses[] = {vocal::CpuTrackingPass::kBest, vocal::CpuTrackingPass::kPortable};
+
+std::string passName(vocal::CpuTrackingPass pass) {
+  return pass == vocal::CpuTrackingPass::kBest ? "best pass" : "portable pass";
+}
+
 TEST(FastCpuParity, SameNormalEquationsOnEveryLevel) {
-  expectSameSystemsAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
-    return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config);
-  });
+  for (vocal::CpuTrackingPass pass : kBothPasses) {
+    SCOPED_TRACE(passName(pass));
+    expectSameSystemsAsTheReference(fastBackend(pass));
+  }
+}
+
+// 324 x 242: rows of 324, 162 and 81 pixels end in part-filled blocks of 8.
+TEST(FastCpuParity, SameNormalEquationsWhenRowsAreNotWholeBlocks) {
+  for (vocal::CpuTrackingPass pass : kBothPasses) {
+    SCOPED_TRACE(passName(pass));
+    expectSameSystemsAsTheReference(fastBackend(pass), 324, 242);
+  }
+}
+
+// The vectorised pass is what runs wherever the CPU can: x86-64 with AVX2 + FMA (every CI machine).
+TEST(FastCpuParity, BestPassIsTheVectorisedOneWhereTheCpuHasIt) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  const vocal::OdometryConfig config = withThreads(2);
+  EXPECT_EQ(vocal::FastCpuOdometryBackend(camera, config, vocal::CpuTrackingPass::kPortable).name(),
+            "cpu fast (2 threads, portable)");
+#if defined(__GNUC__) && defined(__x86_64__)
+  __builtin_cpu_init();
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  EXPECT_EQ(vocal::FastCpuOdometryBackend(camera, config).name(),
+            avx2 ? "cpu fast (2 threads, AVX2)" : "cpu fast (2 threads, portable)");
+#else
+  EXPECT_EQ(vocal::FastCpuOdometryBackend(camera, config).name(), "cpu fast (2 threads, portable)");
+#endif
 }
 
 // The sum is split by thread: other thread counts differ in float rounding only, and the same count
@@ -204,9 +241,10 @@ TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
 }
 
 TEST(FastCpuParity, SamePoseAfterAFullSolve) {
-  expectSamePoseAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
-    return std::make_unique<vocal::FastCpuOdometryBackend>(camera, config);
-  });
+  for (vocal::CpuTrackingPass pass : kBothPasses) {
+    SCOPED_TRACE(passName(pass));
+    expectSamePoseAsTheReference(fastBackend(pass));
+  }
 }
 
 TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
@@ -216,9 +254,11 @@ TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
   EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu reference");
   config.backend = vocal::OdometryBackendKind::kCpu;
   config.cpu_threads = 3;
-  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (3 threads)");
+  const std::string pass = vocal::FastCpuOdometryBackend(camera, config).name().find("AVX2") != std::string::npos
+                               ? "AVX2" : "portable";
+  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (3 threads, " + pass + ")");
   config.cpu_threads = 1;
-  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (1 thread)");
+  EXPECT_EQ(vocal::makeOdometryBackend(camera, config)->name(), "cpu fast (1 thread, " + pass + ")");
   // Auto: OpenCL only on a GPU; everywhere else (CI, PoCL's CPU device) the fast CPU backend, said so.
   config.backend = vocal::OdometryBackendKind::kAuto;
   std::string notice;
@@ -231,7 +271,7 @@ TEST(OdometryBackendChoice, EachKindMakesItsBackend) {
 #else
   EXPECT_EQ(notice, "OpenCL was not found at build time: using the fast CPU backend");
 #endif
-  EXPECT_EQ(automatic->name(), "cpu fast (1 thread)");
+  EXPECT_EQ(automatic->name(), "cpu fast (1 thread, " + pass + ")");
 }
 
 #ifdef VOCAL_HAVE_OPENCL

@@ -1,19 +1,28 @@
 #pragma once
 // Fast CPU backend, the default where no GPU is there: the math of the CPU reference (parity-tested
 // against it) on all cores. Preprocessing runs over rows in parallel into reused float planes; one
-// pass over the current frame's pixels builds the ICP and the photometric rows together, and the
-// rows are reduced in float blocks (vectorised, with run-time dispatch to AVX2 on x86-64) summed in
-// double.
+// pass over the current frame's pixels builds the ICP and the photometric rows together (8 pixels at a
+// time with AVX2 gathers where the CPU has them, picked at run time; a portable pass elsewhere), and
+// the rows are reduced in float within an image row, summed in double.
 
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/soa_frame_pyramid.h"
 
 namespace vocal {
 
+struct SoaPyramidLevel;
+struct TrackingWarp;
+struct TrackingThresholds;
+
+// The per-pixel tracking pass: the best this CPU runs (AVX2 + FMA where there), or the portable one
+// (any CPU; the parity tests check both).
+enum class CpuTrackingPass { kBest, kPortable };
+
 class FastCpuOdometryBackend : public OdometryBackend {
  public:
   // config.cpu_threads threads (0: every core).
-  FastCpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config);
+  FastCpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
+                         CpuTrackingPass pass = CpuTrackingPass::kBest);
 
   std::string name() const override;
   void pushFrame(const RgbdFrame& frame) override;
@@ -33,6 +42,9 @@ class FastCpuOdometryBackend : public OdometryBackend {
   int threads_;
   SoaFramePyramid frames_[2];  // the reference is the one that is not current; buffers swap roles
   int current_ = 0;
+  void (*track_row_)(const SoaPyramidLevel&, const SoaPyramidLevel&, const TrackingWarp&, const TrackingThresholds&,
+                     int, double*, double*);
+  std::string track_row_name_;
 };
 
 }  // namespace vocal
