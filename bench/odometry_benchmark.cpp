@@ -115,7 +115,7 @@ void BM_FramePair(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(1)));
   vocal::OdometryConfig config;
   config.mode = static_cast<vocal::OdometryMode>(state.range(2));
-  config.feature_initialisation = state.range(3) != 0;
+  config.feature_initialisation = static_cast<vocal::FeatureInitialisation>(state.range(3));
   std::unique_ptr<vocal::OdometryBackend> backend;
   if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, config, &backend)) return;
   vocal::IcpDvoOdometry odometry(f.camera, config, std::move(backend));
@@ -136,14 +136,17 @@ void levelArguments(benchmark::internal::Benchmark* b) {
     for (int width : {640, 320}) b->Args({backend, width, 0});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
+// features: the FeatureInitialisation (0 always, 1 fallback, 2 off).
 void pairArguments(benchmark::internal::Benchmark* b) {
   b->ArgNames({"backend", "width", "mode", "features"});
   const int fused = static_cast<int>(vocal::OdometryMode::kFused);
+  const int always = static_cast<int>(vocal::FeatureInitialisation::kAlways);
   for (int backend : {kReference, kFastCpu, kOpenCl})
-    for (int width : {640, 320}) b->Args({backend, width, fused, 1});
-  for (int width : {640, 320}) b->Args({kFastCpu, width, fused, 0});
-  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kIcp), 1});
-  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), 1});
+    for (int width : {640, 320}) b->Args({backend, width, fused, always});
+  for (vocal::FeatureInitialisation features : {vocal::FeatureInitialisation::kFallback, vocal::FeatureInitialisation::kOff})
+    for (int width : {640, 320}) b->Args({kFastCpu, width, fused, static_cast<int>(features)});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kIcp), always});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), always});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 }  // namespace

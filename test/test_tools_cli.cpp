@@ -242,16 +242,20 @@ TEST(ToolsCli, TumOdometryWritesTrajectoryAndMetrics) {
   EXPECT_EQ(r.output, "tum_odometry: error: --output TRAJ.txt is required\n");
 }
 
-// The same run of vocal and Open3D's hybrid RGB-D odometry on real frames: vocal's RPE must be lower.
-TEST(ToolsCli, MoreAccurateThanOpen3DOnRealData) {
+// The same run of vocal, OpenCV's RgbdICPOdometry and Open3D's hybrid RGB-D odometry on real frames:
+// vocal's RPE must be below Open3D's and within 5 % of OpenCV's (the two are close on fr1_xyz: on the
+// first 150 frames 0.0215 vs 0.0218 m/s, on all 294 0.0193 vs 0.0191; docs/benchmarks.md).
+TEST(ToolsCli, RealDataAccuracyAgainstOpenCvAndOpen3D) {
   const std::string folder = vocal_test::tumDataFolder();
   if (folder.empty()) GTEST_SKIP() << "TUM data not present";
-  if (std::system("/usr/bin/python3 -c 'import open3d' > /dev/null 2>&1") != 0) {
-    std::cerr << "\n*** python3-open3d not installed: Open3D comparison SKIPPED ***\n\n";
-    GTEST_SKIP() << "python3-open3d not installed";
+  for (const char* module : {"open3d", "cv2"}) {
+    if (std::system(("/usr/bin/python3 -c 'import " + std::string(module) + "' > /dev/null 2>&1").c_str()) != 0) {
+      std::cerr << "\n*** python3 module " << module << " not installed: odometry comparison SKIPPED ***\n\n";
+      GTEST_SKIP() << module << " not installed";
+    }
   }
-  const std::string work = vocal_test::makeTempFolder("open3d");
-  const std::string command = "/usr/bin/python3 " + std::string(VOCAL_SOURCE_DIR) + "/bench/compare_open3d.py " +
+  const std::string work = vocal_test::makeTempFolder("compare_odometry");
+  const std::string command = "/usr/bin/python3 " + std::string(VOCAL_SOURCE_DIR) + "/bench/compare_odometry.py " +
                               folder + " --frames 150 --workdir " + work + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "r");
   ASSERT_TRUE(pipe);
@@ -260,17 +264,23 @@ TEST(ToolsCli, MoreAccurateThanOpen3DOnRealData) {
   for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) output.append(buffer, n);
   ASSERT_EQ(::pclose(pipe), 0) << output;
   std::cout << output;
-  double vocal_rpe = 0, open3d_rpe = 0;
+  std::vector<std::string> columns;
+  std::map<std::string, double> rpe;
   std::istringstream lines(output);
   for (std::string line; std::getline(lines, line);) {
     std::istringstream fields(line);
     std::string name;
     fields >> name;
-    if (name == "rpe_trans_m_per_s") fields >> vocal_rpe >> open3d_rpe;
+    if (name == "metric") {
+      for (std::string column; fields >> column;) columns.push_back(column);
+    } else if (name == "rpe_trans_m_per_s") {
+      for (const std::string& column : columns) fields >> rpe[column];
+    }
   }
-  ASSERT_GT(vocal_rpe, 0.0) << output;
-  ASSERT_GT(open3d_rpe, 0.0) << output;
-  EXPECT_LT(vocal_rpe, open3d_rpe);
+  ASSERT_EQ(columns, (std::vector<std::string>{"vocal", "opencv", "open3d"})) << output;
+  for (const std::string& column : columns) ASSERT_GT(rpe[column], 0.0) << column << "\n" << output;
+  EXPECT_LT(rpe["vocal"], 1.05 * rpe["opencv"]);
+  EXPECT_LT(rpe["vocal"], rpe["open3d"]);
 }
 
 TEST(ToolsCli, SimulateCalibrationPrintsTheComparisonTable) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
@@ -33,52 +34,23 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   has_reference_ = false;
+  residual_level_ = 0.0;
   pose_ = pose;
   pose_covariance_.setZero();
 }
 
-OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
-  frame.validate("odometry frame");
-  if (!frame.color.sameSize(camera_.width, camera_.height)) {
-    std::ostringstream message;
-    message << "odometry frame: images are " << frame.color.width() << "x" << frame.color.height()
-            << " but the camera is " << camera_.width << "x" << camera_.height;
-    throw InputError(message.str());
-  }
-  auto clock = std::chrono::steady_clock::now();
-  backend_->pushFrame(frame);
-  OdometryResult result;
-  result.timings.preprocess_ms = lapMilliseconds(&clock);
-  result.pose = pose_;
-  result.pose_covariance = pose_covariance_;
-  // Each frame's features are extracted once: matched now as the current frame, next time as the
-  // reference.
-  std::shared_ptr<const FrameFeatures> features;
-  if (config_.feature_initialisation) features = extractFrameFeatures(frame, camera_);
-  if (!has_reference_) {
-    result.timings.features_ms = lapMilliseconds(&clock);
-    has_reference_ = true;
-    reference_features_ = features;
-    result.first_frame = true;
-    result.quality.trusted = true;
-    return result;
-  }
+double IcpDvoOdometry::residualLevelOf(const OdometryQuality& quality) const {
+  return config_.mode == OdometryMode::kIcp ? quality.icp_rmse : quality.rgb_rmse;
+}
 
+IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const Eigen::Isometry3d& start) {
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (features && reference_features_) {
-    const FeatureAlignment start = alignFrameFeatures(*reference_features_, *features, camera_);
-    if (start.found) {
-      T = start.reference_from_current;
-      result.quality.feature_inliers = start.inliers;
-    }
-  }
-  reference_features_ = features;
-  result.timings.features_ms = lapMilliseconds(&clock);
+  DenseSolve solve;
+  Eigen::Isometry3d& T = solve.increment;
+  T = start;
   double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
   NormalEquations last_icp, last_rgb;
-  Matrix6d last_A = Matrix6d::Zero();
   double last_count = 0.0;
   int steps = 0;
   for (int level = config_.levels - 1; level >= 0; --level) {
@@ -97,7 +69,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
       const Vector6d b = icp_scale * icp.b + rgb_scale * rgb.b;
       last_icp = icp;
       last_rgb = rgb;
-      last_A = A;
+      solve.information = A;
       last_count = icp.count + rgb.count;
       if (last_count < 6) break;  // nothing to solve at this level
       const Vector6d x = A.ldlt().solve(b);
@@ -109,13 +81,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     }
   }
 
-  OdometryQuality& q = result.quality;
+  OdometryQuality& q = solve.quality;
   q.icp_inliers = static_cast<int>(last_icp.count);
   q.rgb_inliers = static_cast<int>(last_rgb.count);
   q.icp_rmse = last_icp.rmse();
   q.rgb_rmse = last_rgb.rmse();
   q.iterations = steps;
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(last_A, Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(solve.information, Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues()[0], largest = eigen.eigenvalues()[5];
   q.condition = smallest > 0.0 ? largest / smallest : std::numeric_limits<double>::infinity();
   q.weakest_information = last_count > 0.0 ? smallest / last_count : 0.0;
@@ -134,14 +106,102 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     failure << "implausible rotation of " << rotationAngle(T) * 180.0 / M_PI << " deg (> " << config_.max_rotation_deg
             << " deg)";
   }
-  result.failure = failure.str();
-  result.timings.solve_ms = lapMilliseconds(&clock);
+  solve.failure = failure.str();
+  return solve;
+}
+
+bool IcpDvoOdometry::suspicious(const DenseSolve& solve) const {
+  // Without a running level (the first pair) a wrong minimum cannot be told apart: ask the features.
+  if (!solve.failure.empty() || residual_level_ <= 0.0) return true;
+  return residualLevelOf(solve.quality) > config_.feature_fallback_residual_ratio * residual_level_;
+}
+
+OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
+  frame.validate("odometry frame");
+  if (!frame.color.sameSize(camera_.width, camera_.height)) {
+    std::ostringstream message;
+    message << "odometry frame: images are " << frame.color.width() << "x" << frame.color.height()
+            << " but the camera is " << camera_.width << "x" << camera_.height;
+    throw InputError(message.str());
+  }
+  auto clock = std::chrono::steady_clock::now();
+  backend_->pushFrame(frame);
+  OdometryResult result;
+  result.timings.preprocess_ms = lapMilliseconds(&clock);
+  result.pose = pose_;
+  result.pose_covariance = pose_covariance_;
+  const FeatureInitialisation features_mode = config_.feature_initialisation;
+  // Each frame's features are extracted at most once: matched as the current frame, then as the
+  // reference. In fallback mode only when asked for, so the frame is kept until then.
+  std::shared_ptr<const FrameFeatures> features;
+  if (features_mode == FeatureInitialisation::kAlways) features = extractFrameFeatures(frame, camera_);
+  auto keepAsReference = [&] {
+    reference_features_ = features;
+    if (features_mode == FeatureInitialisation::kFallback) reference_frame_ = frame;
+  };
+  if (!has_reference_) {
+    result.timings.features_ms = lapMilliseconds(&clock);
+    has_reference_ = true;
+    keepAsReference();
+    velocity_ = Eigen::Isometry3d::Identity();
+    result.first_frame = true;
+    result.quality.trusted = true;
+    return result;
+  }
+
+  // Features' motion, extracting what is missing; identity when the features do not agree.
+  auto featureStart = [&](OdometryResult* result) -> std::optional<Eigen::Isometry3d> {
+    if (!reference_features_) reference_features_ = extractFrameFeatures(reference_frame_, camera_);
+    if (!features) features = extractFrameFeatures(frame, camera_);
+    const FeatureAlignment alignment = alignFrameFeatures(*reference_features_, *features, camera_);
+    if (!alignment.found) return std::nullopt;
+    result->quality.feature_inliers = alignment.inliers;
+    return alignment.reference_from_current;
+  };
+
+  DenseSolve solve;
+  if (features_mode == FeatureInitialisation::kAlways) {
+    const std::optional<Eigen::Isometry3d> start = featureStart(&result);
+    result.timings.features_ms = lapMilliseconds(&clock);
+    solve = solveFrom(start.value_or(Eigen::Isometry3d::Identity()));
+  } else if (features_mode == FeatureInitialisation::kOff) {
+    solve = solveFrom(Eigen::Isometry3d::Identity());
+  } else {
+    solve = solveFrom(velocity_);
+    if (suspicious(solve)) {
+      result.quality.feature_fallback = true;
+      result.timings.solve_ms = lapMilliseconds(&clock);
+      const std::optional<Eigen::Isometry3d> start = featureStart(&result);
+      result.timings.features_ms = lapMilliseconds(&clock);
+      if (start) {
+        DenseSolve retry = solveFrom(*start);
+        // The retry wins when it passes and the first did not, or both pass and it fits better.
+        if (retry.failure.empty() &&
+            (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality))) {
+          solve = std::move(retry);
+        }
+      }
+    }
+  }
+  keepAsReference();
+  const OdometryQuality fallback_flags = result.quality;
+  result.quality = solve.quality;
+  result.quality.feature_inliers = fallback_flags.feature_inliers;
+  result.quality.feature_fallback = fallback_flags.feature_fallback;
+  result.failure = solve.failure;
+  result.timings.solve_ms += lapMilliseconds(&clock);
   if (!result.failure.empty()) {
+    velocity_ = Eigen::Isometry3d::Identity();
     return result;  // increment stays identity, the pose is not moved
   }
-  q.trusted = true;
+  const Eigen::Isometry3d& T = solve.increment;
+  // The running residual level a wrong minimum stands out from (an average over about ten frames).
+  const double residual = residualLevelOf(solve.quality);
+  residual_level_ = residual_level_ > 0.0 ? 0.9 * residual_level_ + 0.1 * residual : residual;
+  velocity_ = T;
+  result.quality.trusted = true;
   result.increment = T;
-  result.covariance = last_A.inverse();
+  result.covariance = solve.information.inverse();
   // pose_k = pose_{k-1} T: the increment's left perturbation moves into the odometry frame through
   // pose_{k-1}'s adjoint, independent of the errors so far.
   const Matrix6d to_odometry = adjoint(pose_);

@@ -19,6 +19,8 @@ void OdometryConfig::validate() const {
   if (!(icp_max_distance > 0.0)) fail("icp_max_distance must be positive");
   if (!(icp_max_angle_deg > 0.0 && icp_max_angle_deg <= 180.0)) fail("icp_max_angle_deg must be in (0, 180]");
   if (!(rgb_weight >= 0.0 && std::isfinite(rgb_weight))) fail("rgb_weight must be finite and >= 0");
+  if (!(feature_fallback_residual_ratio > 1.0 && std::isfinite(feature_fallback_residual_ratio)))
+    fail("feature_fallback_residual_ratio must be finite and > 1");
   if (!(min_depth >= 0.0 && max_depth > min_depth)) fail("depth range [min_depth, max_depth] is empty");
   if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
   if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
@@ -48,6 +50,14 @@ OdometryBackendKind parseOdometryBackend(const std::string& name) {
   if (name == "reference") return OdometryBackendKind::kReference;
   if (name == "opencl") return OdometryBackendKind::kOpenCl;
   throw InputError("odometry backend '" + name + "' is unknown: expected auto, cpu, reference or opencl");
+}
+
+FeatureInitialisation parseFeatureInitialisation(const std::string& name) {
+  // YAML booleans (the setting's earlier form) read as strings: true = always, false = off.
+  if (name == "always" || name == "true") return FeatureInitialisation::kAlways;
+  if (name == "fallback") return FeatureInitialisation::kFallback;
+  if (name == "off" || name == "false") return FeatureInitialisation::kOff;
+  throw InputError("feature initialisation '" + name + "' is unknown: expected always, fallback or off");
 }
 
 }  // namespace vocal

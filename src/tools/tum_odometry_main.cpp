@@ -21,6 +21,7 @@ const char kUsage[] =
     "  --mode icp|rgb|fused        overrides the config's mode\n"
     "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
     "  --rgb-weight W              overrides the fusion weight of the photometric term\n"
+    "  --features always|fallback|off  overrides the config's feature_initialisation\n"
     "  --frames N                  only the first N associated frames\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
     "  --delta S                   RPE interval (default 1 s)\n"
@@ -34,6 +35,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("mode")) config.mode = vocal::parseOdometryMode(args.text("mode", ""));
   if (args.has("backend")) config.backend = vocal::parseOdometryBackend(args.text("backend", ""));
   config.rgb_weight = args.number("rgb-weight", config.rgb_weight);
+  if (args.has("features")) config.feature_initialisation = vocal::parseFeatureInitialisation(args.text("features", ""));
 
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0]);
   const std::size_t frames = std::min<std::size_t>(sequence.size(), args.integer("frames", static_cast<int>(sequence.size())));
@@ -53,7 +55,7 @@ int run(const vocal::CommandLine& args) {
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
-  int failures = 0;
+  int failures = 0, feature_fallbacks = 0;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
     const vocal::RgbdFrame frame = sequence.loadFrame(i);
@@ -64,6 +66,7 @@ int run(const vocal::CommandLine& args) {
     stage_sums.preprocess_ms += result.timings.preprocess_ms;
     stage_sums.features_ms += result.timings.features_ms;
     stage_sums.solve_ms += result.timings.solve_ms;
+    feature_fallbacks += result.quality.feature_fallback;
     if (!result.quality.trusted) {
       ++failures;
       std::fprintf(stderr, "\nframe %zu (%.6f): tracking not trusted: %s\n", i, frame.stamp, result.failure.c_str());
@@ -71,8 +74,8 @@ int run(const vocal::CommandLine& args) {
     if (args.has("verbose")) {
       const vocal::OdometryQuality& q = result.quality;
       std::fprintf(stderr, "frame %zu: icp %d inliers rmse %.4f m, rgb %d inliers rmse %.4f, %d steps, condition %.3g, "
-                   "weakest information %.3g\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse, q.iterations,
-                   q.condition, q.weakest_information);
+                   "weakest information %.3g%s\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse, q.iterations,
+                   q.condition, q.weakest_information, q.feature_fallback ? ", feature fallback" : "");
     } else if (!quiet) {
       std::fprintf(stderr, "\rframe %zu/%zu", i + 1, frames);
     }
@@ -84,6 +87,8 @@ int run(const vocal::CommandLine& args) {
   const double n = std::max<double>(frames, 1);
   std::printf("preprocess_ms: %.2f\nfeatures_ms: %.2f\nsolve_ms: %.2f\n", stage_sums.preprocess_ms / n,
               stage_sums.features_ms / n, stage_sums.solve_ms / n);
+  if (config.feature_initialisation == vocal::FeatureInitialisation::kFallback)
+    std::printf("feature_fallbacks: %d\n", feature_fallbacks);
   if (sequence.hasGroundTruth()) {
     const double delta = args.number("delta", 1.0);
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(sequence.groundTruth(), trajectory),
@@ -95,6 +100,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "rgb-weight", "frames", "delta"},
+                        {"output", "config", "mode", "backend", "rgb-weight", "features", "frames", "delta"},
                         {"start-from-ground-truth", "quiet", "verbose"}, 1);
 }

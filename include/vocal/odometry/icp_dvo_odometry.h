@@ -26,13 +26,14 @@ struct OdometryQuality {
   double weakest_information = 0.0;  // smallest eigenvalue of the final system per inlier
   bool trusted = false;       // the increment passed every check and was applied
   int feature_inliers = 0;    // features agreeing on the starting motion (0: started from none)
+  bool feature_fallback = false;  // fallback mode: the first solve was suspicious, features were asked
 };
 
 // Wall-clock milliseconds of one track() call per stage.
 struct OdometryTimings {
   double preprocess_ms = 0.0;  // pyramids, maps, gradients (the backend's pushFrame)
   double features_ms = 0.0;    // ORB extraction, matching and PnP (feature initialisation)
-  double solve_ms = 0.0;       // the coarse-to-fine dense solve and the result checks
+  double solve_ms = 0.0;       // the coarse-to-fine dense solve(s) and the result checks
 };
 
 struct OdometryResult {
@@ -70,13 +71,29 @@ class IcpDvoOdometry {
   const OdometryConfig& config() const { return config_; }
 
  private:
+  struct DenseSolve {
+    Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
+    Matrix6d information = Matrix6d::Zero();  // the final fused system's A
+    OdometryQuality quality;
+    std::string failure;  // empty when every check passed
+  };
+  // The coarse-to-fine ICP + DVO solve from `start`, and its checks.
+  DenseSolve solveFrom(const Eigen::Isometry3d& start);
+  // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
+  double residualLevelOf(const OdometryQuality& quality) const;
+  // Failed, or a residual far above the running level: worth a second start from the features.
+  bool suspicious(const DenseSolve& solve) const;
+
   PinholeCamera camera_;
   OdometryConfig config_;
   std::unique_ptr<OdometryBackend> backend_;
   bool has_reference_ = false;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   Matrix6d pose_covariance_ = Matrix6d::Zero();
-  std::shared_ptr<const FrameFeatures> reference_features_;  // for feature initialisation
+  std::shared_ptr<const FrameFeatures> reference_features_;  // for feature initialisation (null: not extracted)
+  RgbdFrame reference_frame_;  // fallback mode: to extract the reference's features when needed
+  Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // the last trusted increment
+  double residual_level_ = 0.0;  // running average of trusted frames' residualLevelOf (0: none yet)
 };
 
 }  // namespace vocal

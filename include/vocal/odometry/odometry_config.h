@@ -10,6 +10,7 @@ namespace vocal {
 
 enum class OdometryMode { kIcp, kRgb, kFused };
 enum class OdometryBackendKind { kAuto, kCpu, kReference, kOpenCl };
+enum class FeatureInitialisation { kAlways, kFallback, kOff };
 
 struct OdometryConfig {
   OdometryMode mode = OdometryMode::kFused;
@@ -42,10 +43,17 @@ struct OdometryConfig {
   // variance of its residuals in that iteration: 1 trusts both by their measured noise.
   double rgb_weight = 3.0;
 
-  // Start each frame's dense solve from the motion ORB features of the two frames agree on, when
-  // enough do (FeatureAlignment): the dense terms converge only within a few centimetres and degrees,
-  // features also find faster motion. Off: every solve starts from no motion.
-  bool feature_initialisation = true;
+  // Where each frame's dense solve starts. The dense terms converge only within a few centimetres and
+  // degrees; ORB features (FeatureAlignment) also find faster motion, at a cost per frame.
+  //  kAlways: from the motion the features of the two frames agree on, when enough do.
+  //  kFallback: from the last motion (constant velocity); the features are extracted and the solve
+  //    repeated from their motion only when that solve fails its checks or its residual is more than
+  //    feature_fallback_residual_ratio times the running level (a wrong minimum).
+  //  kOff: from no motion.
+  // The fallback is the default: on fr1_xyz it asks for features on 16 of 294 frames, and catches the
+  // wrong minima (8x the level) that dropped frames cause (docs/benchmarks.md).
+  FeatureInitialisation feature_initialisation = FeatureInitialisation::kFallback;
+  double feature_fallback_residual_ratio = 2.0;
 
   // Depth outside this range is treated as missing.
   double min_depth = 0.3;
@@ -74,5 +82,6 @@ struct OdometryConfig {
 OdometryMode parseOdometryMode(const std::string& name);         // icp, rgb, fused
 std::string odometryModeName(OdometryMode mode);
 OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, reference, opencl
+FeatureInitialisation parseFeatureInitialisation(const std::string& name);  // always, fallback, off
 
 }  // namespace vocal

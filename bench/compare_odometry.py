@@ -1,13 +1,14 @@
 #!/usr/bin/python3
-"""Runs vocal and Open3D's RGB-D odometry (hybrid term) on the same TUM-layout frames and prints accuracy
-and speed of both side by side.
+"""Runs vocal, OpenCV's RgbdICPOdometry (rgbd module) and Open3D's RGB-D odometry (hybrid term) on the same
+TUM-layout frames and prints accuracy and speed side by side.
 
-  bench/compare_open3d.py TUM_FOLDER [--frames N] [--vocal-args "..."]
+  bench/compare_odometry.py TUM_FOLDER [--frames N] [--vocal-args "..."]
 
-Both run frame to frame with a 3-level pyramid and the same iterations (vocal's 10/5/4 from fine to
-coarse), the same intrinsics, depth range and depth-difference threshold. Frames per second count the
-estimator only (image loading excluded), on whatever this machine offers (both use every core).
-Accuracy comes from vocal's evaluate_trajectory for both trajectories.
+All run frame to frame with a 3-level pyramid and the same iterations (vocal's 10/5/4 from fine to
+coarse), the same intrinsics, depth range and depth-difference threshold; everything else at each
+library's defaults. Frames per second count the estimator only (image loading excluded), on whatever
+this machine offers (each uses the cores it uses by default). Accuracy comes from vocal's
+evaluate_trajectory for every trajectory. A library that is not installed is said so and left out.
 """
 import argparse
 import os
@@ -21,7 +22,11 @@ import numpy as np
 try:
     import open3d as o3d
 except ImportError:
-    sys.exit("compare_open3d: python3-open3d is not installed (apt-get install python3-open3d)")
+    o3d = None
+try:
+    import cv2
+except ImportError:
+    cv2 = None
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOOLS = os.path.join(HERE, "..", "devel", "lib", "vocal")
@@ -68,10 +73,54 @@ def intrinsics(folder):
     return 640, 480, 525.0, 525.0, 319.5, 239.5
 
 
-def run_open3d(folder, frames, output):
+def frame_pairs(folder, frames):
     rgb = read_list(os.path.join(folder, "rgb.txt"))
     depth = read_list(os.path.join(folder, "depth.txt"))
-    pairs = associate(rgb, depth)[:frames]
+    return rgb, depth, associate(rgb, depth)[:frames]
+
+
+def write_trajectory(output, stamps, poses):
+    lines = ["%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f" % (stamp, *pose[:3, 3], *quaternion(pose[:3, :3]))
+             for stamp, pose in zip(stamps, poses)]
+    with open(output, "w") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw\n" + "\n".join(lines) + "\n")
+
+
+def run_opencv(folder, frames, output):
+    rgb, depth, pairs = frame_pairs(folder, frames)
+    _, _, fx, fy, cx, cy = intrinsics(folder)
+    camera = np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]], dtype=np.float64)
+    odometry = cv2.rgbd.RgbdICPOdometry_create(
+        cameraMatrix=camera, minDepth=0.3, maxDepth=6.0, maxDepthDiff=0.07,
+        iterCounts=np.array(ITERATIONS_COARSE_TO_FINE[::-1], dtype=np.int32),
+        transformType=cv2.rgbd.Odometry_RIGID_BODY_MOTION)
+    pose = np.eye(4)
+    previous = None
+    seconds = 0.0
+    failures = 0
+    stamps, poses = [], []
+    for i, j in pairs:
+        grey = cv2.imread(os.path.join(folder, rgb[i][1]), cv2.IMREAD_GRAYSCALE)
+        metres = cv2.imread(os.path.join(folder, depth[j][1]), cv2.IMREAD_UNCHANGED).astype(np.float32) / 5000.0
+        current = (grey, metres)
+        if previous is not None:
+            start = time.perf_counter()
+            # source = current, destination = previous: Rt maps current points into the previous frame.
+            success, transform = odometry.compute(current[0], current[1], None, previous[0], previous[1], None)
+            seconds += time.perf_counter() - start
+            if success:
+                pose = pose @ transform
+            else:
+                failures += 1
+        previous = current
+        stamps.append(rgb[i][0])
+        poses.append(pose.copy())
+    write_trajectory(output, stamps, poses)
+    return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
+
+
+def run_open3d(folder, frames, output):
+    rgb, depth, pairs = frame_pairs(folder, frames)
     width, height, fx, fy, cx, cy = intrinsics(folder)
     camera = o3d.camera.PinholeCameraIntrinsic(width, height, fx, fy, cx, cy)
     option = o3d.pipelines.odometry.OdometryOption(
@@ -82,7 +131,7 @@ def run_open3d(folder, frames, output):
     previous = None
     seconds = 0.0
     failures = 0
-    lines = []
+    stamps, poses = [], []
     for i, j in pairs:
         color = o3d.io.read_image(os.path.join(folder, rgb[i][1]))
         depth_image = o3d.io.read_image(os.path.join(folder, depth[j][1]))
@@ -99,10 +148,9 @@ def run_open3d(folder, frames, output):
             else:
                 failures += 1
         previous = current
-        q = quaternion(pose[:3, :3])
-        lines.append("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f" % (rgb[i][0], *pose[:3, 3], *q))
-    with open(output, "w") as f:
-        f.write("# timestamp tx ty tz qx qy qz qw\n" + "\n".join(lines) + "\n")
+        stamps.append(rgb[i][0])
+        poses.append(pose.copy())
+    write_trajectory(output, stamps, poses)
     return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
 
 
@@ -126,6 +174,15 @@ def metrics(output):
     return values
 
 
+def evaluate(ground_truth, trajectory, fps, failures):
+    evaluation = subprocess.run([os.path.join(TOOLS, "evaluate_trajectory"), ground_truth, trajectory],
+                                capture_output=True, text=True, check=True)
+    values = metrics(evaluation.stdout)
+    values["frames_per_second"] = fps
+    values["tracking_failures"] = failures
+    return values
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder")
@@ -135,30 +192,39 @@ def main():
     args = parser.parse_args()
     ground_truth = os.path.join(args.folder, "groundtruth.txt")
     if not os.path.exists(ground_truth):
-        sys.exit(f"compare_open3d: {ground_truth} is missing: accuracy needs ground truth")
+        sys.exit(f"compare_odometry: {ground_truth} is missing: accuracy needs ground truth")
 
     vocal_trajectory = os.path.join(args.workdir, "vocal_trajectory.txt")
     command = [os.path.join(TOOLS, "tum_odometry"), args.folder, "--output", vocal_trajectory, "--quiet",
                "--frames", str(args.frames)] + args.vocal_args.split()
     vocal_run = subprocess.run(command, capture_output=True, text=True)
     if vocal_run.returncode != 0:
-        sys.exit("compare_open3d: tum_odometry failed:\n" + vocal_run.stderr)
-    vocal = metrics(vocal_run.stdout)
+        sys.exit("compare_odometry: tum_odometry failed:\n" + vocal_run.stderr)
+    columns = {"vocal": metrics(vocal_run.stdout)}
     backend = re.search(r"backend (.*)", vocal_run.stderr)
+    frames = int(columns["vocal"].get("frames", 0))
+    described = [f"vocal: {backend.group(1) if backend else '?'}"]
 
-    open3d_trajectory = os.path.join(args.workdir, "open3d_trajectory.txt")
-    frames, open3d_fps, open3d_failures = run_open3d(args.folder, args.frames, open3d_trajectory)
-    evaluation = subprocess.run([os.path.join(TOOLS, "evaluate_trajectory"), ground_truth, open3d_trajectory],
-                                capture_output=True, text=True, check=True)
-    open3d = metrics(evaluation.stdout)
-    open3d["frames_per_second"] = open3d_fps
-    open3d["tracking_failures"] = open3d_failures
+    if cv2 is None:
+        print("*** python3-opencv is not installed (apt-get install python3-opencv): OpenCV left out ***")
+    else:
+        trajectory = os.path.join(args.workdir, "opencv_trajectory.txt")
+        frames, fps, failures = run_opencv(args.folder, args.frames, trajectory)
+        columns["opencv"] = evaluate(ground_truth, trajectory, fps, failures)
+        described.append(f"opencv: {cv2.__version__} rgbd.RgbdICPOdometry")
+    if o3d is None:
+        print("*** python3-open3d is not installed (apt-get install python3-open3d): Open3D left out ***")
+    else:
+        trajectory = os.path.join(args.workdir, "open3d_trajectory.txt")
+        frames, fps, failures = run_open3d(args.folder, args.frames, trajectory)
+        columns["open3d"] = evaluate(ground_truth, trajectory, fps, failures)
+        described.append(f"open3d: {o3d.__version__} hybrid term")
 
     print(f"sequence: {args.folder} ({frames} frames)")
-    print(f"vocal backend: {backend.group(1) if backend else '?'}; Open3D {o3d.__version__} hybrid term")
-    print(f"{'metric':<22}{'vocal':>12}{'open3d':>12}")
+    print("; ".join(described))
+    print(f"{'metric':<22}" + "".join(f"{name:>12}" for name in columns))
     for key in ["frames_per_second", "ate_rmse_m", "rpe_trans_m_per_s", "rpe_rot_deg_per_s", "tracking_failures"]:
-        print(f"{key:<22}{vocal.get(key, float('nan')):>12.4f}{open3d.get(key, float('nan')):>12.4f}")
+        print(f"{key:<22}" + "".join(f"{values.get(key, float('nan')):>12.4f}" for values in columns.values()))
 
 
 if __name__ == "__main__":
