@@ -12,9 +12,6 @@
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
-#include <rosbag/bag.h>
-#include <sensor_msgs/CameraInfo.h>
-#include <sensor_msgs/Image.h>
 #include <yaml-cpp/yaml.h>
 
 #include "test_support.h"
@@ -22,7 +19,7 @@
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/core/tum_sequence.h"
 #include "vocal/core/tum_trajectory.h"
-#include "vocal/nodelets/message_conversions.h"
+#include "vocal/tools/tum_bag_writer.h"
 
 namespace {
 struct RunResult {
@@ -134,28 +131,14 @@ double largestDifference(const vocal::Trajectory& a, const vocal::Trajectory& b)
   return worst;
 }
 
-// A recording as openni2_launch publishes it: bgr8 colour, 16UC1 millimetre depth registered to it,
-// the colour camera_info; `with` picks which of the three streams are written.
+// A recording as openni2_launch publishes it (bgr8 colour, 16UC1 millimetre depth registered to it),
+// with the depth or the camera_info streams left out when asked.
 void writeOpenNi2Bag(const vocal::TumSequence& sequence, const std::string& path, bool with_depth, bool with_info) {
-  rosbag::Bag bag(path, rosbag::bagmode::Write);
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
-    const vocal::RgbdFrame frame = sequence.loadFrame(i);
-    const ros::Time t(frame.stamp);
-    sensor_msgs::Image rgb = vocal::toRgb8Image(frame.color, "camera_rgb_optical_frame", t);
-    rgb.encoding = "bgr8";
-    for (std::size_t k = 0; k + 2 < rgb.data.size(); k += 3) std::swap(rgb.data[k], rgb.data[k + 2]);
-    sensor_msgs::Image depth;
-    depth.header = rgb.header;
-    depth.width = rgb.width, depth.height = rgb.height, depth.encoding = "16UC1", depth.step = 2 * rgb.width;
-    depth.data.resize(depth.step * depth.height);
-    for (std::size_t p = 0; p < frame.depth.size(); ++p) {
-      const std::uint16_t mm = static_cast<std::uint16_t>(std::lround(frame.depth.pixels()[p] * 1000.0f));
-      std::memcpy(&depth.data[2 * p], &mm, 2);
-    }
-    bag.write("/camera/rgb/image_rect_color", t, rgb);
-    if (with_depth) bag.write("/camera/depth_registered/image_raw", t, depth);
-    if (with_info) bag.write("/camera/rgb/camera_info", t, vocal::toCameraInfo(sequence.camera(), "camera_rgb_optical_frame", t));
-  }
+  vocal::TumBagOptions options;
+  options.layout = vocal::BagLayout::kOpenNi2;
+  options.without_depth = !with_depth;
+  options.without_camera_info = !with_info;
+  vocal::writeTumBag(sequence, path, options);
 }
 
 TEST(ToolsCli, BagOdometryReadsTumAndOpenNi2Bags) {
@@ -184,8 +167,8 @@ TEST(ToolsCli, BagOdometryReadsTumAndOpenNi2Bags) {
 
   // openni2_launch's topics (the defaults), bgr8 and 16UC1: depth in whole millimetres moves the
   // estimate a little, not away from the truth.
-  const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
-  writeOpenNi2Bag(sequence, folder + "/openni2.bag", true, true);
+  r = runTool("tum_to_bag " + folder + "/seq " + folder + "/openni2.bag --layout openni2 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   r = runTool("bag_odometry " + folder + "/openni2.bag --output " + folder + "/openni2.txt --groundtruth " + folder +
               "/seq/groundtruth.txt --delta 0.3 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -206,7 +189,7 @@ TEST(ToolsCli, BagOdometryNamesAMissingStreamAndWritesNothing) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "bag_odometry: error: " + folder + "/no_depth.bag: no messages on /camera/depth_registered/image_raw "
             "(sensor_msgs/Image); the bag has: /camera/rgb/camera_info [sensor_msgs/CameraInfo] "
-            "/camera/rgb/image_rect_color [sensor_msgs/Image]\n");
+            "/camera/rgb/image_rect_color [sensor_msgs/Image] /tf_static [tf2_msgs/TFMessage]\n");
   r = runTool("bag_odometry " + folder + "/no_info.bag --output " + output + " --quiet");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("no messages on /camera/rgb/camera_info (sensor_msgs/CameraInfo)"), std::string::npos) << r.output;

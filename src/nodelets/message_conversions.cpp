@@ -49,6 +49,15 @@ sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame
   return msg;
 }
 
+sensor_msgs::Image toBgr8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::Image msg = emptyImage(image.width(), image.height(), sensor_msgs::image_encodings::BGR8, 3, frame_id, stamp);
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    const Rgb8& p = image.pixels()[i];
+    msg.data[3 * i] = p.b, msg.data[3 * i + 1] = p.g, msg.data[3 * i + 2] = p.r;
+  }
+  return msg;
+}
+
 sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
   sensor_msgs::Image msg = emptyImage(image.width(), image.height(), sensor_msgs::image_encodings::MONO8, 1, frame_id, stamp);
   for (std::size_t i = 0; i < image.size(); ++i) msg.data[i] = luma8(image.pixels()[i]);
@@ -61,6 +70,17 @@ sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& f
   float* out = reinterpret_cast<float*>(msg.data.data());
   for (std::size_t i = 0; i < depth.size(); ++i) {
     out[i] = isValidDepth(depth.pixels()[i]) ? depth.pixels()[i] : std::numeric_limits<float>::quiet_NaN();
+  }
+  return msg;
+}
+
+sensor_msgs::Image toDepth16UImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::Image msg =
+      emptyImage(depth.width(), depth.height(), sensor_msgs::image_encodings::TYPE_16UC1, 2, frame_id, stamp);
+  std::uint16_t* out = reinterpret_cast<std::uint16_t*>(msg.data.data());
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    const float z = depth.pixels()[i];
+    out[i] = isValidDepth(z) && z < 65.5f ? static_cast<std::uint16_t>(std::lround(z * 1000.0f)) : 0;
   }
   return msg;
 }

@@ -8,9 +8,89 @@
 
 namespace vocal {
 
-TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_path,
-                          const std::function<void(std::size_t, std::size_t)>& progress) {
+namespace {
+// /tf_static is latched: a custom connection header replaces rosbag's own, so it carries the type too.
+void writeStaticTransforms(rosbag::Bag* bag, const tf2_msgs::TFMessage& transforms, const ros::Time& stamp) {
+  auto latched = boost::make_shared<ros::M_string>();
+  (*latched)["type"] = ros::message_traits::DataType<tf2_msgs::TFMessage>::value();
+  (*latched)["md5sum"] = ros::message_traits::MD5Sum<tf2_msgs::TFMessage>::value();
+  (*latched)["message_definition"] = ros::message_traits::Definition<tf2_msgs::TFMessage>::value();
+  (*latched)["latching"] = "1";
+  (*latched)["callerid"] = "/vocal_tum_to_bag";
+  bag->write("/tf_static", stamp, transforms, latched);
+}
+
+// What differs between the layouts: topics, frames, encodings and the static transforms.
+struct LayoutSpec {
+  const char *rgb_image, *rgb_info, *depth_image, *depth_info, *rgb_frame, *depth_frame;
+  sensor_msgs::Image (*color)(const ColorImage&, const std::string&, const ros::Time&);
+  sensor_msgs::Image (*depth)(const DepthImage&, const std::string&, const ros::Time&);
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> static_transforms;  // parent -> child frame
+  const char* static_parent;
+};
+
+LayoutSpec layoutSpec(BagLayout layout) {
+  if (layout == BagLayout::kTum) {
+    using T = TumBagTopics;
+    return {T::kRgbImage, T::kRgbInfo, T::kDepthImage, T::kDepthInfo, T::kRgbFrame, T::kDepthFrame,
+            &toRgb8Image, &toDepth32FImage,
+            {{T::kRgbFrame, Eigen::Isometry3d::Identity()}, {T::kDepthFrame, Eigen::Isometry3d::Identity()}},
+            T::kCameraFrame};
+  }
+  using T = OpenNi2BagTopics;
+  // REP-103: the optical frame looks along z with x right and y down; camera_link has x forward, z up.
+  Eigen::Isometry3d link_from_optical = Eigen::Isometry3d::Identity();
+  link_from_optical.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  return {T::kRgbImage, T::kRgbInfo, T::kDepthImage, T::kDepthInfo, T::kOpticalFrame, T::kOpticalFrame,
+          &toBgr8Image, &toDepth16UImage, {{T::kOpticalFrame, link_from_optical}}, T::kCameraFrame};
+}
+
+void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosbag::Bag* bag,
+                 const std::function<void(std::size_t, std::size_t)>& progress, TumBagSummary* summary) {
+  const LayoutSpec spec = layoutSpec(options.layout);
+  const PinholeCamera& camera = sequence.camera();
+  const ros::Time first_stamp(sequence.entry(0).rgb.stamp);
+  tf2_msgs::TFMessage static_transforms;
+  for (const auto& [child, parent_from_child] : spec.static_transforms)
+    static_transforms.transforms.push_back(toTransformStamped(parent_from_child, spec.static_parent, child, first_stamp));
+  writeStaticTransforms(bag, static_transforms, first_stamp);
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    const TumFrameEntry& entry = sequence.entry(i);
+    const RgbdFrame frame = sequence.loadFrame(i);
+    const ros::Time rgb_stamp(entry.rgb.stamp), depth_stamp(entry.depth.stamp);
+    bag->write(spec.rgb_image, rgb_stamp, spec.color(frame.color, spec.rgb_frame, rgb_stamp));
+    if (!options.without_camera_info) bag->write(spec.rgb_info, rgb_stamp, toCameraInfo(camera, spec.rgb_frame, rgb_stamp));
+    if (!options.without_depth) {
+      bag->write(spec.depth_image, depth_stamp, spec.depth(frame.depth, spec.depth_frame, depth_stamp));
+      if (!options.without_camera_info)
+        bag->write(spec.depth_info, depth_stamp, toCameraInfo(camera, spec.depth_frame, depth_stamp));
+    }
+    ++summary->frames;
+    if (progress) progress(i + 1, sequence.size());
+  }
+}
+
+// The TUM layout carries the ground truth as world -> kinect transforms (a real recording has none).
+void writeGroundTruth(const TumSequence& sequence, rosbag::Bag* bag, TumBagSummary* summary) {
   using T = TumBagTopics;
+  for (const StampedPose& pose : sequence.groundTruth()) {
+    const ros::Time stamp(pose.stamp);
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(toTransformStamped(pose.pose, T::kWorldFrame, T::kCameraFrame, stamp));
+    bag->write("/tf", stamp, tf);
+    ++summary->ground_truth_poses;
+  }
+}
+}  // namespace
+
+BagLayout parseBagLayout(const std::string& name) {
+  if (name == "tum") return BagLayout::kTum;
+  if (name == "openni2") return BagLayout::kOpenNi2;
+  throw InputError("bag layout '" + name + "' is unknown: expected tum or openni2");
+}
+
+TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_path, const TumBagOptions& options,
+                          const std::function<void(std::size_t, std::size_t)>& progress) {
   rosbag::Bag bag;
   try {
     bag.open(bag_path, rosbag::bagmode::Write);
@@ -19,42 +99,8 @@ TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_pa
   }
   TumBagSummary summary;
   try {
-    const PinholeCamera& camera = sequence.camera();
-    const ros::Time first_stamp(sequence.entry(0).rgb.stamp);
-
-    tf2_msgs::TFMessage static_transforms;
-    static_transforms.transforms.push_back(
-        toTransformStamped(Eigen::Isometry3d::Identity(), T::kCameraFrame, T::kRgbFrame, first_stamp));
-    static_transforms.transforms.push_back(
-        toTransformStamped(Eigen::Isometry3d::Identity(), T::kCameraFrame, T::kDepthFrame, first_stamp));
-    // A custom connection header replaces rosbag's own, so it must carry the message type too.
-    using StaticTraits = ros::message_traits::DataType<tf2_msgs::TFMessage>;
-    auto latched = boost::make_shared<ros::M_string>();
-    (*latched)["type"] = StaticTraits::value();
-    (*latched)["md5sum"] = ros::message_traits::MD5Sum<tf2_msgs::TFMessage>::value();
-    (*latched)["message_definition"] = ros::message_traits::Definition<tf2_msgs::TFMessage>::value();
-    (*latched)["latching"] = "1";
-    (*latched)["callerid"] = "/vocal_tum_to_bag";
-    bag.write("/tf_static", first_stamp, static_transforms, latched);
-
-    for (std::size_t i = 0; i < sequence.size(); ++i) {
-      const TumFrameEntry& entry = sequence.entry(i);
-      const RgbdFrame frame = sequence.loadFrame(i);
-      const ros::Time rgb_stamp(entry.rgb.stamp), depth_stamp(entry.depth.stamp);
-      bag.write(T::kRgbImage, rgb_stamp, toRgb8Image(frame.color, T::kRgbFrame, rgb_stamp));
-      bag.write(T::kRgbInfo, rgb_stamp, toCameraInfo(camera, T::kRgbFrame, rgb_stamp));
-      bag.write(T::kDepthImage, depth_stamp, toDepth32FImage(frame.depth, T::kDepthFrame, depth_stamp));
-      bag.write(T::kDepthInfo, depth_stamp, toCameraInfo(camera, T::kDepthFrame, depth_stamp));
-      ++summary.frames;
-      if (progress) progress(i + 1, sequence.size());
-    }
-    for (const StampedPose& pose : sequence.groundTruth()) {
-      const ros::Time stamp(pose.stamp);
-      tf2_msgs::TFMessage tf;
-      tf.transforms.push_back(toTransformStamped(pose.pose, T::kWorldFrame, T::kCameraFrame, stamp));
-      bag.write("/tf", stamp, tf);
-      ++summary.ground_truth_poses;
-    }
+    writeFrames(sequence, options, &bag, progress, &summary);
+    if (options.layout == BagLayout::kTum) writeGroundTruth(sequence, &bag, &summary);
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": write failed (" + e.what() + ")");
   }

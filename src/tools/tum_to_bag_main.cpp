@@ -1,4 +1,5 @@
-// tum_to_bag TUM_FOLDER OUTPUT.bag: a TUM-layout folder as a bag in the benchmark's own bag layout.
+// tum_to_bag TUM_FOLDER OUTPUT.bag: a TUM-layout folder as a bag in the benchmark's own bag layout, or
+// as openni2_launch would have recorded it.
 
 #include <cstdio>
 
@@ -7,21 +8,25 @@
 
 namespace {
 const char kUsage[] =
-    "usage: tum_to_bag TUM_FOLDER OUTPUT.bag [--max-difference S] [--quiet]\n"
-    "  topics: /camera/rgb/image_color (rgb8), /camera/depth/image (32FC1 m), /camera/rgb/camera_info,\n"
-    "          /camera/depth/camera_info, /tf world -> kinect (ground truth), /tf_static\n";
+    "usage: tum_to_bag TUM_FOLDER OUTPUT.bag [--layout tum|openni2] [--max-difference S] [--quiet]\n"
+    "  tum (default): /camera/rgb/image_color (rgb8), /camera/depth/image (32FC1 m), /camera/rgb/camera_info,\n"
+    "          /camera/depth/camera_info, /tf world -> kinect (ground truth), /tf_static\n"
+    "  openni2: /camera/rgb/image_rect_color (bgr8), /camera/depth_registered/image_raw (16UC1 mm),\n"
+    "          /camera/rgb/camera_info, /camera/depth_registered/camera_info, /tf_static (no ground truth)\n";
 
 int run(const vocal::CommandLine& args) {
   vocal::TumSequenceOptions options;
   options.max_time_difference = args.number("max-difference", options.max_time_difference);
+  vocal::TumBagOptions bag_options;
+  if (args.has("layout")) bag_options.layout = vocal::parseBagLayout(args.text("layout", ""));
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0], options);
   std::fprintf(stderr, "%zu associated frames, intrinsics from %s\n", sequence.size(), sequence.cameraSource().c_str());
-  if (!sequence.hasGroundTruth()) {
+  if (!sequence.hasGroundTruth() && bag_options.layout == vocal::BagLayout::kTum) {
     std::fprintf(stderr, "no groundtruth.txt: the bag will have no world -> kinect transforms\n");
   }
   const bool quiet = args.has("quiet");
   const vocal::TumBagSummary summary =
-      vocal::writeTumBag(sequence, args.positional()[1], [quiet](std::size_t done, std::size_t total) {
+      vocal::writeTumBag(sequence, args.positional()[1], bag_options, [quiet](std::size_t done, std::size_t total) {
         if (!quiet) std::fprintf(stderr, "\rwriting frame %zu/%zu", done, total);
       });
   if (!quiet) std::fprintf(stderr, "\n");
@@ -32,5 +37,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("tum_to_bag", kUsage, run, argc, argv, {"max-difference"}, {"quiet"}, 2);
+  return vocal::runTool("tum_to_bag", kUsage, run, argc, argv, {"layout", "max-difference"}, {"quiet"}, 2);
 }

@@ -20,10 +20,14 @@ namespace vocal {
 
 sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp);
 sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
+// bgr8: what openni2_camera publishes for colour.
+sensor_msgs::Image toBgr8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // mono8: the colour image's luma (ITU-R BT.601), as monochrome camera drivers publish.
 sensor_msgs::Image toMono8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // 32FC1 metres with NaN where there is no measurement (the TUM bags' and REP-118's convention).
 sensor_msgs::Image toDepth32FImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp);
+// 16UC1 whole millimetres with 0 where there is no measurement (openni2_camera's raw depth).
+sensor_msgs::Image toDepth16UImage(const DepthImage& depth, const std::string& frame_id, const ros::Time& stamp);
 // x, y, z float32 and rgb packed into a float32 (PCL's PointXYZRGB layout, what rviz colours by).
 sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, const std::string& frame_id,
                                        const ros::Time& stamp);

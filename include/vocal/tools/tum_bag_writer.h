@@ -1,11 +1,16 @@
 #pragma once
-// Writes a TUM-layout folder as a rosbag in the TUM benchmark's own bag layout, so ROS tests and users
-// can play real or synthetic sequences:
+// Writes a TUM-layout folder as a rosbag, so ROS tests and users can play real or synthetic sequences.
+// The TUM benchmark's own bag layout:
 //   /camera/rgb/image_color   sensor_msgs/Image rgb8          frame openni_rgb_optical_frame
 //   /camera/depth/image       sensor_msgs/Image 32FC1 metres  frame openni_depth_optical_frame (NaN = none)
 //   /camera/rgb/camera_info, /camera/depth/camera_info (depth is registered: same intrinsics)
 //   /tf        world -> kinect at every ground-truth stamp (kinect = the optical centre)
 //   /tf_static kinect -> openni_rgb_optical_frame and openni_depth_optical_frame (identity), latched
+// or what openni2_launch records from a Kinect / Xtion with depth registration on:
+//   /camera/rgb/image_rect_color         bgr8                     frame camera_rgb_optical_frame
+//   /camera/depth_registered/image_raw   16UC1 millimetres (0 = none), the same frame
+//   /camera/rgb/camera_info, /camera/depth_registered/camera_info
+//   /tf_static camera_link -> camera_rgb_optical_frame (REP-103 optical axes), latched; no ground truth
 
 #include <cstddef>
 #include <functional>
@@ -26,13 +31,33 @@ struct TumBagTopics {
   static constexpr const char* kCameraFrame = "kinect";
 };
 
+struct OpenNi2BagTopics {
+  static constexpr const char* kRgbImage = "/camera/rgb/image_rect_color";
+  static constexpr const char* kRgbInfo = "/camera/rgb/camera_info";
+  static constexpr const char* kDepthImage = "/camera/depth_registered/image_raw";
+  static constexpr const char* kDepthInfo = "/camera/depth_registered/camera_info";
+  static constexpr const char* kOpticalFrame = "camera_rgb_optical_frame";
+  static constexpr const char* kCameraFrame = "camera_link";
+};
+
+enum class BagLayout { kTum, kOpenNi2 };
+
+struct TumBagOptions {
+  BagLayout layout = BagLayout::kTum;
+  // Streams to leave out (recordings with a stream missing, for tests of the readers' errors).
+  bool without_depth = false;
+  bool without_camera_info = false;
+};
+
 struct TumBagSummary {
   std::size_t frames = 0;             // associated rgb + depth pairs written
   std::size_t ground_truth_poses = 0; // /tf messages
 };
 
 // Throws InputError naming the bag if it cannot be written, or the image that cannot be read.
-TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_path,
+TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_path, const TumBagOptions& options = {},
                           const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
+BagLayout parseBagLayout(const std::string& name);  // tum, openni2
 
 }  // namespace vocal

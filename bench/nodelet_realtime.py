@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""Plays a recording in real time into the IcpDvoOdometry nodelet, as a robot's camera would feed it, and
+compares what it published with bag_odometry's offline run of the same recording.
+
+  bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P]
+
+1. tum_to_bag --layout openni2: the frames as openni2_launch records them (bgr8 on
+   /camera/rgb/image_rect_color, 16UC1 millimetres on /camera/depth_registered/image_raw, camera_info).
+2. bag_odometry on that bag (every frame, as fast as it goes): the offline trajectory.
+3. roslaunch vocal odometry.launch (its own master on --port), rosbag record of /odom, /diagnostics and,
+   unless --no-clouds, the current and fused clouds (subscribers make the nodelet build them), then
+   rosbag play at --rate (1 = real time).
+4. Prints the share of frames with odometry, RPE / ATE of both trajectories against the ground truth and
+   the nodelet's last diagnostics (skipped frames, per-stage means).
+"""
+import argparse
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.join(HERE, "..")
+TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
+
+try:
+    import rosbag
+except ImportError:
+    sys.exit("nodelet_realtime: python3-rosbag is not installed (scripts/install_dependencies)")
+
+
+def metrics(text):
+    values = {}
+    for line in text.splitlines():
+        match = re.match(r"^(\w+): ([-0-9.e+]+)$", line.strip())
+        if match:
+            values[match.group(1)] = float(match.group(2))
+    return values
+
+
+def run(command, what, **kwargs):
+    result = subprocess.run(command, capture_output=True, text=True, **kwargs)
+    if result.returncode != 0:
+        sys.exit(f"nodelet_realtime: {what} failed:\n{result.stdout}{result.stderr}")
+    return result
+
+
+def ros_environment(port):
+    env = dict(os.environ)
+    env["ROS_MASTER_URI"] = f"http://localhost:{port}"
+    env["PATH"] = "/usr/bin:/bin:" + env.get("PATH", "")
+    setup = subprocess.run(["bash", "-c", f"source {ROOT}/devel/setup.bash && env"], capture_output=True, text=True,
+                           env=env, check=True)
+    for line in setup.stdout.splitlines():
+        key, _, value = line.partition("=")
+        if key in ("ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH", "PYTHONPATH", "ROSLISP_PACKAGE_PATH",
+                   "PKG_CONFIG_PATH", "ROS_ROOT", "ROS_ETC_DIR", "ROS_DISTRO", "ROS_VERSION", "ROS_PYTHON_VERSION"):
+            env[key] = value
+    return env
+
+
+def wait_for_topic(env, topic, seconds):
+    deadline = time.time() + seconds
+    while time.time() < deadline:
+        listed = subprocess.run(["rostopic", "list"], capture_output=True, text=True, env=env)
+        if topic in listed.stdout.split():
+            return True
+        time.sleep(0.5)
+    return False
+
+
+def stop(process):
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+
+
+def write_trajectory(path, poses):
+    with open(path, "w") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw\n")
+        for stamp, p, q in poses:
+            f.write("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n" % (stamp, p.x, p.y, p.z, q.x, q.y, q.z, q.w))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("folder")
+    parser.add_argument("--rate", type=float, default=1.0, help="rosbag play rate (1 = real time)")
+    parser.add_argument("--workdir", default="/tmp/vocal_nodelet_realtime")
+    parser.add_argument("--no-clouds", action="store_true", help="nobody subscribes to the clouds")
+    parser.add_argument("--port", type=int, default=11417, help="port of the ROS master this run starts")
+    args = parser.parse_args()
+    ground_truth = os.path.join(args.folder, "groundtruth.txt")
+    if not os.path.exists(ground_truth):
+        sys.exit(f"nodelet_realtime: {ground_truth} is missing: accuracy needs ground truth")
+    os.makedirs(args.workdir, exist_ok=True)
+    bag = os.path.join(args.workdir, "openni2.bag")
+    run([os.path.join(TOOLS, "tum_to_bag"), args.folder, bag, "--layout", "openni2", "--quiet"], "tum_to_bag")
+    offline_trajectory = os.path.join(args.workdir, "bag_odometry.txt")
+    offline = metrics(run([os.path.join(TOOLS, "bag_odometry"), bag, "--output", offline_trajectory, "--groundtruth",
+                           ground_truth, "--quiet"], "bag_odometry").stdout)
+
+    env = ros_environment(args.port)
+    record_bag = os.path.join(args.workdir, "nodelet_output.bag")
+    topics = ["/odom", "/diagnostics"] + ([] if args.no_clouds else ["/cloud", "/fused_cloud"])
+    launch_log = open(os.path.join(args.workdir, "roslaunch.log"), "w")
+    launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"], env=env,
+                              stdout=launch_log, stderr=subprocess.STDOUT)
+    recorder = None
+    try:
+        if not wait_for_topic(env, "/odom", 60):
+            sys.exit("nodelet_realtime: the nodelet did not advertise /odom within 60 s")
+        recorder = subprocess.Popen(["rosbag", "record", "-O", record_bag] + topics, env=env,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(3.0)  # the recorder's subscriptions reach the nodelet
+        run(["rosbag", "play", "--quiet", "--rate", str(args.rate), bag], "rosbag play", env=env)
+        time.sleep(3.0)  # the last frame's odometry and a diagnostics update
+    finally:
+        if recorder:
+            stop(recorder)
+        stop(launch)
+
+    poses, diagnostics, clouds = [], None, 0
+    with rosbag.Bag(record_bag) as recorded:
+        for topic, msg, _ in recorded.read_messages():
+            if topic == "/odom":
+                poses.append((msg.header.stamp.to_sec(), msg.pose.pose.position, msg.pose.pose.orientation))
+            elif topic == "/cloud":
+                clouds += 1
+            elif topic == "/diagnostics":
+                for status in msg.status:
+                    if "odometry" in status.name:
+                        diagnostics = {kv.key: kv.value for kv in status.values}
+    nodelet_trajectory = os.path.join(args.workdir, "nodelet.txt")
+    write_trajectory(nodelet_trajectory, poses)
+    online = metrics(run([os.path.join(TOOLS, "evaluate_trajectory"), ground_truth, nodelet_trajectory],
+                         "evaluate_trajectory").stdout)
+
+    frames = int(offline.get("frames", 0))
+    print(f"recording: {bag} ({frames} frames, openni2_launch topics, bgr8 + 16UC1), played at rate {args.rate}")
+    print(f"odometry_published: {len(poses)}")
+    print(f"odometry_share: {len(poses) / max(frames, 1):.3f}")
+    print(f"clouds_published: {clouds}")
+    print(f"{'metric':<22}{'nodelet':>12}{'bag_odometry':>14}")
+    for key in ["ate_rmse_m", "rpe_trans_m_per_s", "rpe_rot_deg_per_s"]:
+        print(f"{key:<22}{online.get(key, float('nan')):>12.4f}{offline.get(key, float('nan')):>14.4f}")
+    if "rpe_trans_m_per_s" in online and "rpe_trans_m_per_s" in offline:
+        print(f"rpe_ratio: {online['rpe_trans_m_per_s'] / offline['rpe_trans_m_per_s']:.3f}")
+    if diagnostics:
+        print("nodelet diagnostics at the end:")
+        for key, value in diagnostics.items():
+            print(f"  {key}: {value}")
+
+
+if __name__ == "__main__":
+    main()
