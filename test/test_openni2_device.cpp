@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
@@ -55,6 +56,7 @@ TEST(Openni2Device, ListsAndOpensTheVirtualDeviceByIndexUriAndSerial) {
     vocal::Openni2Device device(virtualDevice(id));
     EXPECT_EQ(device.info().uri, "vocal://virtual/1") << id;
     EXPECT_EQ(device.serial(), "VOCAL0001") << id;
+    EXPECT_EQ(device.cameraName(), "VOCAL0001") << id;
     EXPECT_FALSE(device.isRecording());
     EXPECT_TRUE(device.registrationEnabled());
   }
@@ -114,6 +116,48 @@ TEST(Openni2Device, StreamsCarryTheDevicesFramesAndIntrinsics) {
   EXPECT_EQ(registered.cx, 159.5);
 }
 
+// A stream without a field of view (0, as in recordings that lack it) never gives inf or NaN
+// intrinsics: registered, the other stream's field of view serves both; otherwise the nominal values,
+// and the fallback says so.
+TEST(Openni2Device, StreamsWithoutAFieldOfViewGetFiniteIntrinsicsAndANote) {
+  struct Case {
+    const char* no_fov;
+    bool registered;
+    double color_fx, depth_fx;  // depth at 640 wide
+    const char* color_note;     // a substring of the colour note; empty: none
+    const char* depth_note;
+  };
+  const Case cases[] = {
+      {"color", true, 525.0, 525.0, "intrinsics from the registered depth stream's", "registered depth: the colour stream"},
+      {"color", false, 525.0, 525.0, "the nominal Kinect / Xtion colour focal length", ""},
+      {"depth", false, 525.0, 575.8157, "", "the nominal Kinect / Xtion depth focal length"},
+      {"both", true, 525.0, 525.0, "the colour stream reports no usable field of view (0 x 0 rad): intrinsics from the "
+                                   "nominal", "registered depth: "},
+  };
+  for (const Case& c : cases) {
+    ::setenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV", c.no_fov, 1);
+    vocal::Openni2Options options = virtualDevice();
+    options.depth_registration = c.registered;
+    vocal::Openni2Device device(options);
+    const std::string what = std::string(c.no_fov) + (c.registered ? " registered" : " unregistered");
+    std::string color_note, depth_note;
+    const vocal::PinholeCamera color = device.colorCamera(&color_note);
+    const vocal::PinholeCamera depth = device.depthCamera(&depth_note);
+    for (const vocal::PinholeCamera* camera : {&color, &depth}) {
+      EXPECT_TRUE(std::isfinite(camera->fx) && std::isfinite(camera->fy)) << what;
+      EXPECT_NO_THROW(camera->validate("camera")) << what;
+    }
+    EXPECT_NEAR(color.fx, c.color_fx, 0.1) << what;
+    EXPECT_NEAR(depth.fx, c.depth_fx, 0.1) << what;
+    EXPECT_NEAR(depth.fy, c.depth_fx, 0.1) << what;
+    if (*c.color_note) EXPECT_NE(color_note.find(c.color_note), std::string::npos) << what << ": " << color_note;
+    else EXPECT_EQ(color_note, "") << what;
+    if (*c.depth_note) EXPECT_NE(depth_note.find(c.depth_note), std::string::npos) << what << ": " << depth_note;
+    else EXPECT_EQ(depth_note, "") << what;
+  }
+  ::unsetenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV");
+}
+
 // Recording writes an .oni file that OpenNI2 opens as a recording (device_id = its path). Playing it
 // back delivers no frames from a file recorded off the virtual device (OniFile waits for properties
 // only PrimeSense drivers record, cf. structureio/OpenNI2#127): frame content is not checked here.
@@ -132,6 +176,7 @@ TEST(Openni2Device, RecordsAnOniFileThatOpensAsARecording) {
   vocal::Openni2Device playback(virtualDevice(path));
   EXPECT_TRUE(playback.isRecording());
   EXPECT_EQ(playback.serial(), "");
+  EXPECT_EQ(playback.cameraName(), "virtual") << "the file's name, for camera_info_manager";
   EXPECT_EQ(playback.info().uri, path);
   EXPECT_EQ(vocal_test::inputErrorOf([&] { playback.startColor([](const vocal::Openni2ColorFrame&) {}); }),
             "device_id '" + path + "': the recording holds no colour stream");

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -125,6 +126,49 @@ TEST(Openni2DriverNodelet, AnUnknownDeviceIsReportedAndTheManagerLives) {
   std::lock_guard<std::mutex> lock(latest.mutex);
   EXPECT_EQ(latest.bad_device_status, "device_id '#4': there is no device 4, 1 connected");
   EXPECT_TRUE(manager->unload("/missing/driver"));
+}
+
+// A stream without a field of view (the virtual device told to report 0, as recordings without it do):
+// camera_info carries finite nominal intrinsics, and the warning is in the diagnostics.
+TEST(Openni2DriverNodelet, AStreamWithoutAFieldOfViewGetsNominalIntrinsicsAndAWarning) {
+  manager->unload("/camera/driver");  // one device: the virtual one is opened again below
+  ::setenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV", "color", 1);
+  ros::NodeHandle nh;
+  nh.setParam("/nofov/driver/depth_registration", false);
+  nh.setParam("/nofov/driver/use_device_time", false);
+  Latest latest;
+  std::string colour_note, level_message;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::Subscriber rgb_info = nh.subscribe<sensor_msgs::CameraInfo>(
+      "/nofov/rgb/camera_info", 2, [&](const sensor_msgs::CameraInfo::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(latest.mutex);
+        latest.rgb_info = m;
+      });
+  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(latest.mutex);
+        for (const auto& s : m->status) {
+          if (s.name.find("nofov/driver") == std::string::npos) continue;
+          level_message = s.message;
+          for (const auto& kv : s.values)
+            if (kv.key == "colour intrinsics") colour_note = kv.value;
+        }
+      });
+  nodelet::M_string remappings;
+  nodelet::V_string arguments;
+  ASSERT_TRUE(manager->load("/nofov/driver", "vocal/OpenNI2Driver", remappings, arguments));
+  EXPECT_TRUE(vocal_test::waitUntil(latest.mutex, 20.0, [&] { return latest.rgb_info && !colour_note.empty(); }));
+  std::lock_guard<std::mutex> lock(latest.mutex);
+  ASSERT_TRUE(latest.rgb_info);
+  for (double k : latest.rgb_info->K) EXPECT_TRUE(std::isfinite(k));
+  EXPECT_NEAR(latest.rgb_info->K[0], 525.0, 0.1);
+  EXPECT_NEAR(latest.rgb_info->K[4], 525.0, 0.1);
+  EXPECT_EQ(colour_note, "the colour stream reports no usable field of view (0 x 0 rad): intrinsics from the nominal "
+                         "Kinect / Xtion colour focal length (525 px at 640 wide)");
+  EXPECT_EQ(level_message, "nominal or borrowed intrinsics: see below");
+  ::unsetenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV");
+  EXPECT_TRUE(manager->unload("/nofov/driver"));
 }
 
 int main(int argc, char** argv) {

@@ -6,10 +6,14 @@
 //   depth 640x480 or 320x240 DEPTH_1_MM: depth(x, y) = 1000 + x + 2 y + k millimetres, 0 on column 0;
 //   colour 640x480 RGB888: (x mod 256, y mod 256, k mod 256).
 // Timestamps are (k + 1) * 33333 microseconds. Registration (depth to colour) and frame sync are accepted.
+// The environment variable VOCAL_VIRTUAL_OPENNI2_NO_FOV=color|depth|both makes those streams report a
+// field of view of 0, as recordings without it do.
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <thread>
 
 // ONI_EXPORT_DRIVER uses XnLib's allocation macros, which Debian's headers do not ship.
@@ -58,8 +62,8 @@ class VirtualStream : public oni::driver::StreamBase {
   OniStatus getProperty(int id, void* data, int* size) override {
     switch (id) {
       case ONI_STREAM_PROPERTY_VIDEO_MODE: return copyOut(mode_, data, size);
-      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV: return copyOut(kHorizontalFov, data, size);
-      case ONI_STREAM_PROPERTY_VERTICAL_FOV: return copyOut(kVerticalFov, data, size);
+      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV: return copyOut(reportsFov() ? kHorizontalFov : 0.0f, data, size);
+      case ONI_STREAM_PROPERTY_VERTICAL_FOV: return copyOut(reportsFov() ? kVerticalFov : 0.0f, data, size);
       case ONI_STREAM_PROPERTY_MIRRORING: return copyOut(OniBool(FALSE), data, size);
       case ONI_STREAM_PROPERTY_MAX_VALUE: return copyOut(int(10000), data, size);
       default: return ONI_STATUS_NOT_SUPPORTED;
@@ -80,6 +84,13 @@ class VirtualStream : public oni::driver::StreamBase {
   }
 
  private:
+  bool reportsFov() const {
+    const char* none = std::getenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV");
+    if (!none) return true;
+    const std::string which(none);
+    return !(which == "both" || which == (type_ == ONI_SENSOR_DEPTH ? "depth" : "color"));
+  }
+
   template <typename T>
   static OniStatus copyOut(const T& value, void* data, int* size) {
     if (*size < static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;

@@ -1,5 +1,6 @@
 #include "vocal/driver/openni2_device.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -41,18 +42,49 @@ std::string readSerial(openni::Device& device) {
   return std::string(serial);
 }
 
-// Pinhole intrinsics from a stream's field of view at its resolution, pixel centres at (w-1)/2.
-PinholeCamera cameraFromFov(const openni::VideoStream& stream) {
+// Nominal focal lengths at 640 pixels wide (openni_camera's Kinect / PrimeSense values).
+constexpr double kNominalColorFocal640 = 525.0;
+constexpr double kNominalDepthFocal640 = 575.8157;
+
+// A field of view OpenNI reports, in radians, usable for intrinsics: recordings without it report 0.
+bool usableFov(float radians) { return std::isfinite(radians) && radians > 0.01f && radians < 3.1f; }
+
+bool hasUsableFov(const openni::VideoStream& stream) {
+  return usableFov(stream.getHorizontalFieldOfView()) && usableFov(stream.getVerticalFieldOfView());
+}
+
+std::string fovText(const openni::VideoStream& stream) {
+  std::ostringstream text;
+  text << stream.getHorizontalFieldOfView() << " x " << stream.getVerticalFieldOfView() << " rad";
+  return text.str();
+}
+
+// Pinhole intrinsics at the stream's resolution, pixel centres at (w-1)/2: from the field of view
+// (`fov_from`, which may be the other stream) or, with none, a nominal focal length at 640 wide.
+PinholeCamera streamCamera(const openni::VideoStream& stream, const openni::VideoStream* fov_from, double nominal_focal_640) {
   const openni::VideoMode mode = stream.getVideoMode();
   PinholeCamera camera;
   camera.width = mode.getResolutionX();
   camera.height = mode.getResolutionY();
-  camera.fx = 0.5 * camera.width / std::tan(0.5 * stream.getHorizontalFieldOfView());
-  camera.fy = 0.5 * camera.height / std::tan(0.5 * stream.getVerticalFieldOfView());
+  if (fov_from) {
+    camera.fx = 0.5 * camera.width / std::tan(0.5 * fov_from->getHorizontalFieldOfView());
+    camera.fy = 0.5 * camera.height / std::tan(0.5 * fov_from->getVerticalFieldOfView());
+  } else {
+    camera.fx = camera.fy = nominal_focal_640 * camera.width / 640.0;
+  }
   camera.cx = 0.5 * (camera.width - 1);
   camera.cy = 0.5 * (camera.height - 1);
   camera.depth_scale = 1000.0;
   return camera;
+}
+
+std::string fileStem(const std::string& path) {
+  std::string stem = path.substr(path.find_last_of('/') + 1);
+  const std::size_t dot = stem.find_last_of('.');
+  if (dot != std::string::npos && dot > 0) stem.resize(dot);
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+  return stem;
 }
 
 class FrameListener : public openni::VideoStream::NewFrameListener {
@@ -196,6 +228,12 @@ Openni2Device::~Openni2Device() {
 const Openni2DeviceInfo& Openni2Device::info() const { return impl_->info; }
 const std::string& Openni2Device::serial() const { return impl_->serial; }
 bool Openni2Device::isRecording() const { return impl_->device.isFile(); }
+
+std::string Openni2Device::cameraName() const {
+  if (!impl_->serial.empty()) return impl_->serial;
+  const std::string stem = fileStem(impl_->info.uri);
+  return stem.empty() ? "unknown" : stem;
+}
 bool Openni2Device::registrationEnabled() const { return impl_->registration; }
 
 namespace {
@@ -261,19 +299,36 @@ void Openni2Device::startDepth(std::function<void(const Openni2DepthFrame&)> cal
 
 void Openni2Device::stopDepth() { stopStream(impl_->depth, &impl_->depth_listener); }
 
-PinholeCamera Openni2Device::colorCamera() const {
-  if (!impl_->has_color) throw InputError(impl_->what + ": the recording holds no colour stream");
-  return cameraFromFov(impl_->color);
+PinholeCamera Openni2Device::colorCamera(std::string* fallback) const {
+  const Impl& d = *impl_;
+  if (!d.has_color) throw InputError(d.what + ": the recording holds no colour stream");
+  if (fallback) fallback->clear();
+  if (hasUsableFov(d.color)) return streamCamera(d.color, &d.color, kNominalColorFocal640);
+  const bool from_depth = d.registration && d.has_depth && hasUsableFov(d.depth);
+  if (fallback) {
+    *fallback = "the colour stream reports no usable field of view (" + fovText(d.color) + "): intrinsics from " +
+                (from_depth ? "the registered depth stream's" : "the nominal Kinect / Xtion colour focal length (525 px at 640 wide)");
+  }
+  return streamCamera(d.color, from_depth ? &d.depth : nullptr, kNominalColorFocal640);
 }
 
-PinholeCamera Openni2Device::depthCamera() const {
-  if (!impl_->has_depth) throw InputError(impl_->what + ": the recording holds no depth stream");
-  if (!impl_->registration || !impl_->has_color) return cameraFromFov(impl_->depth);
-  // Registered depth lies in the colour camera, at the depth stream's resolution.
-  PinholeCamera camera = colorCamera();
-  const openni::VideoMode mode = impl_->depth.getVideoMode();
-  const PinholeCamera scaled = camera.scaled(static_cast<double>(mode.getResolutionX()) / camera.width);
-  return scaled;
+PinholeCamera Openni2Device::depthCamera(std::string* fallback) const {
+  const Impl& d = *impl_;
+  if (!d.has_depth) throw InputError(d.what + ": the recording holds no depth stream");
+  if (fallback) fallback->clear();
+  const openni::VideoMode mode = d.depth.getVideoMode();
+  if (d.registration && d.has_color) {
+    // Registered depth lies in the colour camera, at the depth stream's resolution.
+    const PinholeCamera color = colorCamera(fallback);
+    if (fallback && !fallback->empty()) *fallback = "registered depth: " + *fallback;
+    return color.scaled(static_cast<double>(mode.getResolutionX()) / color.width);
+  }
+  if (hasUsableFov(d.depth)) return streamCamera(d.depth, &d.depth, kNominalDepthFocal640);
+  if (fallback) {
+    *fallback = "the depth stream reports no usable field of view (" + fovText(d.depth) +
+                "): intrinsics from the nominal Kinect / Xtion depth focal length (575.8 px at 640 wide)";
+  }
+  return streamCamera(d.depth, nullptr, kNominalDepthFocal640);
 }
 
 void Openni2Device::startRecording(const std::string& path) {

@@ -91,8 +91,10 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     open_timer_.stop();
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle rgb_nh(nh, "rgb"), depth_nh(nh, "depth"), registered_nh(nh, "depth_registered");
-    rgb_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(rgb_nh, "rgb_" + device_->serial(), rgb_info_url_);
-    depth_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(depth_nh, "depth_" + device_->serial(), depth_info_url_);
+    // openni2_camera's names: rgb_<serial>, depth_<serial>; a recording's file name stands in for the serial.
+    rgb_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(rgb_nh, "rgb_" + device_->cameraName(), rgb_info_url_);
+    depth_info_ =
+        std::make_unique<camera_info_manager::CameraInfoManager>(depth_nh, "depth_" + device_->cameraName(), depth_info_url_);
     // Streams follow their subscribers (images and camera_info alike).
     auto connection = [this](const auto&) { updateStreams(); };
     image_transport::ImageTransport rgb_it(rgb_nh), depth_it(depth_nh), registered_it(registered_nh);
@@ -161,11 +163,25 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     return info;
   }
 
+  // The device's intrinsics for a stream; a fallback (no field of view in the stream) is warned about
+  // once and shown in diagnostics.
+  PinholeCamera deviceCamera(bool color) {
+    std::string note;
+    const PinholeCamera camera = color ? device_->colorCamera(&note) : device_->depthCamera(&note);
+    if (!note.empty()) {
+      std::lock_guard<std::mutex> lock(note_mutex_);
+      std::string& kept = color ? color_intrinsics_note_ : depth_intrinsics_note_;
+      if (kept != note) NODELET_WARN_STREAM("OpenNI2Driver: " << note);
+      kept = note;
+    }
+    return camera;
+  }
+
   void publishColor(const Openni2ColorFrame& frame) {
     const ros::Time stamp = stampOf(frame.device_stamp);
     ++color_frames_;
     auto image = boost::make_shared<sensor_msgs::Image>(toRgb8Image(frame.image, rgb_frame_id_, stamp));
-    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*rgb_info_, device_->colorCamera(), rgb_frame_id_, stamp));
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*rgb_info_, deviceCamera(true), rgb_frame_id_, stamp));
     rgb_pub_.publish(image, info);
   }
 
@@ -184,7 +200,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     image->step = 2 * frame.depth.width();
     image->data.resize(static_cast<std::size_t>(image->step) * image->height);
     std::memcpy(image->data.data(), frame.depth.data(), image->data.size());
-    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*depth_info_, device_->depthCamera(), frame_id, stamp));
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(cameraInfo(*depth_info_, deviceCamera(false), frame_id, stamp));
     if (registered && registered_pub_.getNumSubscribers() > 0) registered_pub_.publish(image, info);
     if (depth_pub_.getNumSubscribers() > 0) depth_pub_.publish(image, info);
   }
@@ -204,12 +220,19 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     }
     status.add("colour frames", color_frames_.load());
     status.add("depth frames", depth_frames_.load());
+    std::lock_guard<std::mutex> note_lock(note_mutex_);
+    if (!color_intrinsics_note_.empty()) status.add("colour intrinsics", color_intrinsics_note_);
+    if (!depth_intrinsics_note_.empty()) status.add("depth intrinsics", depth_intrinsics_note_);
+    if (!color_intrinsics_note_.empty() || !depth_intrinsics_note_.empty()) {
+      if (status.level == DiagnosticStatus::OK) status.summary(DiagnosticStatus::WARN, "nominal or borrowed intrinsics: see below");
+    }
   }
 
   Openni2Options options_;
   std::string rgb_frame_id_, depth_frame_id_, rgb_info_url_, depth_info_url_, problem_;
   bool use_device_time_ = true;
-  std::mutex mutex_, stamp_mutex_;
+  std::mutex mutex_, stamp_mutex_, note_mutex_;
+  std::string color_intrinsics_note_, depth_intrinsics_note_;  // why a stream's intrinsics are a fallback
   std::unique_ptr<Openni2Device> device_;
   std::unique_ptr<camera_info_manager::CameraInfoManager> rgb_info_, depth_info_;
   image_transport::CameraPublisher rgb_pub_, depth_pub_, registered_pub_;

@@ -63,6 +63,10 @@ class Openni2Device {
 
   const Openni2DeviceInfo& info() const;
   const std::string& serial() const;  // empty for a recording
+  // What camera_info_manager's names carry after "rgb_" / "depth_" (openni2_camera's form): the serial,
+  // or for a recording its file name without folder and extension, other characters than letters,
+  // digits and '_' replaced by '_'.
+  std::string cameraName() const;
   bool isRecording() const;           // an .oni file is being played
   bool registrationEnabled() const;
 
@@ -73,9 +77,13 @@ class Openni2Device {
   void stopDepth();
 
   // Intrinsics from the stream's field of view and mode (no distortion): what openni2_camera
-  // publishes without a calibration file. Depth uses the colour camera's when registered.
-  PinholeCamera colorCamera() const;
-  PinholeCamera depthCamera() const;
+  // publishes without a calibration file. Depth uses the colour camera's when registered. A stream
+  // that reports no usable field of view (0, as recordings without it do) takes the other stream's
+  // when depth is registered to colour (both then describe the colour camera), else the nominal
+  // Kinect / Xtion values (colour 525 px, depth 575.8 px at 640 wide); `fallback` then says which
+  // and why (empty when the stream's own field of view was used). Always finite.
+  PinholeCamera colorCamera(std::string* fallback = nullptr) const;
+  PinholeCamera depthCamera(std::string* fallback = nullptr) const;
 
   // Records the started streams into an .oni file until stopRecording. Throws InputError naming the
   // path when the recorder cannot be created.
