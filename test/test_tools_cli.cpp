@@ -297,12 +297,20 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig");
   RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 1 --camera 0 --poses 8");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  // An output folder that cannot be made fails before the work (here: below a file).
+  vocal_test::writeText(folder + "/a_file", "");
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder +
+              "/a_file/out");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "calibrate_rig: error: " + folder + "/a_file/out: cannot create folder (Not a directory)\n");
+  // A missing output folder (and its parent) is created.
+  const std::string output = folder + "/results/run1";
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + output);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("8 still target poses"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("wrote " + folder + "/calibration.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote " + output + "/calibration.yaml"), std::string::npos) << r.output;
   // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
-  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const YAML::Node result = YAML::LoadFile(output + "/calibration.yaml");
   const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
   ASSERT_EQ(result["sensors"].size(), truth["sensors"].size());
   for (std::size_t s = 1; s < truth["sensors"].size(); ++s) {

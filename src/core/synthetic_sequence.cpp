@@ -1,30 +1,17 @@
 #include "vocal/core/synthetic_sequence.h"
 
-#include <sys/stat.h>
-
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 
 #include "vocal/core/camera_yaml.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/folders.h"
 #include "vocal/core/image_io.h"
 
 namespace vocal {
 
 namespace {
-// Creates the folder and its missing parents, like mkdir -p.
-void makeFolder(const std::string& path) {
-  for (std::size_t slash = path.find('/', 1); ; slash = path.find('/', slash + 1)) {
-    const std::string prefix = path.substr(0, slash);
-    if (::mkdir(prefix.c_str(), 0755) != 0 && errno != EEXIST) {
-      throw InputError(prefix + ": cannot create folder (" + std::strerror(errno) + ")");
-    }
-    if (slash == std::string::npos) break;
-  }
-}
-
 std::string stampName(double stamp) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "%.6f", stamp);
@@ -75,9 +62,9 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
     throw InputError(options.trajectory_path + ": trajectory has no poses");
   }
 
-  makeFolder(folder);
-  makeFolder(folder + "/rgb");
-  makeFolder(folder + "/depth");
+  makeFolders(folder);
+  makeFolders(folder + "/rgb");
+  makeFolders(folder + "/depth");
   writeCameraYaml(folder + "/camera.yaml", sequence.camera, "vocal_synthetic_" + sceneVariantName(options.scene));
   writeTumTrajectory(folder + "/groundtruth.txt", sequence.ground_truth);
 

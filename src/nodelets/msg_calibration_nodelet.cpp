@@ -25,6 +25,7 @@
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/folders.h"
 #include "vocal/nodelets/message_conversions.h"
 
 namespace vocal {
@@ -35,6 +36,15 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     output_dir_ = pnh.param<std::string>("output_dir", "");
+    if (!output_dir_.empty()) {
+      try {
+        makeFolders(output_dir_);  // now, not when the first result is written
+      } catch (const InputError& e) {
+        NODELET_ERROR_STREAM("MsgCalibration: parameter output_dir: " << e.what() << "; results will not be written");
+        last_problem_ = "output_dir: " + std::string(e.what());
+        output_dir_.clear();
+      }
+    }
     consensus_filter_ = pnh.param("consensus_filter", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 50));
     calibrate_service_ = pnh.advertiseService("calibrate", &MsgCalibrationNodelet::calibrate, this);

@@ -8,6 +8,7 @@
 
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/command_line.h"
@@ -24,6 +25,7 @@ const char kUsage[] =
 int run(const vocal::CommandLine& args) {
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
+  if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   vocal::CalibrationSession session(rig);
   const bool quiet = args.has("quiet");
   const vocal::BagReadSummary read = vocal::readCalibrationBag(bag, &session, [&](std::size_t n) {

@@ -18,6 +18,7 @@
 #include "vocal/calibration/graph_calibration.h"
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
 #include "vocal/tools/command_line.h"
 
@@ -136,6 +137,7 @@ void plot(const std::string& path, const std::vector<Row>& rows) {
 }
 
 int run(const vocal::CommandLine& args) {
+  if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the trials, not after
   const int rgbd = args.integer("rgbd", 2), lidar = args.integer("lidar", 2), laser = args.integer("laser", 1),
             cameras = args.integer("camera", 1);
   vocal::TargetPattern pattern;  // the design's example board

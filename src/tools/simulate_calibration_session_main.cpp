@@ -4,10 +4,10 @@
 
 #include <cstdio>
 #include <string>
-#include <sys/stat.h>
 
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/folders.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/command_line.h"
 
@@ -24,7 +24,7 @@ const char kUsage[] =
 
 int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
-  ::mkdir(dir.c_str(), 0755);
+  vocal::makeFolders(dir);
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   const std::vector<vocal::SimulatedSensor> sensors =
