@@ -19,6 +19,8 @@ import time
 
 import numpy as np
 
+from tool_metrics import metrics
+
 try:
     import open3d as o3d
 except ImportError:
@@ -86,72 +88,71 @@ def write_trajectory(output, stamps, poses):
         f.write("# timestamp tx ty tz qx qy qz qw\n" + "\n".join(lines) + "\n")
 
 
-def run_opencv(folder, frames, output):
+def run_frame_to_frame(folder, frames, output, load, align):
+    """Chains align(current, previous) -> (success, previous_from_current 4x4) over the folder's frames;
+    load(rgb_path, depth_path) reads one frame. Returns frames, frames per second of align, failures."""
     rgb, depth, pairs = frame_pairs(folder, frames)
+    pose = np.eye(4)
+    previous = None
+    seconds = 0.0
+    failures = 0
+    stamps, poses = [], []
+    for i, j in pairs:
+        current = load(os.path.join(folder, rgb[i][1]), os.path.join(folder, depth[j][1]))
+        if previous is not None:
+            start = time.perf_counter()
+            success, transform = align(current, previous)
+            seconds += time.perf_counter() - start
+            if success:
+                pose = pose @ transform
+            else:
+                failures += 1
+        previous = current
+        stamps.append(rgb[i][0])
+        poses.append(pose.copy())
+    write_trajectory(output, stamps, poses)
+    return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
+
+
+def run_opencv(folder, frames, output):
     _, _, fx, fy, cx, cy = intrinsics(folder)
     camera = np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]], dtype=np.float64)
     odometry = cv2.rgbd.RgbdICPOdometry_create(
         cameraMatrix=camera, minDepth=0.3, maxDepth=6.0, maxDepthDiff=0.07,
         iterCounts=np.array(ITERATIONS_COARSE_TO_FINE[::-1], dtype=np.int32),
         transformType=cv2.rgbd.Odometry_RIGID_BODY_MOTION)
-    pose = np.eye(4)
-    previous = None
-    seconds = 0.0
-    failures = 0
-    stamps, poses = [], []
-    for i, j in pairs:
-        grey = cv2.imread(os.path.join(folder, rgb[i][1]), cv2.IMREAD_GRAYSCALE)
-        metres = cv2.imread(os.path.join(folder, depth[j][1]), cv2.IMREAD_UNCHANGED).astype(np.float32) / 5000.0
-        current = (grey, metres)
-        if previous is not None:
-            start = time.perf_counter()
-            # source = current, destination = previous: Rt maps current points into the previous frame.
-            success, transform = odometry.compute(current[0], current[1], None, previous[0], previous[1], None)
-            seconds += time.perf_counter() - start
-            if success:
-                pose = pose @ transform
-            else:
-                failures += 1
-        previous = current
-        stamps.append(rgb[i][0])
-        poses.append(pose.copy())
-    write_trajectory(output, stamps, poses)
-    return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
+
+    def load(rgb_path, depth_path):
+        grey = cv2.imread(rgb_path, cv2.IMREAD_GRAYSCALE)
+        return grey, cv2.imread(depth_path, cv2.IMREAD_UNCHANGED).astype(np.float32) / 5000.0
+
+    def align(current, previous):
+        # source = current, destination = previous: Rt maps current points into the previous frame.
+        return odometry.compute(current[0], current[1], None, previous[0], previous[1], None)
+
+    return run_frame_to_frame(folder, frames, output, load, align)
 
 
 def run_open3d(folder, frames, output):
-    rgb, depth, pairs = frame_pairs(folder, frames)
     width, height, fx, fy, cx, cy = intrinsics(folder)
     camera = o3d.camera.PinholeCameraIntrinsic(width, height, fx, fy, cx, cy)
     option = o3d.pipelines.odometry.OdometryOption(
         iteration_number_per_pyramid_level=o3d.utility.IntVector(ITERATIONS_COARSE_TO_FINE),
         depth_diff_max=0.07, depth_min=0.3, depth_max=6.0)
     jacobian = o3d.pipelines.odometry.RGBDOdometryJacobianFromHybridTerm()
-    pose = np.eye(4)
-    previous = None
-    seconds = 0.0
-    failures = 0
-    stamps, poses = [], []
-    for i, j in pairs:
-        color = o3d.io.read_image(os.path.join(folder, rgb[i][1]))
-        depth_image = o3d.io.read_image(os.path.join(folder, depth[j][1]))
-        current = o3d.geometry.RGBDImage.create_from_color_and_depth(
-            color, depth_image, depth_scale=5000.0, depth_trunc=6.0, convert_rgb_to_intensity=True)
-        if previous is not None:
-            start = time.perf_counter()
-            # source = current, target = previous: the result maps current points into the previous frame.
-            success, transform, _ = o3d.pipelines.odometry.compute_rgbd_odometry(
-                current, previous, camera, np.eye(4), jacobian, option)
-            seconds += time.perf_counter() - start
-            if success:
-                pose = pose @ transform
-            else:
-                failures += 1
-        previous = current
-        stamps.append(rgb[i][0])
-        poses.append(pose.copy())
-    write_trajectory(output, stamps, poses)
-    return len(pairs), (len(pairs) - 1) / max(seconds, 1e-9), failures
+
+    def load(rgb_path, depth_path):
+        return o3d.geometry.RGBDImage.create_from_color_and_depth(
+            o3d.io.read_image(rgb_path), o3d.io.read_image(depth_path), depth_scale=5000.0, depth_trunc=6.0,
+            convert_rgb_to_intensity=True)
+
+    def align(current, previous):
+        # source = current, target = previous: the result maps current points into the previous frame.
+        success, transform, _ = o3d.pipelines.odometry.compute_rgbd_odometry(
+            current, previous, camera, np.eye(4), jacobian, option)
+        return success, transform
+
+    return run_frame_to_frame(folder, frames, output, load, align)
 
 
 def quaternion(R):
@@ -163,15 +164,6 @@ def quaternion(R):
     y = np.copysign(y, R[0, 2] - R[2, 0])
     z = np.copysign(z, R[1, 0] - R[0, 1])
     return x, y, z, w
-
-
-def metrics(output):
-    values = {}
-    for line in output.splitlines():
-        match = re.match(r"^(\w+): ([-0-9.e+]+)$", line.strip())
-        if match:
-            values[match.group(1)] = float(match.group(2))
-    return values
 
 
 def evaluate(ground_truth, trajectory, fps, failures):

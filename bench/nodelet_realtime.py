@@ -15,11 +15,12 @@ compares what it published with bag_odometry's offline run of the same recording
 """
 import argparse
 import os
-import re
 import signal
 import subprocess
 import sys
 import time
+
+from tool_metrics import metrics
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..")
@@ -29,15 +30,6 @@ try:
     import rosbag
 except ImportError:
     sys.exit("nodelet_realtime: python3-rosbag is not installed (scripts/install_dependencies)")
-
-
-def metrics(text):
-    values = {}
-    for line in text.splitlines():
-        match = re.match(r"^(\w+): ([-0-9.e+]+)$", line.strip())
-        if match:
-            values[match.group(1)] = float(match.group(2))
-    return values
 
 
 def run(command, what, **kwargs):
