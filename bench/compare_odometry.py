@@ -197,20 +197,16 @@ def main():
     frames = int(columns["vocal"].get("frames", 0))
     described = [f"vocal: {backend.group(1) if backend else '?'}"]
 
-    if cv2 is None:
-        print("*** python3-opencv is not installed (apt-get install python3-opencv): OpenCV left out ***")
-    else:
-        trajectory = os.path.join(args.workdir, "opencv_trajectory.txt")
-        frames, fps, failures = run_opencv(args.folder, args.frames, trajectory)
-        columns["opencv"] = evaluate(ground_truth, trajectory, fps, failures)
-        described.append(f"opencv: {cv2.__version__} rgbd.RgbdICPOdometry")
-    if o3d is None:
-        print("*** python3-open3d is not installed (apt-get install python3-open3d): Open3D left out ***")
-    else:
-        trajectory = os.path.join(args.workdir, "open3d_trajectory.txt")
-        frames, fps, failures = run_open3d(args.folder, args.frames, trajectory)
-        columns["open3d"] = evaluate(ground_truth, trajectory, fps, failures)
-        described.append(f"open3d: {o3d.__version__} hybrid term")
+    others = [("opencv", cv2, "python3-opencv", run_opencv, "rgbd.RgbdICPOdometry"),
+              ("open3d", o3d, "python3-open3d", run_open3d, "hybrid term")]
+    for name, module, package, runner, method in others:
+        if module is None:
+            print(f"*** {package} is not installed (apt-get install {package}): {name} left out ***")
+            continue
+        trajectory = os.path.join(args.workdir, f"{name}_trajectory.txt")
+        frames, fps, failures = runner(args.folder, args.frames, trajectory)
+        columns[name] = evaluate(ground_truth, trajectory, fps, failures)
+        described.append(f"{name}: {module.__version__} {method}")
 
     print(f"sequence: {args.folder} ({frames} frames)")
     print("; ".join(described))
