@@ -120,7 +120,10 @@ TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
   const pid_t player = ::fork();
   ASSERT_GE(player, 0);
   if (player == 0) {
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--rate", "0.5", bag.c_str(), "--topics", T::kRgbImage, T::kDepthImage,
+    // Every nodelet must be connected before the first frame (one missed frame shifts the whole
+    // trajectory): wait for a subscriber, then give the others half a second per topic.
+    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", "--delay", "0.5", "--rate", "0.5", bag.c_str(),
+             "--topics", T::kRgbImage, T::kDepthImage,
              T::kRgbInfo, "/tf_static", static_cast<char*>(nullptr));
     std::perror("exec rosbag");
     ::_exit(127);

@@ -149,13 +149,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     return result;
   }
 
-  // Features' motion, extracting what is missing; identity when the features do not agree.
-  auto featureStart = [&](OdometryResult* result) -> std::optional<Eigen::Isometry3d> {
+  // The motion the features agree on (extracting those not extracted yet); none when they do not agree.
+  auto featureStart = [&](OdometryResult* into) -> std::optional<Eigen::Isometry3d> {
     if (!reference_features_) reference_features_ = extractFrameFeatures(reference_frame_, camera_);
     if (!features) features = extractFrameFeatures(frame, camera_);
     const FeatureAlignment alignment = alignFrameFeatures(*reference_features_, *features, camera_);
     if (!alignment.found) return std::nullopt;
-    result->quality.feature_inliers = alignment.inliers;
+    into->quality.feature_inliers = alignment.inliers;
     return alignment.reference_from_current;
   };
 
@@ -173,14 +173,15 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
       result.timings.solve_ms = lapMilliseconds(&clock);
       const std::optional<Eigen::Isometry3d> start = featureStart(&result);
       result.timings.features_ms = lapMilliseconds(&clock);
+      bool retry_won = false;
       if (start) {
         DenseSolve retry = solveFrom(*start);
         // The retry wins when it passes and the first did not, or both pass and it fits better.
-        if (retry.failure.empty() &&
-            (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality))) {
-          solve = std::move(retry);
-        }
+        retry_won = retry.failure.empty() &&
+                    (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality));
+        if (retry_won) solve = std::move(retry);
       }
+      if (!retry_won) result.quality.feature_inliers = 0;  // the result did not start from the features
     }
   }
   keepAsReference();

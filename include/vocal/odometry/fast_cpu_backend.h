@@ -10,7 +10,6 @@
 
 namespace vocal {
 
-struct SoaPyramidLevel;
 struct TrackingWarp;
 struct TrackingThresholds;
 
