@@ -293,6 +293,20 @@ TEST(ToolsCli, SimulateCalibrationPrintsTheComparisonTable) {
 
 // A simulated recording calibrated by calibrate_rig as a user would: rig.yaml + bag in, the table and
 // the result files out; the result matches the ground truth file within the bounds.
+// A rig recorded at 3 Hz (triggered camera, slow laser): the still poses are found as at 10 Hz (they
+// were not while a still run allowed a fixed 0.3 s between observations).
+TEST(ToolsCli, CalibrateRigFromASessionRecordedAtThreeHertz) {
+  const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig_3hz");
+  RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 1 --camera 1 --poses 6 --rate 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("6 still target poses"), std::string::npos) << r.output;
+  r = runTool("simulate_calibration_session " + folder + " --rate 0");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --rate: messages per second must be > 0\n");
+}
+
 TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig");
   RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 1 --camera 0 --poses 8");

@@ -90,6 +90,9 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
                                                 CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
+  // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
+  const std::string unassociated = missingStillnessExplanation(rig_.specs(), observations_, associated, stillness_);
+  if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
   return calibrateRig(rig_.specs(), associated, options);
 }
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include <Eigen/Eigenvalues>
 
@@ -48,39 +50,78 @@ struct StillRun {
   double begin, end;
   std::vector<const TimedObservation*> members;
 };
-}  // namespace
 
-std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
-                                                    std::vector<TimedObservation> observations,
-                                                    const StillnessOptions& options) {
+void checkSensorIndices(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations) {
   for (const TimedObservation& o : observations) {
     if (o.sensor < 0 || o.sensor >= static_cast<int>(sensors.size())) {
       throw InputError("still-target association: an observation names sensor index " + std::to_string(o.sensor) +
                        " of " + std::to_string(sensors.size()));
     }
   }
-  std::stable_sort(observations.begin(), observations.end(), [](const TimedObservation& a, const TimedObservation& b) {
+}
+
+// By sensor, then time.
+void sortBySensorAndTime(std::vector<TimedObservation>* observations) {
+  std::stable_sort(observations->begin(), observations->end(), [](const TimedObservation& a, const TimedObservation& b) {
     return a.sensor != b.sensor ? a.sensor < b.sensor : a.stamp < b.stamp;
   });
+}
 
-  // Still runs per sensor.
+// The median spacing of each sensor's observations (0 with fewer than two), from observations sorted
+// by sensor and time.
+std::vector<double> medianPeriods(std::size_t sensors, const std::vector<TimedObservation>& sorted) {
+  std::vector<std::vector<double>> spacing(sensors);
+  for (std::size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i].sensor == sorted[i - 1].sensor) spacing[sorted[i].sensor].push_back(sorted[i].stamp - sorted[i - 1].stamp);
+  std::vector<double> median(sensors, 0.0);
+  for (std::size_t s = 0; s < sensors; ++s) {
+    std::vector<double>& d = spacing[s];
+    if (d.empty()) continue;
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    median[s] = d[d.size() / 2];
+  }
+  return median;
+}
+
+double allowedGap(double median_period, const StillnessOptions& options) {
+  return std::max(options.max_gap, options.gap_periods * median_period);
+}
+
+// Every run of consecutive unmoved observations per sensor (short ones too), from sorted observations.
+std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
+                              const StillnessOptions& options) {
+  const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
   std::vector<StillRun> runs;
-  for (std::size_t i = 0; i < observations.size();) {
-    const int sensor = observations[i].sensor;
+  for (std::size_t i = 0; i < sorted.size();) {
+    const int sensor = sorted[i].sensor;
     const SensorType type = sensors[sensor].type;
-    StillRun run{sensor, observations[i].stamp, observations[i].stamp, {&observations[i]}};
-    const Shape first = shapeOf(observations[i], type);
+    const double gap = allowedGap(periods[sensor], options);
+    StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {&sorted[i]}};
+    const Shape first = shapeOf(sorted[i], type);
     std::size_t j = i + 1;
-    for (; j < observations.size() && observations[j].sensor == sensor; ++j) {
-      const bool continues = observations[j].stamp - run.end <= options.max_gap &&
-                             sameShape(first, shapeOf(observations[j], type), type, options);
+    for (; j < sorted.size() && sorted[j].sensor == sensor; ++j) {
+      const bool continues = sorted[j].stamp - run.end <= gap && sameShape(first, shapeOf(sorted[j], type), type, options);
       if (!continues) break;
-      run.end = observations[j].stamp;
-      run.members.push_back(&observations[j]);
+      run.end = sorted[j].stamp;
+      run.members.push_back(&sorted[j]);
     }
-    if (run.end - run.begin >= options.min_duration) runs.push_back(std::move(run));
+    runs.push_back(std::move(run));
     i = j;
   }
+  return runs;
+}
+}  // namespace
+
+std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
+                                                    std::vector<TimedObservation> observations,
+                                                    const StillnessOptions& options) {
+  checkSensorIndices(sensors, observations);
+  sortBySensorAndTime(&observations);
+  // Still runs per sensor: those that lasted.
+  std::vector<StillRun> runs = cutRuns(sensors, observations, options);
+  runs.erase(std::remove_if(runs.begin(), runs.end(),
+                            [&](const StillRun& run) { return run.end - run.begin < options.min_duration; }),
+             runs.end());
 
   // Periods: runs of plane-seeing sensors that overlap in time; 2D laser runs join the period they fall in.
   std::vector<std::pair<double, double>> periods;
@@ -125,6 +166,43 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
     }
   }
   return associated;
+}
+
+std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
+                                        const std::vector<TimedObservation>& observations,
+                                        const std::vector<TargetObservation>& associated,
+                                        const StillnessOptions& options) {
+  checkSensorIndices(sensors, observations);
+  std::vector<TimedObservation> sorted = observations;
+  sortBySensorAndTime(&sorted);
+  const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
+  const std::vector<StillRun> runs = cutRuns(sensors, sorted, options);
+  std::vector<int> seen(sensors.size(), 0), kept(sensors.size(), 0);
+  std::vector<double> longest(sensors.size(), 0.0);
+  for (const TimedObservation& o : sorted) ++seen[o.sensor];
+  for (const StillRun& run : runs) {
+    longest[run.sensor] = std::max(longest[run.sensor], run.end - run.begin);
+    kept[run.sensor] += run.end - run.begin >= options.min_duration;
+  }
+  std::vector<bool> associated_sensor(sensors.size(), false);
+  for (const TargetObservation& o : associated)
+    if (o.sensor >= 0 && o.sensor < static_cast<int>(sensors.size())) associated_sensor[o.sensor] = true;
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (seen[s] == 0 || associated_sensor[s]) continue;
+    std::ostringstream why;
+    why << std::setprecision(3) << "sensor '" << sensors[s].name << "' saw the target in " << seen[s]
+        << " observations but in no still target pose: ";
+    if (kept[s] > 0) {
+      why << "its " << kept[s] << " still runs overlap no still period of a plane-seeing sensor";
+    } else {
+      why << "its observations are " << periods[s] << " s apart (median); a still run allows gaps up to "
+          << allowedGap(periods[s], options) << " s and must last " << options.min_duration
+          << " s with the target moving less than " << options.max_angle << " rad and " << options.max_offset
+          << " m (its longest lasted " << longest[s] << " s)";
+    }
+    return why.str();
+  }
+  return "";
 }
 
 }  // namespace vocal

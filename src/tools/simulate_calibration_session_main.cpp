@@ -18,6 +18,8 @@ const char kUsage[] =
     "                                            the first RGB-D sensor is the reference)\n"
     "  --poses N           still target poses (default 12)\n"
     "  --noise M           range noise, metres (default 0.001)\n"
+    "  --rate HZ           messages per second of every sensor (default 10; the target is held still for\n"
+    "                      6 messages and carried for 4)\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
@@ -33,6 +35,8 @@ int run(const vocal::CommandLine& args) {
   vocal::SimulatedSessionOptions options;
   options.target_poses = args.integer("poses", 12);
   options.range_noise = args.number("noise", 0.001);
+  options.rate = args.number("rate", options.rate);
+  if (!(options.rate > 0.0)) throw vocal::InputError("option --rate: messages per second must be > 0");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
@@ -47,5 +51,5 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed"}, {}, 1);
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate"}, {}, 1);
 }

@@ -32,7 +32,8 @@ class CalibrationSession {
   bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera);  // camera
 
   // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
-  // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does.
+  // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does, and
+  // for a sensor that saw the target but in no still pose, why (its spacing, the run it would need).
   CalibrationResult calibrate(CalibrationOptions options = {}) const;
   std::vector<TargetObservation> associatedObservations() const;
   // The same on observations already associated (callers that also show or count them).

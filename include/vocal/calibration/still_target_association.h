@@ -2,8 +2,10 @@
 // Association by time: observations of different sensors taken while the target was held still are
 // of one plane. Each sensor's stream is cut into still runs (consecutive observations whose plane, or
 // a 2D laser's line, does not move); runs of different sensors that overlap in time form one target
-// pose.
+// pose. The gap a run may bridge follows each sensor's own message period, so slow (triggered, 3 Hz)
+// and fast sensors associate alike.
 
+#include <string>
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
@@ -20,7 +22,8 @@ struct TimedObservation {
 struct StillnessOptions {
   double max_angle = 0.01;     // radians between consecutive planes (or laser lines) of a still run
   double max_offset = 0.005;   // metres between their offsets (or line centroids)
-  double max_gap = 0.3;        // seconds between consecutive observations of a run
+  double max_gap = 0.3;        // seconds between consecutive observations of a run, at least ...
+  double gap_periods = 2.5;    // ... and up to this many of the sensor's median message periods
   double min_duration = 0.4;   // seconds a run must last to count as still
 };
 
@@ -30,5 +33,13 @@ struct StillnessOptions {
 std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
                                                     std::vector<TimedObservation> observations,
                                                     const StillnessOptions& options = {});
+
+// Why a sensor that saw the target has no associated observation, for the first such sensor: its
+// observations' spacing, the gap and duration a still run needs, the longest run it had, or that its
+// runs overlap no other sensor's still period. Empty when every sensor with observations is associated.
+std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
+                                        const std::vector<TimedObservation>& observations,
+                                        const std::vector<TargetObservation>& associated,
+                                        const StillnessOptions& options = {});
 
 }  // namespace vocal
