@@ -44,7 +44,7 @@ std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const Target
 }
 
 PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corners, const TargetPattern& pattern,
-                                  const PinholeCamera& camera, const char* what) {
+                                  const PinholeCamera& camera, const char* what, const LensDistortion& distortion) {
   const std::vector<Eigen::Vector3d> object = pattern.corners();
   if (image_corners.size() != object.size()) {
     throw InputError(std::string(what) + ": " + std::to_string(image_corners.size()) + " corners detected, the " +
@@ -53,9 +53,12 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   }
   std::vector<cv::Point3d> object_points;
   std::vector<cv::Point2d> image_points;
+  // PnP on the corners as an ideal pinhole camera would have seen them.
   for (std::size_t i = 0; i < object.size(); ++i) {
     object_points.emplace_back(object[i].x(), object[i].y(), object[i].z());
-    image_points.emplace_back(image_corners[i].x(), image_corners[i].y());
+    const Eigen::Vector2d ideal = distortion.undistort(
+        {(image_corners[i].x() - camera.cx) / camera.fx, (image_corners[i].y() - camera.cy) / camera.fy});
+    image_points.emplace_back(camera.fx * ideal.x() + camera.cx, camera.fy * ideal.y() + camera.cy);
   }
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   cv::Vec3d rvec, tvec;
@@ -70,7 +73,8 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   for (std::size_t i = 0; i < object.size(); ++i) {
     const cv::Vec3d p = R * cv::Vec3d(object[i].x(), object[i].y(), object[i].z()) + tvec;
     observation.points.emplace_back(p[0], p[1], p[2]);
-    const Eigen::Vector2d projected = camera.project(observation.points.back());
+    const Eigen::Vector2d distorted = distortion.distort({p[0] / p[2], p[1] / p[2]});
+    const Eigen::Vector2d projected(camera.fx * distorted.x() + camera.cx, camera.fy * distorted.y() + camera.cy);
     squared += (projected - image_corners[i]).squaredNorm();
   }
   observation.reprojection_rms_px = std::sqrt(squared / object.size());
@@ -82,9 +86,12 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   for (std::size_t i = 0; i < object.size(); ++i) {
     const Eigen::Vector3d& p = observation.points[i];
-    Eigen::Matrix<double, 2, 3> projection;
-    projection << camera.fx / p.z(), 0.0, -camera.fx * p.x() / (p.z() * p.z()),  //
-        0.0, camera.fy / p.z(), -camera.fy * p.y() / (p.z() * p.z());
+    // Pixel <- distorted <- normalised <- camera point: the noise is the detected (distorted) pixels'.
+    Eigen::Matrix<double, 2, 3> normalisation;
+    normalisation << 1.0 / p.z(), 0.0, -p.x() / (p.z() * p.z()),  //
+        0.0, 1.0 / p.z(), -p.y() / (p.z() * p.z());
+    const Eigen::Matrix<double, 2, 3> projection = Eigen::Vector2d(camera.fx, camera.fy).asDiagonal() *
+                                                   distortion.jacobian({p.x() / p.z(), p.y() / p.z()}) * normalisation;
     Eigen::Matrix<double, 3, 6> motion;
     motion.leftCols<3>() = -rotation * skew(object[i]);
     motion.rightCols<3>() = Eigen::Matrix3d::Identity();

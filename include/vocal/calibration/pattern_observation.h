@@ -9,6 +9,7 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/core/image.h"
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
@@ -35,9 +36,11 @@ struct PatternObservation {
 // `what` when the board is not found.
 std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const TargetPattern& pattern, const char* what);
 
-// Throws InputError naming `what` when the corner count does not match the pattern or the pose cannot
-// be estimated.
+// `image_corners` are pixels of the image as taken, through the lens's `distortion` (camera_info's D):
+// the pose is fitted to the undistorted corners, the reprojection error and the covariance are those
+// of the distorted pixels. Throws InputError naming `what` when the corner count does not match the
+// pattern or the pose cannot be estimated.
 PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corners, const TargetPattern& pattern,
-                                  const PinholeCamera& camera, const char* what);
+                                  const PinholeCamera& camera, const char* what, const LensDistortion& distortion = {});
 
 }  // namespace vocal

@@ -1,0 +1,35 @@
+#pragma once
+// Lens distortion as camera_info carries it (distortion_model + D), in OpenCV's conventions, applied to
+// normalised image coordinates (x = X/Z, y = Y/Z): plumb_bob (k1 k2 p1 p2 k3, Brown-Conrady),
+// rational_polynomial (k1 k2 p1 p2 k3 k4 k5 k6) and equidistant (k1 k2 k3 k4, OpenCV's fisheye model).
+// Pixels are then fx * x' + cx, fy * y' + cy.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace vocal {
+
+enum class DistortionModel { kNone, kPlumbBob, kRationalPolynomial, kEquidistant };
+
+struct LensDistortion {
+  DistortionModel model = DistortionModel::kNone;
+  std::vector<double> coefficients;  // in camera_info's order; their count fits the model
+
+  // From camera_info's distortion_model and D. An empty D (or all zeros) is no distortion. Throws
+  // InputError naming `what` for an unknown model or a coefficient count that does not fit it.
+  static LensDistortion fromCameraInfo(const std::string& model, const std::vector<double>& d, const std::string& what);
+
+  bool isNone() const { return model == DistortionModel::kNone; }
+  // Ideal normalised coordinates -> distorted ones.
+  Eigen::Vector2d distort(const Eigen::Vector2d& ideal) const;
+  // The inverse (Newton's method, to 1e-12 within the lens's field of view).
+  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const;
+  // d distort / d ideal at `ideal` (2x2).
+  Eigen::Matrix2d jacobian(const Eigen::Vector2d& ideal) const;
+};
+
+std::string distortionModelName(DistortionModel model);  // "", plumb_bob, rational_polynomial, equidistant
+
+}  // namespace vocal

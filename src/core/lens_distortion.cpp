@@ -1,0 +1,113 @@
+#include "vocal/core/lens_distortion.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/LU>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+std::size_t coefficientCount(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kPlumbBob: return 5;
+    case DistortionModel::kRationalPolynomial: return 8;
+    case DistortionModel::kEquidistant: return 4;
+    case DistortionModel::kNone: return 0;
+  }
+  return 0;
+}
+}  // namespace
+
+std::string distortionModelName(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kPlumbBob: return "plumb_bob";
+    case DistortionModel::kRationalPolynomial: return "rational_polynomial";
+    case DistortionModel::kEquidistant: return "equidistant";
+    case DistortionModel::kNone: return "";
+  }
+  return "";
+}
+
+LensDistortion LensDistortion::fromCameraInfo(const std::string& model, const std::vector<double>& d,
+                                              const std::string& what) {
+  LensDistortion distortion;
+  if (std::all_of(d.begin(), d.end(), [](double k) { return k == 0.0; })) return distortion;  // none
+  if (model == "plumb_bob") {
+    distortion.model = DistortionModel::kPlumbBob;
+  } else if (model == "rational_polynomial") {
+    distortion.model = DistortionModel::kRationalPolynomial;
+  } else if (model == "equidistant" || model == "fisheye") {
+    distortion.model = DistortionModel::kEquidistant;
+  } else {
+    throw InputError(what + ": distortion_model '" + model +
+                     "' is not supported (plumb_bob, rational_polynomial or equidistant)");
+  }
+  const std::size_t expected = coefficientCount(distortion.model);
+  // plumb_bob with 4 coefficients (k3 left out) is common: k3 = 0.
+  if (distortion.model == DistortionModel::kPlumbBob && d.size() == 4) {
+    distortion.coefficients = d;
+    distortion.coefficients.push_back(0.0);
+    return distortion;
+  }
+  if (d.size() != expected) {
+    throw InputError(what + ": distortion_model " + model + " takes " + std::to_string(expected) + " coefficients, D has " +
+                     std::to_string(d.size()));
+  }
+  for (double k : d)
+    if (!std::isfinite(k)) throw InputError(what + ": D has a coefficient that is not finite");
+  distortion.coefficients = d;
+  return distortion;
+}
+
+Eigen::Vector2d LensDistortion::distort(const Eigen::Vector2d& ideal) const {
+  const std::vector<double>& k = coefficients;
+  const double x = ideal.x(), y = ideal.y(), r2 = x * x + y * y;
+  switch (model) {
+    case DistortionModel::kNone: return ideal;
+    case DistortionModel::kPlumbBob:
+    case DistortionModel::kRationalPolynomial: {
+      double radial = 1.0 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
+      if (model == DistortionModel::kRationalPolynomial) radial /= 1.0 + r2 * (k[5] + r2 * (k[6] + r2 * k[7]));
+      const double p1 = k[2], p2 = k[3];
+      return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+              y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
+    }
+    case DistortionModel::kEquidistant: {
+      const double r = std::sqrt(r2);
+      if (r < 1e-12) return ideal;
+      const double theta = std::atan(r), t2 = theta * theta;
+      const double theta_d = theta * (1.0 + t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3]))));
+      return ideal * (theta_d / r);
+    }
+  }
+  return ideal;
+}
+
+Eigen::Matrix2d LensDistortion::jacobian(const Eigen::Vector2d& ideal) const {
+  if (isNone()) return Eigen::Matrix2d::Identity();
+  // Central differences: the models are smooth, and one code path serves all of them.
+  constexpr double h = 1e-7;
+  Eigen::Matrix2d J;
+  for (int i = 0; i < 2; ++i) {
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    step[i] = h;
+    J.col(i) = (distort(ideal + step) - distort(ideal - step)) / (2.0 * h);
+  }
+  return J;
+}
+
+Eigen::Vector2d LensDistortion::undistort(const Eigen::Vector2d& distorted) const {
+  if (isNone()) return distorted;
+  Eigen::Vector2d ideal = distorted;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const Eigen::Vector2d error = distort(ideal) - distorted;
+    if (error.norm() < 1e-14) break;
+    ideal -= jacobian(ideal).partialPivLu().solve(error);
+  }
+  return ideal;
+}
+
+}  // namespace vocal
