@@ -77,6 +77,16 @@ TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
 
   sensor_msgs::CameraInfo info = vocal::toCameraInfo(vocal::defaultKinectCamera(), "f", ros::Time(1));
   EXPECT_EQ(vocal::fromCameraInfo(info, "/info").fx, 525.0);
+  // The lens: camera_info's distortion_model and D.
+  EXPECT_TRUE(vocal::lensDistortionFromCameraInfo(info, "/info").isNone());
+  info.distortion_model = "equidistant";
+  info.D = {-0.013, 0.021, -0.011, 0.0021};
+  const vocal::LensDistortion fisheye = vocal::lensDistortionFromCameraInfo(info, "/info");
+  EXPECT_EQ(fisheye.model, vocal::DistortionModel::kEquidistant);
+  EXPECT_EQ(fisheye.coefficients, info.D);
+  info.D.push_back(0.1);
+  EXPECT_EQ(inputErrorOf([&] { vocal::lensDistortionFromCameraInfo(info, "/info"); }),
+            "/info: distortion_model equidistant takes 4 coefficients, D has 5");
   info.K = {};
   EXPECT_EQ(inputErrorOf([&] { vocal::fromCameraInfo(info, "/info"); }),
             "/info: K has zero focal lengths: the camera is not calibrated");

@@ -65,7 +65,8 @@ bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& de
   return record(sensor, stamp, extractTargetPoints(cloud, rig_.target.width, rig_.target.height, extraction_), {});
 }
 
-bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera) {
+bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
+                                  const LensDistortion& distortion) {
   const RigSensorDescription& description = checkSensor(sensor, SensorType::kCamera, "image");
   const char* name = description.spec.name.c_str();
   std::vector<Eigen::Vector2d> corners;
@@ -74,7 +75,7 @@ bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& im
   } catch (const InputError&) {
     return record(sensor, stamp, {}, {});  // no board in view: normal while the target moves
   }
-  PatternObservation seen = observePattern(corners, rig_.target.pattern, camera, name);
+  PatternObservation seen = observePattern(corners, rig_.target.pattern, camera, name, distortion);
   return record(sensor, stamp, std::move(seen.points), {seen.plane});
 }
 

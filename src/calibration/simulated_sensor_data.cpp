@@ -99,16 +99,21 @@ DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera
 }
 
 ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
-                               std::mt19937* rng) {
+                               std::mt19937* rng, const LensDistortion& distortion) {
   ColorImage image(camera.width, camera.height);
   std::normal_distribution<double> noise(0.0, std::max(noise_levels, 1e-12));
   for (int v = 0; v < camera.height; ++v) {
+    // Each subsample's ideal ray starts Newton from the same subsample of the pixel to the left.
+    Eigen::Vector2d previous[4];
     for (int u = 0; u < camera.width; ++u) {
       double grey = 0.0;
+      int sample = 0;
       for (const double du : {-0.25, 0.25}) {
         for (const double dv : {-0.25, 0.25}) {
-          const Eigen::Vector3d ray((u + du - camera.cx) / camera.fx, (v + dv - camera.cy) / camera.fy, 1.0);
-          const Hit hit = castRay(view, ray);
+          const Eigen::Vector2d distorted((u + du - camera.cx) / camera.fx, (v + dv - camera.cy) / camera.fy);
+          const Eigen::Vector2d ideal = distortion.undistort(distorted, u == 0 ? distorted : previous[sample]);
+          previous[sample++] = ideal;
+          const Hit hit = castRay(view, Eigen::Vector3d(ideal.x(), ideal.y(), 1.0));
           grey += 0.25 * (hit.surface == Surface::kTarget ? boardGrey(view.target->pattern, hit.on_target)
                           : hit.surface == Surface::kNone ? 60.0
                                                            : 120.0);

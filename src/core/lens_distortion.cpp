@@ -99,9 +99,9 @@ Eigen::Matrix2d LensDistortion::jacobian(const Eigen::Vector2d& ideal) const {
   return J;
 }
 
-Eigen::Vector2d LensDistortion::undistort(const Eigen::Vector2d& distorted) const {
+Eigen::Vector2d LensDistortion::undistort(const Eigen::Vector2d& distorted, const Eigen::Vector2d& start) const {
   if (isNone()) return distorted;
-  Eigen::Vector2d ideal = distorted;
+  Eigen::Vector2d ideal = start;
   for (int iteration = 0; iteration < 50; ++iteration) {
     const Eigen::Vector2d error = distort(ideal) - distorted;
     if (error.norm() < 1e-14) break;

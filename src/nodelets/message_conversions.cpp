@@ -205,6 +205,10 @@ DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what
   return depth;
 }
 
+LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what) {
+  return LensDistortion::fromCameraInfo(msg.distortion_model, msg.D, what);
+}
+
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what) {
   if (msg.K[0] == 0.0 || msg.K[4] == 0.0) {
     throw InputError(what + ": K has zero focal lengths: the camera is not calibrated");

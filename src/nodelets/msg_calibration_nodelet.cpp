@@ -112,7 +112,12 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   }
 
   void onCameraInfo(int sensor, const sensor_msgs::CameraInfo& msg) {
-    guarded(sensor, [&] { cameras_[sensor] = fromCameraInfo(msg, session_->rig().sensors[sensor].camera_info_topic); });
+    guarded(sensor, [&] {
+      const std::string& topic = session_->rig().sensors[sensor].camera_info_topic;
+      const PinholeCamera camera = fromCameraInfo(msg, topic);
+      lenses_[sensor] = lensDistortionFromCameraInfo(msg, topic);
+      cameras_[sensor] = camera;
+    });
   }
 
   void onImage(int sensor, bool depth, const sensor_msgs::Image& msg) {
@@ -124,7 +129,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       if (depth) {
         session_->addDepth(sensor, msg.header.stamp.toSec(), fromDepthImage(msg, topic), camera->second);
       } else {
-        session_->addImage(sensor, msg.header.stamp.toSec(), fromColorImage(msg, topic), camera->second);
+        session_->addImage(sensor, msg.header.stamp.toSec(), fromColorImage(msg, topic), camera->second, lenses_[sensor]);
       }
     });
   }
@@ -228,6 +233,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;
   std::map<int, PinholeCamera> cameras_;
+  std::map<int, LensDistortion> lenses_;  // camera_info's D, for cameras
   std::vector<std::size_t> dropped_;
   std::vector<ros::Subscriber> subscribers_;
   ros::ServiceServer calibrate_service_, reset_service_;

@@ -142,6 +142,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
 
   BagReadSummary summary;
   std::map<int, PinholeCamera> cameras;  // latest camera_info per sensor
+  std::map<int, LensDistortion> lenses;   // ... and its distortion
   try {
     // A camera_info stamped like its image may be stored after it: start from each sensor's first one.
     for (const auto& route : routes) {
@@ -152,6 +153,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
           if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
             try {
               cameras[sensor] = fromCameraInfo(*info, m.getTopic());
+              lenses[sensor] = lensDistortionFromCameraInfo(*info, m.getTopic());
               break;
             } catch (const InputError&) {
               continue;  // reported when the main pass reaches it
@@ -173,9 +175,13 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
         const std::string& name = rig.sensors[sensor].spec.name;
         try {
           switch (kind) {
-            case Kind::kInfo:
-              cameras[sensor] = fromCameraInfo(*m.instantiate<sensor_msgs::CameraInfo>(), m.getTopic());
+            case Kind::kInfo: {
+              const auto info = m.instantiate<sensor_msgs::CameraInfo>();
+              if (!info) throw InputError(m.getTopic() + ": not a sensor_msgs/CameraInfo");
+              cameras[sensor] = fromCameraInfo(*info, m.getTopic());
+              lenses[sensor] = lensDistortionFromCameraInfo(*info, m.getTopic());
               break;
+            }
             case Kind::kImage:
             case Kind::kDepth: {
               const auto image = m.instantiate<sensor_msgs::Image>();
@@ -185,7 +191,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               }
               const double stamp = image->header.stamp.toSec();
               if (kind == Kind::kImage) {
-                session->addImage(sensor, stamp, fromColorImage(*image, m.getTopic()), cameras[sensor]);
+                session->addImage(sensor, stamp, fromColorImage(*image, m.getTopic()), cameras[sensor], lenses[sensor]);
               } else {
                 session->addDepth(sensor, stamp, fromDepthImage(*image, m.getTopic()), cameras[sensor]);
               }

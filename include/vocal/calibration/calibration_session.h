@@ -11,6 +11,7 @@
 #include "vocal/calibration/still_target_association.h"
 #include "vocal/calibration/target_extraction.h"
 #include "vocal/core/image.h"
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
@@ -29,7 +30,8 @@ class CalibrationSession {
   bool addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud);          // lidar3d
   bool addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan);            // laser2d, in beam order
   bool addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera);  // rgbd
-  bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera);  // camera
+  bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
+                const LensDistortion& distortion = {});  // camera, through its lens (camera_info's D)
 
   // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
   // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does, and

@@ -12,6 +12,7 @@
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/core/image.h"
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
@@ -30,8 +31,9 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.
 DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng);
 // A camera's image: the checkerboard (black and white squares on the white board), grey room,
-// 2x2 supersampled, with Gaussian pixel noise of `noise_levels` grey levels.
+// 2x2 supersampled, with Gaussian pixel noise of `noise_levels` grey levels, through the lens's
+// `distortion` (each subsample's ray undistorted).
 ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
-                               std::mt19937* rng);
+                               std::mt19937* rng, const LensDistortion& distortion = {});
 
 }  // namespace vocal

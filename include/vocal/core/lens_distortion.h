@@ -24,8 +24,10 @@ struct LensDistortion {
   bool isNone() const { return model == DistortionModel::kNone; }
   // Ideal normalised coordinates -> distorted ones.
   Eigen::Vector2d distort(const Eigen::Vector2d& ideal) const;
-  // The inverse (Newton's method, to 1e-12 within the lens's field of view).
-  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const;
+  // The inverse (Newton's method, to 1e-12 within the lens's field of view), from `start` when a
+  // close guess is known (a neighbouring pixel's), else from the distorted point itself.
+  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const { return undistort(distorted, distorted); }
+  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted, const Eigen::Vector2d& start) const;
   // d distort / d ideal at `ideal` (2x2).
   Eigen::Matrix2d jacobian(const Eigen::Vector2d& ideal) const;
 };

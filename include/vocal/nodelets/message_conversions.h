@@ -13,6 +13,7 @@
 
 #include "vocal/core/colored_point.h"
 #include "vocal/core/image.h"
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 
@@ -42,6 +43,8 @@ DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what
 // Intrinsics from K; depth_scale 1000 (OpenNI millimetres). Refuses an uncalibrated (zero) K and
 // binning or a region of interest.
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
+// The lens model of distortion_model and D (LensDistortion::fromCameraInfo's checks, naming `what`).
+LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
 // The x, y, z (float32 or float64) of every finite point, in the cloud's frame.
 std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what);
 // The scan's returns within [range_min, range_max] as points in its plane (z = 0), in beam order.
