@@ -98,26 +98,38 @@ DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera
   return depth;
 }
 
-ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
-                               std::mt19937* rng, const LensDistortion& distortion) {
-  ColorImage image(camera.width, camera.height);
-  std::normal_distribution<double> noise(0.0, std::max(noise_levels, 1e-12));
+CameraRays::CameraRays(const PinholeCamera& camera, const LensDistortion& distortion) : camera_(camera) {
+  rays_.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
   for (int v = 0; v < camera.height; ++v) {
     // Each subsample's ideal ray starts Newton from the same subsample of the pixel to the left.
     Eigen::Vector2d previous[4];
     for (int u = 0; u < camera.width; ++u) {
-      double grey = 0.0;
       int sample = 0;
       for (const double du : {-0.25, 0.25}) {
         for (const double dv : {-0.25, 0.25}) {
           const Eigen::Vector2d distorted((u + du - camera.cx) / camera.fx, (v + dv - camera.cy) / camera.fy);
           const Eigen::Vector2d ideal = distortion.undistort(distorted, u == 0 ? distorted : previous[sample]);
-          previous[sample++] = ideal;
-          const Hit hit = castRay(view, Eigen::Vector3d(ideal.x(), ideal.y(), 1.0));
-          grey += 0.25 * (hit.surface == Surface::kTarget ? boardGrey(view.target->pattern, hit.on_target)
-                          : hit.surface == Surface::kNone ? 60.0
-                                                           : 120.0);
+          previous[sample] = ideal;
+          rays_[(static_cast<std::size_t>(v) * camera.width + u) * 4 + sample++] = Eigen::Vector3d(ideal.x(), ideal.y(), 1.0);
         }
+      }
+    }
+  }
+}
+
+ColorImage simulateCameraImage(const SimulatedRoomView& view, const CameraRays& rays, double noise_levels,
+                               std::mt19937* rng) {
+  const PinholeCamera& camera = rays.camera();
+  ColorImage image(camera.width, camera.height);
+  std::normal_distribution<double> noise(0.0, std::max(noise_levels, 1e-12));
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      double grey = 0.0;
+      for (int sample = 0; sample < 4; ++sample) {
+        const Hit hit = castRay(view, rays.ray(u, v, sample));
+        grey += 0.25 * (hit.surface == Surface::kTarget ? boardGrey(view.target->pattern, hit.on_target)
+                        : hit.surface == Surface::kNone ? 60.0
+                                                         : 120.0);
       }
       if (noise_levels > 0.0) grey += noise(*rng);
       const auto level = static_cast<std::uint8_t>(std::clamp(std::lround(grey), 0L, 255L));
@@ -125,6 +137,11 @@ ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamer
     }
   }
   return image;
+}
+
+ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
+                               std::mt19937* rng, const LensDistortion& distortion) {
+  return simulateCameraImage(view, CameraRays(camera, distortion), noise_levels, rng);
 }
 
 }  // namespace vocal

@@ -12,14 +12,20 @@
 
 namespace vocal {
 
-sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp) {
+sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp,
+                                     const LensDistortion& distortion) {
   sensor_msgs::CameraInfo info;
   info.header.stamp = stamp;
   info.header.frame_id = frame_id;
   info.width = camera.width;
   info.height = camera.height;
-  info.distortion_model = "plumb_bob";
-  info.D.assign(5, 0.0);
+  if (distortion.isNone()) {
+    info.distortion_model = "plumb_bob";
+    info.D.assign(5, 0.0);
+  } else {
+    info.distortion_model = distortionModelName(distortion.model);
+    info.D = distortion.coefficients;
+  }
   info.K = {camera.fx, 0.0, camera.cx, 0.0, camera.fy, camera.cy, 0.0, 0.0, 1.0};
   info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
   info.P = {camera.fx, 0.0, camera.cx, 0.0, 0.0, camera.fy, camera.cy, 0.0, 0.0, 0.0, 1.0, 0.0};

@@ -63,6 +63,7 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
 
   std::mt19937 rng(options.seed);
   const PinholeCamera image_camera = defaultKinectCamera(640, 480);
+  const CameraRays image_rays(image_camera, options.camera_lens);  // the lens, undistorted once
   const PinholeCamera depth_camera = defaultKinectCamera(options.depth_width, options.depth_height);
   const int ticks_per_pose = options.still_ticks + options.moving_ticks;
   try {
@@ -82,9 +83,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
           const ros::Time stamp(1000.0 + (k * ticks_per_pose + tick) / options.rate + 0.013 * s);
           switch (d.spec.type) {
             case SensorType::kCamera:
-              bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp));
+              bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, options.camera_lens));
               bag.write(d.image_topic, stamp,
-                        toMono8Image(simulateCameraImage(view, image_camera, options.image_noise, &rng), d.spec.frame_id, stamp));
+                        toMono8Image(simulateCameraImage(view, image_rays, options.image_noise, &rng), d.spec.frame_id, stamp));
               summary.messages += 2;
               break;
             case SensorType::kRgbd:

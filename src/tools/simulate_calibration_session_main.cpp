@@ -20,6 +20,8 @@ const char kUsage[] =
     "  --noise M           range noise, metres (default 0.001)\n"
     "  --rate HZ           messages per second of every sensor (default 10; the target is held still for\n"
     "                      6 messages and carried for 4)\n"
+    "  --lens MODEL        the cameras' lens: none (default), plumb_bob (wide angle, k1 -0.3) or\n"
+    "                      equidistant (fisheye); images rendered through it, camera_info carries it\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
@@ -37,6 +39,15 @@ int run(const vocal::CommandLine& args) {
   options.range_noise = args.number("noise", 0.001);
   options.rate = args.number("rate", options.rate);
   if (!(options.rate > 0.0)) throw vocal::InputError("option --rate: messages per second must be > 0");
+  // Real magnitudes: a wide-angle lens and a fisheye as OpenCV calibrates them.
+  const std::string lens = args.text("lens", "none");
+  if (lens == "plumb_bob") {
+    options.camera_lens = vocal::LensDistortion::fromCameraInfo("plumb_bob", {-0.30, 0.09, 0.0012, -0.0008, -0.012}, "--lens");
+  } else if (lens == "equidistant") {
+    options.camera_lens = vocal::LensDistortion::fromCameraInfo("equidistant", {-0.013, 0.021, -0.011, 0.0021}, "--lens");
+  } else if (lens != "none") {
+    throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob or equidistant");
+  }
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
@@ -51,5 +62,5 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate"}, {}, 1);
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens"}, {}, 1);
 }

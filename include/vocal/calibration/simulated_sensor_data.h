@@ -30,9 +30,27 @@ std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt199
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng);
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.
 DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng);
+// The viewing ray (z = 1) of each 2x2 subsample of every pixel of a camera through its lens: computed
+// once per camera, as undistorting is most of the cost of rendering a distorted image.
+class CameraRays {
+ public:
+  CameraRays(const PinholeCamera& camera, const LensDistortion& distortion);
+  const PinholeCamera& camera() const { return camera_; }
+  const Eigen::Vector3d& ray(int u, int v, int subsample) const {
+    return rays_[(static_cast<std::size_t>(v) * camera_.width + u) * 4 + subsample];
+  }
+
+ private:
+  PinholeCamera camera_;
+  std::vector<Eigen::Vector3d> rays_;
+};
+
 // A camera's image: the checkerboard (black and white squares on the white board), grey room,
-// 2x2 supersampled, with Gaussian pixel noise of `noise_levels` grey levels, through the lens's
-// `distortion` (each subsample's ray undistorted).
+// 2x2 supersampled, with Gaussian pixel noise of `noise_levels` grey levels, through the lens the rays
+// were made for.
+ColorImage simulateCameraImage(const SimulatedRoomView& view, const CameraRays& rays, double noise_levels,
+                               std::mt19937* rng);
+// The same for one image (the rays made here).
 ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
                                std::mt19937* rng, const LensDistortion& distortion = {});
 

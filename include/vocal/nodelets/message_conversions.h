@@ -19,7 +19,9 @@
 
 namespace vocal {
 
-sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp);
+// With the lens's distortion_model and D (none: plumb_bob with zeros, as uncalibrated drivers publish).
+sensor_msgs::CameraInfo toCameraInfo(const PinholeCamera& camera, const std::string& frame_id, const ros::Time& stamp,
+                                     const LensDistortion& distortion = {});
 sensor_msgs::Image toRgb8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // bgr8: what openni2_camera publishes for colour.
 sensor_msgs::Image toBgr8Image(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);

@@ -10,6 +10,7 @@
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/rig_simulator.h"
+#include "vocal/core/lens_distortion.h"
 
 namespace vocal {
 
@@ -25,6 +26,7 @@ struct SimulatedSessionOptions {
   double rate = 10.0;     // Hz per sensor
   double range_noise = 0.001;
   double image_noise = 2.0;  // grey levels
+  LensDistortion camera_lens;  // cameras' lens: images rendered through it, camera_info carries it
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;
   std::uint32_t seed = 1;
