@@ -173,36 +173,38 @@ std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
                                         const std::vector<TargetObservation>& associated,
                                         const StillnessOptions& options) {
   checkSensorIndices(sensors, observations);
-  std::vector<TimedObservation> sorted = observations;
-  sortBySensorAndTime(&sorted);
-  const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
-  const std::vector<StillRun> runs = cutRuns(sensors, sorted, options);
-  std::vector<int> seen(sensors.size(), 0), kept(sensors.size(), 0);
-  std::vector<double> longest(sensors.size(), 0.0);
-  for (const TimedObservation& o : sorted) ++seen[o.sensor];
-  for (const StillRun& run : runs) {
-    longest[run.sensor] = std::max(longest[run.sensor], run.end - run.begin);
-    kept[run.sensor] += run.end - run.begin >= options.min_duration;
-  }
+  std::vector<int> seen(sensors.size(), 0);
+  for (const TimedObservation& o : observations) ++seen[o.sensor];
   std::vector<bool> associated_sensor(sensors.size(), false);
   for (const TargetObservation& o : associated)
     if (o.sensor >= 0 && o.sensor < static_cast<int>(sensors.size())) associated_sensor[o.sensor] = true;
-  for (std::size_t s = 0; s < sensors.size(); ++s) {
-    if (seen[s] == 0 || associated_sensor[s]) continue;
-    std::ostringstream why;
-    why << std::setprecision(3) << "sensor '" << sensors[s].name << "' saw the target in " << seen[s]
-        << " observations but in no still target pose: ";
-    if (kept[s] > 0) {
-      why << "its " << kept[s] << " still runs overlap no still period of a plane-seeing sensor";
-    } else {
-      why << "its observations are " << periods[s] << " s apart (median); a still run allows gaps up to "
-          << allowedGap(periods[s], options) << " s and must last " << options.min_duration
-          << " s with the target moving less than " << options.max_angle << " rad and " << options.max_offset
-          << " m (its longest lasted " << longest[s] << " s)";
-    }
-    return why.str();
+  std::size_t missing = 0;
+  while (missing < sensors.size() && (seen[missing] == 0 || associated_sensor[missing])) ++missing;
+  if (missing == sensors.size()) return "";
+
+  // Only now the runs again (plane fits per observation), for the sensor that has none.
+  std::vector<TimedObservation> sorted = observations;
+  sortBySensorAndTime(&sorted);
+  const double period = medianPeriods(sensors.size(), sorted)[missing];
+  int kept = 0;
+  double longest = 0.0;
+  for (const StillRun& run : cutRuns(sensors, sorted, options)) {
+    if (run.sensor != static_cast<int>(missing)) continue;
+    longest = std::max(longest, run.end - run.begin);
+    kept += run.end - run.begin >= options.min_duration;
   }
-  return "";
+  std::ostringstream why;
+  why << std::setprecision(3) << "sensor '" << sensors[missing].name << "' saw the target in " << seen[missing]
+      << " observations but in no still target pose: ";
+  if (kept > 0) {
+    why << "its " << kept << " still runs overlap no still period of a plane-seeing sensor";
+  } else {
+    why << "its observations are " << period << " s apart (median); a still run allows gaps up to "
+        << allowedGap(period, options) << " s and must last " << options.min_duration
+        << " s with the target moving less than " << options.max_angle << " rad and " << options.max_offset
+        << " m (its longest lasted " << longest << " s)";
+  }
+  return why.str();
 }
 
 }  // namespace vocal
