@@ -6,6 +6,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -163,18 +164,17 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     return info;
   }
 
-  // The device's intrinsics for a stream; a fallback (no field of view in the stream) is warned about
-  // once and shown in diagnostics.
+  // The device's intrinsics for a stream, asked of the device once (the modes are fixed when it opens);
+  // a fallback (no field of view in the stream) is warned about then and shown in diagnostics.
   PinholeCamera deviceCamera(bool color) {
-    std::string note;
-    const PinholeCamera camera = color ? device_->colorCamera(&note) : device_->depthCamera(&note);
-    if (!note.empty()) {
-      std::lock_guard<std::mutex> lock(note_mutex_);
-      std::string& kept = color ? color_intrinsics_note_ : depth_intrinsics_note_;
-      if (kept != note) NODELET_WARN_STREAM("OpenNI2Driver: " << note);
-      kept = note;
+    std::lock_guard<std::mutex> lock(note_mutex_);
+    std::optional<PinholeCamera>& camera = color ? color_camera_ : depth_camera_;
+    if (!camera) {
+      std::string& note = color ? color_intrinsics_note_ : depth_intrinsics_note_;
+      camera = color ? device_->colorCamera(&note) : device_->depthCamera(&note);
+      if (!note.empty()) NODELET_WARN_STREAM("OpenNI2Driver: " << note);
     }
-    return camera;
+    return *camera;
   }
 
   void publishColor(const Openni2ColorFrame& frame) {
@@ -232,6 +232,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   std::string rgb_frame_id_, depth_frame_id_, rgb_info_url_, depth_info_url_, problem_;
   bool use_device_time_ = true;
   std::mutex mutex_, stamp_mutex_, note_mutex_;
+  std::optional<PinholeCamera> color_camera_, depth_camera_;  // under note_mutex_, once known
   std::string color_intrinsics_note_, depth_intrinsics_note_;  // why a stream's intrinsics are a fallback
   std::unique_ptr<Openni2Device> device_;
   std::unique_ptr<camera_info_manager::CameraInfoManager> rgb_info_, depth_info_;

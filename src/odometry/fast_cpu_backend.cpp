@@ -28,11 +28,11 @@ FastCpuOdometryBackend::FastCpuOdometryBackend(const PinholeCamera& camera, cons
     : camera_(camera), config_(config), threads_(resolveThreads(config.cpu_threads)) {
   TrackRowFunction avx2 = pass == CpuTrackingPass::kBest ? avx2TrackRow() : nullptr;
   track_row_ = avx2 ? avx2 : &trackRowPortable;
-  track_row_name_ = avx2 ? "AVX2" : "portable";
 }
 
 std::string FastCpuOdometryBackend::name() const {
-  return "cpu fast (" + std::to_string(threads_) + (threads_ == 1 ? " thread, " : " threads, ") + track_row_name_ + ")";
+  return "cpu fast (" + std::to_string(threads_) + (threads_ == 1 ? " thread, " : " threads, ") +
+         (track_row_ == &trackRowPortable ? "portable" : "AVX2") + ")";
 }
 
 void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame) {

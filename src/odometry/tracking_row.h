@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "vocal/core/pinhole_camera.h"
+#include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/soa_frame_pyramid.h"
 
 namespace vocal {
@@ -23,11 +24,8 @@ struct TrackingThresholds {
   float max_distance_squared, min_cos, max_depth, max_depth_difference, min_gradient_squared, huber;
 };
 
-// Adds row y's rows to icp_sums / rgb_sums (29 values each; nullptr = that term is off): within the row
-// in float, onto the sums in double.
-using TrackRowFunction = void (*)(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const TrackingWarp& warp,
-                                  const TrackingThresholds& thresholds, int y, double* icp_sums, double* rgb_sums);
-
+// TrackRowFunction (fast_cpu_backend.h): adds row y's rows to icp_sums / rgb_sums (29 values each;
+// nullptr = that term is off): within the row in float, onto the sums in double.
 void trackRowPortable(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const TrackingWarp& warp,
                       const TrackingThresholds& thresholds, int y, double* icp_sums, double* rgb_sums);
 

@@ -13,6 +13,11 @@ namespace vocal {
 struct TrackingWarp;
 struct TrackingThresholds;
 
+// One image row of the tracking pass, added to packed normal-equation sums (src/odometry/tracking_row.h
+// has the implementations).
+using TrackRowFunction = void (*)(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const TrackingWarp& warp,
+                                  const TrackingThresholds& thresholds, int y, double* icp_sums, double* rgb_sums);
+
 // The per-pixel tracking pass: the best this CPU runs (AVX2 + FMA where there), or the portable one
 // (any CPU; the parity tests check both).
 enum class CpuTrackingPass { kBest, kPortable };
@@ -41,9 +46,7 @@ class FastCpuOdometryBackend : public OdometryBackend {
   int threads_;
   SoaFramePyramid frames_[2];  // the reference is the one that is not current; buffers swap roles
   int current_ = 0;
-  void (*track_row_)(const SoaPyramidLevel&, const SoaPyramidLevel&, const TrackingWarp&, const TrackingThresholds&,
-                     int, double*, double*);
-  std::string track_row_name_;
+  TrackRowFunction track_row_;
 };
 
 }  // namespace vocal
