@@ -69,7 +69,7 @@ void BM_Preprocess(benchmark::State& state) {
   std::unique_ptr<vocal::OdometryBackend> backend;
   if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, {}, &backend)) return;
   std::size_t i = 0;
-  for (auto _ : state) backend->pushFrame(f.frames[i++ % f.frames.size()]);
+  for (auto _ : state) backend->pushFrame(f.frames[i++ % f.frames.size()], vocal::ReferenceUpdate::kPreviousFrame);
   state.counters["memory_MB"] = backend->memoryBytes() / 1048576.0;
 }
 
@@ -80,8 +80,8 @@ void systemBenchmark(benchmark::State& state, Terms terms) {
   const int level = static_cast<int>(state.range(2));
   std::unique_ptr<vocal::OdometryBackend> backend;
   if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, {}, &backend)) return;
-  backend->pushFrame(f.frames[0]);
-  backend->pushFrame(f.frames[1]);
+  backend->pushFrame(f.frames[0], vocal::ReferenceUpdate::kPreviousFrame);
+  backend->pushFrame(f.frames[1], vocal::ReferenceUpdate::kPreviousFrame);
   const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
   for (auto _ : state) {
     vocal::NormalEquations icp, rgb;

@@ -9,6 +9,8 @@
 #include <limits>
 #include <random>
 
+#include <Eigen/Eigenvalues>
+
 #include "test_support.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -88,6 +90,7 @@ TEST(OdometryCovariance, PoseCovarianceGrowsInTheOdometryFrame) {
   for (int i = 0; i < options.frames; ++i) frames.push_back(vocal::renderSyntheticFrame(scene, camera, truth[i], model, 7 + i));
   vocal::OdometryConfig config;
   config.min_icp_inliers = config.min_rgb_inliers = 100;
+  config.tracking_reference = vocal::TrackingReference::kFrame;  // every increment adds its uncertainty
   vocal::Vector6d start_twist;
   start_twist << 0.5, -1.0, 2.0, 0.3, 1.2, -0.7;
   const Eigen::Isometry3d start = vocal::se3Exp(start_twist);
@@ -106,6 +109,22 @@ TEST(OdometryCovariance, PoseCovarianceGrowsInTheOdometryFrame) {
   EXPECT_GT(previous_trace, 0.0);
   from_identity.reset();
   EXPECT_EQ(from_identity.poseCovariance(), vocal::Matrix6d::Zero());
+
+  // Against a keyframe a frame's uncertainty is the keyframe's plus that of the one motion from it.
+  config.tracking_reference = vocal::TrackingReference::kKeyframe;
+  vocal::IcpDvoOdometry keyframed(camera, config);
+  vocal::Matrix6d keyframe_covariance = vocal::Matrix6d::Zero();
+  for (const vocal::RgbdFrame& frame : frames) {
+    const vocal::OdometryResult result = keyframed.track(frame);
+    ASSERT_TRUE(result.quality.trusted) << result.failure;
+    if (!result.first_frame) {
+      EXPECT_GT(result.pose_covariance.trace(), keyframe_covariance.trace());
+      const vocal::Matrix6d added = result.pose_covariance - keyframe_covariance;
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<vocal::Matrix6d>(added).eigenvalues().minCoeff(), -1e-15)
+          << "the keyframe's uncertainty must be part of the frame's";
+    }
+    if (result.new_keyframe) keyframe_covariance = result.pose_covariance;
+  }
 }
 
 // Features find a motion far outside the dense basin between two frames, close enough for the dense
@@ -167,11 +186,30 @@ TEST(OdometryAccuracy, FeatureInitialisationTracksFastMotion) {
        {vocal::FeatureInitialisation::kAlways, vocal::FeatureInitialisation::kFallback, vocal::FeatureInitialisation::kOff}) {
     vocal::OdometryConfig config;
     config.feature_initialisation = features;
+    // Without features the wrong minima are reported, not trusted; relocalisation (features again)
+    // would recover them, so it is off for this basin check.
+    config.relocalisation = features != vocal::FeatureInitialisation::kOff;
     vocal::IcpDvoOdometry odometry(camera, config);
     odometry.reset(truth.front().pose);
     vocal::Trajectory estimate;
-    for (const vocal::RgbdFrame& frame : frames) estimate.push_back({frame.stamp, odometry.track(frame).pose});
+    int untrusted = 0;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const vocal::OdometryResult result = odometry.track(frames[i]);
+      estimate.push_back({frames[i].stamp, result.pose});
+      if (!result.quality.trusted) {
+        ++untrusted;
+        continue;
+      }
+      const double error = (truth[i].pose.inverse() * result.pose).translation().norm();
+      EXPECT_LT(error, 0.02) << "frame " << i << " is trusted but " << error << " m off (features "
+                             << static_cast<int>(features) << ")";
+    }
     ate[features] = vocal::computeAte(truth, estimate).rmse;
+    if (features == vocal::FeatureInitialisation::kOff) {
+      EXPECT_GT(untrusted, 0) << "the wrong minima must be reported";
+    } else {
+      EXPECT_EQ(untrusted, 0);
+    }
   }
   std::cout << "3 Hz, 0.5 m/s: ATE with feature initialisation always " << ate[vocal::FeatureInitialisation::kAlways] * 1000
             << " mm, as fallback " << ate[vocal::FeatureInitialisation::kFallback] * 1000 << " mm, off "
@@ -325,6 +363,17 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.max_condition, defaults.max_condition);
   EXPECT_EQ(file.feature_initialisation, defaults.feature_initialisation);
   EXPECT_EQ(file.feature_fallback_residual_ratio, defaults.feature_fallback_residual_ratio);
+  EXPECT_EQ(file.tracking_reference, defaults.tracking_reference);
+  EXPECT_EQ(file.keyframe_min_overlap, defaults.keyframe_min_overlap);
+  EXPECT_EQ(file.keyframe_max_residual_growth, defaults.keyframe_max_residual_growth);
+  EXPECT_EQ(file.keyframe_max_translation, defaults.keyframe_max_translation);
+  EXPECT_EQ(file.keyframe_max_rotation_deg, defaults.keyframe_max_rotation_deg);
+  EXPECT_EQ(file.keyframes_kept, defaults.keyframes_kept);
+  EXPECT_EQ(file.max_predicted_frames, defaults.max_predicted_frames);
+  EXPECT_EQ(file.relocalisation, defaults.relocalisation);
+  EXPECT_EQ(file.wrong_minimum_residual_ratio, defaults.wrong_minimum_residual_ratio);
+  EXPECT_EQ(file.wrong_minimum_feature_translation, defaults.wrong_minimum_feature_translation);
+  EXPECT_EQ(file.wrong_minimum_feature_rotation_deg, defaults.wrong_minimum_feature_rotation_deg);
   EXPECT_EQ(file.backend, defaults.backend);
   EXPECT_EQ(file.cpu_threads, defaults.cpu_threads);
 }
@@ -381,7 +430,10 @@ TEST(OdometryAccuracy, FeatureFallbackCatchesAWrongMinimumAfterDroppedFrames) {
   for (int checked : {1, 0}) {
     vocal::OdometryConfig config;
     config.feature_initialisation = vocal::FeatureInitialisation::kFallback;
-    if (!checked) config.feature_fallback_residual_ratio = 1e6;
+    // Frame to frame: the constant-velocity start is what lands in the wrong minima (against a keyframe
+    // the solve starts from the last pose).
+    config.tracking_reference = vocal::TrackingReference::kFrame;
+    if (!checked) config.feature_fallback_residual_ratio = config.wrong_minimum_residual_ratio = 1e6;
     vocal::IcpDvoOdometry odometry(camera, config);
     odometry.reset(truth.front().pose);
     vocal::Trajectory estimate;

@@ -88,8 +88,8 @@ void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width
     vocal::CpuOdometryBackend reference(pair.camera, config);
     const std::unique_ptr<vocal::OdometryBackend> other = make_other(pair.camera, config);
     for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
-      reference.pushFrame(*frame);
-      other->pushFrame(*frame);
+      reference.pushFrame(*frame, vocal::ReferenceUpdate::kPreviousFrame);
+      other->pushFrame(*frame, vocal::ReferenceUpdate::kPreviousFrame);
     }
     vocal::Vector6d offset;
     offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
@@ -144,7 +144,7 @@ TEST(FastCpuParity, SameMapsOnEveryLevel) {
   const vocal::OdometryConfig config;
   const vocal::FramePyramid reference = vocal::buildFramePyramid(pair.second, pair.camera, config);
   vocal::FastCpuOdometryBackend fast(pair.camera, config);
-  fast.pushFrame(pair.second);
+  fast.pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
   for (int level = 0; level < config.levels; ++level) {
     const vocal::PyramidLevel& r = reference[level];
     const vocal::SoaPyramidLevel& f = fast.current()[level];
@@ -226,8 +226,8 @@ TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
   for (int threads : {1, 2, 3, 2}) {
     vocal::FastCpuOdometryBackend fast(pair.camera, withThreads(threads));
     EXPECT_EQ(fast.threads(), threads);
-    fast.pushFrame(pair.first);
-    fast.pushFrame(pair.second);
+    fast.pushFrame(pair.first, vocal::ReferenceUpdate::kPreviousFrame);
+    fast.pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
     vocal::NormalEquations icp, rgb;
     fast.trackingSystems(0, pair.first_from_second, 0.02, &icp, &rgb);
     if (!systems.empty()) {

@@ -1,8 +1,10 @@
 #include "vocal/core/synthetic_sequence.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <random>
 
 #include "vocal/core/camera_yaml.h"
 #include "vocal/core/errors.h"
@@ -42,11 +44,26 @@ RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera&
   return frame;
 }
 
+void coverLens(std::uint32_t noise_seed, RgbdFrame* frame) {
+  std::mt19937 rng(noise_seed);
+  std::normal_distribution<float> noise(0.0f, 2.0f);
+  for (float& z : frame->depth.pixels()) z = 0.0f;
+  for (Rgb8& p : frame->color.pixels()) {
+    // Skin lit through the fingers: dark red-brown, a level or two of noise.
+    auto level = [&](float mean) { return static_cast<std::uint8_t>(std::clamp(mean + noise(rng), 0.0f, 255.0f)); };
+    p = {level(38.0f), level(24.0f), level(20.0f)};
+  }
+}
+
 SyntheticSequence writeSyntheticSequence(const std::string& folder, const SyntheticSequenceOptions& options,
                                          const std::function<void(int, int)>& progress) {
   if (options.width < 8 || options.height < 8) {
     throw InputError("synthetic sequence: image size " + std::to_string(options.width) + "x" +
                      std::to_string(options.height) + " is too small (at least 8x8)");
+  }
+  if (options.covered_from < 0 || options.covered_frames < 0) {
+    throw InputError("synthetic sequence: the covered stretch (from " + std::to_string(options.covered_from) + ", " +
+                     std::to_string(options.covered_frames) + " frames) must not be negative");
   }
   if (!(options.sensor_model.missing_fraction >= 0.0 && options.sensor_model.missing_fraction < 1.0)) {
     throw InputError("synthetic sequence: missing fraction " + std::to_string(options.sensor_model.missing_fraction) +
@@ -79,8 +96,9 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   const int total = static_cast<int>(sequence.ground_truth.size());
   for (int i = 0; i < total; ++i) {
     const StampedPose& pose = sequence.ground_truth[i];
-    const RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.sensor_model,
-                                                 options.trajectory.seed * 100003u + static_cast<std::uint32_t>(i));
+    const std::uint32_t noise_seed = options.trajectory.seed * 100003u + static_cast<std::uint32_t>(i);
+    RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.sensor_model, noise_seed);
+    if (i >= options.covered_from && i < options.covered_from + options.covered_frames) coverLens(noise_seed, &frame);
     const std::string name = stampName(pose.stamp) + ".png";
     writeColorPng(folder + "/rgb/" + name, frame.color);
     writeDepthPng(folder + "/depth/" + name, frame.depth, sequence.camera.depth_scale);

@@ -29,8 +29,8 @@ float bilinear(const Image<float>& image, float u, float v) {
 CpuOdometryBackend::CpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config)
     : camera_(camera), config_(config) {}
 
-void CpuOdometryBackend::pushFrame(const RgbdFrame& frame) {
-  reference_ = std::move(current_);
+void CpuOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate update) {
+  if (update == ReferenceUpdate::kPreviousFrame) reference_ = std::move(current_);
   current_ = buildFramePyramid(frame, camera_, config_);
 }
 

@@ -35,8 +35,10 @@ std::string FastCpuOdometryBackend::name() const {
          (track_row_ == &trackRowPortable ? "portable" : "AVX2") + ")";
 }
 
-void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame) {
-  current_ ^= 1;  // the old current frame becomes the reference; the old reference's buffers are reused
+void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate update) {
+  // The old current frame becomes the reference and the old reference's buffers are reused, or the
+  // reference stays and the current buffers are overwritten.
+  if (update == ReferenceUpdate::kPreviousFrame) current_ ^= 1;
   buildSoaFramePyramid(frame, camera_, config_, threads_, &frames_[current_]);
 }
 

@@ -21,6 +21,15 @@ void OdometryConfig::validate() const {
   if (!(rgb_weight >= 0.0 && std::isfinite(rgb_weight))) fail("rgb_weight must be finite and >= 0");
   if (!(feature_fallback_residual_ratio > 1.0 && std::isfinite(feature_fallback_residual_ratio)))
     fail("feature_fallback_residual_ratio must be finite and > 1");
+  if (!(keyframe_min_overlap >= 0.0 && keyframe_min_overlap <= 1.0)) fail("keyframe_min_overlap must be in [0, 1]");
+  if (!(keyframe_max_residual_growth > 1.0)) fail("keyframe_max_residual_growth must be > 1");
+  if (!(keyframe_max_translation > 0.0)) fail("keyframe_max_translation must be positive");
+  if (!(keyframe_max_rotation_deg > 0.0)) fail("keyframe_max_rotation_deg must be positive");
+  if (keyframes_kept < 1 || keyframes_kept > 1000) fail("keyframes_kept must be in [1, 1000], got " + std::to_string(keyframes_kept));
+  if (max_predicted_frames < 0) fail("max_predicted_frames must not be negative");
+  if (!(wrong_minimum_residual_ratio > 1.0)) fail("wrong_minimum_residual_ratio must be > 1");
+  if (!(wrong_minimum_feature_translation > 0.0)) fail("wrong_minimum_feature_translation must be positive");
+  if (!(wrong_minimum_feature_rotation_deg > 0.0)) fail("wrong_minimum_feature_rotation_deg must be positive");
   if (!(min_depth >= 0.0 && max_depth > min_depth)) fail("depth range [min_depth, max_depth] is empty");
   if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
   if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
@@ -58,6 +67,12 @@ FeatureInitialisation parseFeatureInitialisation(const std::string& name) {
   if (name == "fallback") return FeatureInitialisation::kFallback;
   if (name == "off" || name == "false") return FeatureInitialisation::kOff;
   throw InputError("feature initialisation '" + name + "' is unknown: expected always, fallback or off");
+}
+
+TrackingReference parseTrackingReference(const std::string& name) {
+  if (name == "keyframe") return TrackingReference::kKeyframe;
+  if (name == "frame") return TrackingReference::kFrame;
+  throw InputError("tracking reference '" + name + "' is unknown: expected keyframe or frame");
 }
 
 }  // namespace vocal

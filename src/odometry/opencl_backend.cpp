@@ -243,9 +243,9 @@ std::string OpenClOdometryBackend::name() const {
   return "opencl: " + state_->device_info.device + " (" + state_->device_info.platform + ")";
 }
 
-void OpenClOdometryBackend::pushFrame(const RgbdFrame& frame) {
+void OpenClOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate update) {
   State& s = *state_;
-  s.current = 1 - s.current;
+  if (update == ReferenceUpdate::kPreviousFrame) s.current = 1 - s.current;
   FrameBuffers& f = s.frames[s.current];
   const int pixels = s.camera.width * s.camera.height;
   check(clEnqueueWriteBuffer(s.queue, f.rgb.mem, CL_TRUE, 0, f.rgb.bytes, frame.color.data(), 0, nullptr, nullptr),

@@ -3,7 +3,9 @@
 
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
 
+#include "vocal/core/errors.h"
 #include "vocal/core/synthetic_sequence.h"
 #include "vocal/tools/command_line.h"
 
@@ -23,6 +25,8 @@ const char kUsage[] =
     "  --axial-noise, --quantize    only the noise, or only the quantisation, of --kinect-noise\n"
     "  --missing F                  fraction of randomly missing depth pixels (default 0.02 with\n"
     "                               --kinect-noise, else 0)\n"
+    "  --cover FIRST:COUNT          a hand over the lens (no depth, dark colour) for COUNT frames from\n"
+    "                               frame FIRST (counted from 0)\n"
     "  --quiet                      no progress line\n";
 
 int run(const vocal::CommandLine& args) {
@@ -42,6 +46,17 @@ int run(const vocal::CommandLine& args) {
     options.sensor_model.axial_noise = args.has("axial-noise");
     options.sensor_model.quantize_disparity = args.has("quantize");
   }
+  if (args.has("cover")) {
+    const std::string cover = args.text("cover", "");
+    const std::size_t colon = cover.find(':');
+    try {
+      if (colon == std::string::npos) throw std::invalid_argument("no colon");
+      options.covered_from = std::stoi(cover.substr(0, colon));
+      options.covered_frames = std::stoi(cover.substr(colon + 1));
+    } catch (const std::exception&) {
+      throw vocal::InputError("--cover '" + cover + "' is not FIRST:COUNT (e.g. 40:10)");
+    }
+  }
   const bool quiet = args.has("quiet");
   const std::string folder = args.positional()[0];
   const vocal::SyntheticSequence sequence =
@@ -58,6 +73,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("generate_synthetic_sequence", kUsage, run, argc, argv,
-                        {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing"},
+                        {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing", "cover"},
                         {"kinect-noise", "axial-noise", "quantize", "quiet"}, 1);
 }

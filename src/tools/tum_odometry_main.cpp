@@ -22,6 +22,7 @@ const char kUsage[] =
     "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
     "  --rgb-weight W              overrides the fusion weight of the photometric term\n"
     "  --features always|fallback|off  overrides the config's feature_initialisation\n"
+    "  --reference keyframe|frame  overrides the config's tracking_reference\n"
     "  --frames N                  only the first N associated frames\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
     "  --delta S                   RPE interval (default 1 s)\n"
@@ -36,6 +37,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("backend")) config.backend = vocal::parseOdometryBackend(args.text("backend", ""));
   config.rgb_weight = args.number("rgb-weight", config.rgb_weight);
   if (args.has("features")) config.feature_initialisation = vocal::parseFeatureInitialisation(args.text("features", ""));
+  if (args.has("reference")) config.tracking_reference = vocal::parseTrackingReference(args.text("reference", ""));
 
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0]);
   const std::size_t frames = std::min<std::size_t>(sequence.size(), args.integer("frames", static_cast<int>(sequence.size())));
@@ -55,7 +57,7 @@ int run(const vocal::CommandLine& args) {
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
-  int failures = 0, feature_fallbacks = 0;
+  int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
     const vocal::RgbdFrame frame = sequence.loadFrame(i);
@@ -67,15 +69,23 @@ int run(const vocal::CommandLine& args) {
     stage_sums.features_ms += result.timings.features_ms;
     stage_sums.solve_ms += result.timings.solve_ms;
     feature_fallbacks += result.quality.feature_fallback;
+    keyframes += result.new_keyframe;
+    relocalisations += result.state == vocal::TrackingState::kRelocalised;
     if (!result.quality.trusted) {
       ++failures;
-      std::fprintf(stderr, "\nframe %zu (%.6f): tracking not trusted: %s\n", i, frame.stamp, result.failure.c_str());
+      std::fprintf(stderr, "\nframe %zu (%.6f): tracking not trusted (%s): %s\n", i, frame.stamp,
+                   vocal::trackingStateName(result.state).c_str(), result.failure.c_str());
+    } else if (result.state == vocal::TrackingState::kRelocalised) {
+      std::fprintf(stderr, "\nframe %zu (%.6f): relocalised against keyframe %d after %d lost frames\n", i, frame.stamp,
+                   result.keyframe_id, result.lost_frames);
     }
     if (args.has("verbose")) {
       const vocal::OdometryQuality& q = result.quality;
       std::fprintf(stderr, "frame %zu: icp %d inliers rmse %.4f m, rgb %d inliers rmse %.4f, %d steps, condition %.3g, "
-                   "weakest information %.3g%s\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse, q.iterations,
-                   q.condition, q.weakest_information, q.feature_fallback ? ", feature fallback" : "");
+                   "weakest information %.3g%s, keyframe %d%s%s, features off by %.3f m %.2f deg\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse,
+                   q.iterations, q.condition, q.weakest_information, q.converged ? "" : ", not converged", result.keyframe_id,
+                   result.new_keyframe ? " (new)" : "", q.feature_fallback ? ", feature fallback" : "", q.feature_disagreement_m,
+                   q.feature_disagreement_deg);
     } else if (!quiet) {
       std::fprintf(stderr, "\rframe %zu/%zu", i + 1, frames);
     }
@@ -89,6 +99,7 @@ int run(const vocal::CommandLine& args) {
               stage_sums.features_ms / n, stage_sums.solve_ms / n);
   if (config.feature_initialisation == vocal::FeatureInitialisation::kFallback)
     std::printf("feature_fallbacks: %d\n", feature_fallbacks);
+  std::printf("keyframes: %d\nrelocalisations: %d\n", keyframes, relocalisations);
   if (sequence.hasGroundTruth()) {
     const double delta = args.number("delta", 1.0);
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(sequence.groundTruth(), trajectory),
@@ -100,6 +111,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "rgb-weight", "features", "frames", "delta"},
+                        {"output", "config", "mode", "backend", "rgb-weight", "features", "reference", "frames", "delta"},
                         {"start-from-ground-truth", "quiet", "verbose"}, 1);
 }

@@ -22,6 +22,9 @@ struct SyntheticSequenceOptions {
   // When set, poses come from this TUM trajectory file instead of being generated.
   std::string trajectory_path;
   RgbdSensorModel sensor_model;  // ideal images unless noise / drop-outs are switched on
+  // Frames [covered_from, covered_from + covered_frames) show a hand over the lens (coverLens).
+  int covered_from = 0;
+  int covered_frames = 0;
 };
 
 // Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
@@ -32,6 +35,10 @@ RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
                                const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
                                std::uint32_t noise_seed);
+
+// A hand held over the lens: no depth (closer than the sensor's minimum range) and a dark, nearly
+// uniform colour image with sensor noise; what tracking must survive without inventing motion.
+void coverLens(std::uint32_t noise_seed, RgbdFrame* frame);
 
 struct SyntheticSequence {
   PinholeCamera camera;

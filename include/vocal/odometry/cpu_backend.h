@@ -12,7 +12,7 @@ class CpuOdometryBackend : public OdometryBackend {
   CpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config);
 
   std::string name() const override { return "cpu reference"; }
-  void pushFrame(const RgbdFrame& frame) override;
+  void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                             double huber_threshold) override;

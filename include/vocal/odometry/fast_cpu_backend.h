@@ -29,7 +29,7 @@ class FastCpuOdometryBackend : public OdometryBackend {
                          CpuTrackingPass pass = CpuTrackingPass::kBest);
 
   std::string name() const override;
-  void pushFrame(const RgbdFrame& frame) override;
+  void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                             double huber_threshold) override;

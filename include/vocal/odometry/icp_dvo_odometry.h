@@ -1,8 +1,12 @@
 #pragma once
-// Frame-to-frame RGB-D odometry: point-to-plane ICP and dense photometric odometry (DVO) fused in one
-// weighted 6x6 system per iteration, solved coarse to fine (Whelan et al. 2013).
+// RGB-D odometry: point-to-plane ICP and dense photometric odometry (DVO) fused in one weighted 6x6
+// system per iteration, solved coarse to fine (Whelan et al. 2013), each frame against a keyframe (or
+// the previous frame). A loss is bridged by a constant-velocity prediction, then reported, and ended
+// by relocalising against a recent keyframe.
 
+#include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -16,17 +20,29 @@
 
 namespace vocal {
 
+enum class TrackingState {
+  kTracking,     // tracked against the keyframe (or the previous frame)
+  kRelocalised,  // tracked again after a loss, against a recent keyframe
+  kPredicted,    // not tracked; the pose is the constant-velocity prediction (a short gap)
+  kLost,         // not tracked for longer than the prediction bridges; the pose stays
+};
+std::string trackingStateName(TrackingState state);  // tracking, relocalised, predicted, lost
+
 struct OdometryQuality {
   int icp_inliers = 0;        // at the finest level, last iteration
   int rgb_inliers = 0;
   double icp_rmse = 0.0;      // metres
   double rgb_rmse = 0.0;      // intensity units
   int iterations = 0;         // solver steps over all levels
+  bool converged = false;     // the finest level's last update fell below the convergence thresholds
   double condition = 0.0;     // of the final system (largest / smallest eigenvalue)
   double weakest_information = 0.0;  // smallest eigenvalue of the final system per inlier
   bool trusted = false;       // the increment passed every check and was applied
   int feature_inliers = 0;    // features agreeing on the starting motion (0: started from none)
   bool feature_fallback = false;  // fallback mode: the first solve was suspicious, features were asked
+  // Between the dense motion and the one the features agree on, when they were asked (else -1).
+  double feature_disagreement_m = -1.0;
+  double feature_disagreement_deg = -1.0;
 };
 
 // Wall-clock milliseconds of one track() call per stage.
@@ -40,7 +56,8 @@ struct OdometryResult {
   bool first_frame = false;  // the first frame (or the first after a reset) only sets the reference
   Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();  // previous camera <- current camera
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();       // odometry frame <- current camera
-  // Of the increment's twist [v; w] (a left perturbation, in the previous camera frame).
+  // Of the twist [v; w] of the motion from the reference (the keyframe) to this frame, a left
+  // perturbation in the keyframe camera frame.
   Matrix6d covariance = Matrix6d::Identity();
   // Of the pose's twist in the odometry frame (left perturbation): grows with every increment, zero
   // after a reset (the start pose is given).
@@ -48,6 +65,10 @@ struct OdometryResult {
   OdometryQuality quality;
   OdometryTimings timings;
   std::string failure;  // why tracking was not trusted; empty when it was
+  TrackingState state = TrackingState::kTracking;
+  int keyframe_id = 0;       // the keyframe this frame was tracked against (ids count from 0 per reset)
+  bool new_keyframe = false; // this frame became the keyframe the next ones are tracked against
+  int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
 };
 
 class IcpDvoOdometry {
@@ -71,28 +92,63 @@ class IcpDvoOdometry {
   const OdometryConfig& config() const { return config_; }
 
  private:
+  // A frame later ones are tracked against, kept for relocalisation.
+  struct Keyframe {
+    int id = 0;
+    RgbdFrame frame;  // to preprocess again (relocalisation) and to extract features from when needed
+    std::shared_ptr<const FrameFeatures> features;  // null until needed
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    Matrix6d pose_covariance = Matrix6d::Zero();
+    // Of the first frame tracked against it (0: none yet), what later frames' overlap and fit compare with.
+    int first_inliers = 0;
+    double first_residual = 0.0;
+  };
   struct DenseSolve {
     Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
     Matrix6d information = Matrix6d::Zero();  // the final fused system's A
     OdometryQuality quality;
     std::string failure;  // empty when every check passed
   };
-  // The coarse-to-fine ICP + DVO solve from `start`, and its checks.
-  DenseSolve solveFrom(const Eigen::Isometry3d& start);
+  // The coarse-to-fine ICP + DVO solve from `start` (keyframe <- current), and its checks; a jump is
+  // measured from `last` (the last frame's pose in the keyframe).
+  DenseSolve solveFrom(const Eigen::Isometry3d& start, const Eigen::Isometry3d& last);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
   bool suspicious(const DenseSolve& solve) const;
+  // Makes the backend track `frame` against `keyframe` (preprocessing the keyframe again if the backend
+  // no longer holds it).
+  void pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame);
+  // The dense solve against the active keyframe from `predicted` (keyframe <- current), with the
+  // feature fallback the config asks for, and the wrong-minimum test.
+  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
+                                std::shared_ptr<const FrameFeatures>* features, OdometryResult* result);
+  // Marks a passing solve as failed when its residual is far above the running level, or its motion
+  // far from the one the features agree on (when they were asked).
+  void rejectWrongMinimum(const std::optional<Eigen::Isometry3d>& feature_motion, DenseSolve* solve) const;
+  // Matches the frame's features against the recent keyframes other than the active one and refines
+  // the best match densely; on success that keyframe becomes the active one.
+  bool relocalise(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures>* features, DenseSolve* solve,
+                  OdometryResult* result);
+  // Why the keyframe should be replaced after `solve`; empty when it still serves.
+  std::string keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
+  void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
+  int inliersOf(const OdometryQuality& quality) const;
 
   PinholeCamera camera_;
   OdometryConfig config_;
   std::unique_ptr<OdometryBackend> backend_;
-  bool has_reference_ = false;
-  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();  // of the last frame (tracked or predicted)
   Matrix6d pose_covariance_ = Matrix6d::Zero();
-  std::shared_ptr<const FrameFeatures> reference_features_;  // for feature initialisation (null: not extracted)
-  RgbdFrame reference_frame_;  // fallback mode: to extract the reference's features when needed
-  Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // the last trusted increment
+  std::deque<std::shared_ptr<Keyframe>> keyframes_;  // the recent ones, oldest first; empty before the first frame
+  std::shared_ptr<Keyframe> active_;                 // the one frames are tracked against
+  int next_keyframe_id_ = 0;
+  // What the backend holds: the keyframe ids of its reference and current frames (-1: another frame).
+  int backend_reference_id_ = -1;
+  int backend_current_id_ = -1;
+  Eigen::Isometry3d active_from_last_ = Eigen::Isometry3d::Identity();  // the last frame's pose in the keyframe
+  Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // the last tracked frame-to-frame motion
+  int lost_frames_ = 0;          // consecutive frames not tracked
   double residual_level_ = 0.0;  // running average of trusted frames' residualLevelOf (0: none yet)
 };
 

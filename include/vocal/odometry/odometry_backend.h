@@ -15,6 +15,10 @@
 
 namespace vocal {
 
+// What pushing a frame does to the reference: the previous frame becomes it (frame-to-frame tracking,
+// or a new keyframe), or it stays (tracking against a keyframe; the previous current frame is dropped).
+enum class ReferenceUpdate { kPreviousFrame, kKeep };
+
 class OdometryBackend {
  public:
   virtual ~OdometryBackend() = default;
@@ -23,9 +27,9 @@ class OdometryBackend {
   virtual std::string name() const = 0;
 
   // Preprocesses `frame` (intensity, depth pyramid, vertex and normal maps, gradients) as the new
-  // current frame; the previous current frame becomes the reference. The frame must match the camera
-  // the backend was made for (the estimator checks).
-  virtual void pushFrame(const RgbdFrame& frame) = 0;
+  // current frame; `update` says whether the previous current frame becomes the reference. The frame
+  // must match the camera the backend was made for (the estimator checks).
+  virtual void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) = 0;
 
   // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T).
   virtual NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) = 0;

@@ -11,6 +11,7 @@ namespace vocal {
 enum class OdometryMode { kIcp, kRgb, kFused };
 enum class OdometryBackendKind { kAuto, kCpu, kReference, kOpenCl };
 enum class FeatureInitialisation { kAlways, kFallback, kOff };
+enum class TrackingReference { kKeyframe, kFrame };
 
 struct OdometryConfig {
   OdometryMode mode = OdometryMode::kFused;
@@ -57,6 +58,30 @@ struct OdometryConfig {
   FeatureInitialisation feature_initialisation = FeatureInitialisation::kFallback;
   double feature_fallback_residual_ratio = 2.0;
 
+  // What each frame is tracked against. kKeyframe: a keyframe, kept while the frames still overlap it
+  // well (dense VO with keyframes, Kerl et al. 2013): drift grows per keyframe instead of per frame.
+  // kFrame: the previous trusted frame.
+  TrackingReference tracking_reference = TrackingReference::kKeyframe;
+  // A frame becomes the new keyframe when its inliers fall below this share of those the first frame
+  // tracked against the keyframe had, or it is farther from the keyframe than these.
+  double keyframe_min_overlap = 0.7;
+  double keyframe_max_residual_growth = 1.5;  // ... or its residual rose above this times the first's
+  double keyframe_max_translation = 0.3;  // metres
+  double keyframe_max_rotation_deg = 15.0;
+  int keyframes_kept = 10;               // the most recent keyframes relocalisation tries
+
+  // Tracking loss: frames whose solve fails a check are not trusted. The first of them are bridged by
+  // a constant-velocity prediction (state predicted); after that the odometry is lost, and each frame
+  // is matched by its ORB features against the recent keyframes (relocalisation), refined densely.
+  int max_predicted_frames = 5;
+  bool relocalisation = true;
+  // A wrong minimum, not trusted: a solve whose residual is this many times the running level, or -
+  // where there is no running level yet (the first pair, after a reset or a loss) - whose motion is
+  // farther than this (or half the motion's length) from the one ORB features agree on.
+  double wrong_minimum_residual_ratio = 5.0;
+  double wrong_minimum_feature_translation = 0.05;  // metres
+  double wrong_minimum_feature_rotation_deg = 5.0;
+
   // Depth outside this range is treated as missing.
   double min_depth = 0.3;
   double max_depth = 8.0;
@@ -85,5 +110,6 @@ OdometryMode parseOdometryMode(const std::string& name);         // icp, rgb, fu
 std::string odometryModeName(OdometryMode mode);
 OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, reference, opencl
 FeatureInitialisation parseFeatureInitialisation(const std::string& name);  // always, fallback, off
+TrackingReference parseTrackingReference(const std::string& name);  // keyframe, frame
 
 }  // namespace vocal

@@ -16,7 +16,7 @@ class OpenClOdometryBackend : public OdometryBackend {
   ~OpenClOdometryBackend() override;
 
   std::string name() const override;
-  void pushFrame(const RgbdFrame& frame) override;
+  void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                             double huber_threshold) override;
