@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 
@@ -39,6 +40,7 @@ struct Received {
   nav_msgs::Path::ConstPtr path;
   sensor_msgs::PointCloud2::ConstPtr cloud, fused_cloud;
   diagnostic_msgs::DiagnosticStatus odometry_status, newest_status;
+  std::vector<std::string> odometry_states;  // "tracking state" of every diagnostics message of exact/
 };
 
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key) {
@@ -90,8 +92,11 @@ class OdometryNodelet : public ::testing::Test {
                                                         [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
                                                           std::lock_guard<std::mutex> lock(received_.mutex);
                                                           for (const auto& s : m->status)
-                                                            if (s.name.find("exact/icp_dvo_odometry") != std::string::npos)
+                                                            if (s.name.find("exact/icp_dvo_odometry") != std::string::npos) {
                                                               received_.odometry_status = s;
+                                                              received_.odometry_states.push_back(
+                                                                  diagnosticValue(s, "tracking state"));
+                                                            }
                                                             else if (s.name.find("newest/icp_dvo_odometry") != std::string::npos)
                                                               received_.newest_status = s;
                                                         })};
@@ -106,17 +111,8 @@ class OdometryNodelet : public ::testing::Test {
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
 };
 
-TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
-  const std::string folder = vocal_test::makeTempFolder("odometry_nodelet");
-  const int frames = 40;
-  vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(frames);
-  options.sensor_model = vocal::kinectLikeSensorModel();
-  vocal::writeSyntheticSequence(folder + "/seq", options);
-  const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
-  const std::string bag = folder + "/seq.bag";
-  vocal::writeTumBag(sequence, bag);
-
-  // Images, camera_info and the static camera frames; not the motion-capture /tf.
+// Plays the bag's images, camera_info and static camera frames (not the motion-capture /tf) at half speed.
+void playBag(const std::string& bag) {
   const pid_t player = ::fork();
   ASSERT_GE(player, 0);
   if (player == 0) {
@@ -131,6 +127,20 @@ TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
   int status = 0;
   ASSERT_EQ(::waitpid(player, &status, 0), player);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+}
+
+TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
+  const std::string folder = vocal_test::makeTempFolder("odometry_nodelet");
+  const int frames = 40;
+  vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(frames);
+  options.sensor_model = vocal::kinectLikeSensorModel();
+  vocal::writeSyntheticSequence(folder + "/seq", options);
+  const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
+  const std::string bag = folder + "/seq.bag";
+  vocal::writeTumBag(sequence, bag);
+
+  playBag(bag);
+  if (HasFatalFailure()) return;
   vocal_test::waitUntil(received_.mutex, 10.0, [&] {
     return received_.odom.size() >= static_cast<std::size_t>(frames) && received_.approx_odom.size() >= frames - 1u;
   });
@@ -323,6 +333,70 @@ TEST_F(OdometryNodelet, ABurstIsTrackedNewestFirstWithSkipsCounted) {
       << count("frames tracked") << ", lost " << count("frames lost") << ", dropped " << count("frames dropped");
   std::cout << "burst of " << burst << " frames at 640x480: " << tracked_in_burst << " tracked, mean solve "
             << diagnosticValue(received_.newest_status, "mean solve ms") << " ms\n";
+}
+// A hand over the lens for a second: the nodelet keeps publishing odometry, first the constant-velocity
+// prediction, then lost (covariance of nothing known, diagnostics say so), and recovers when the lens
+// is free again, on the trajectory it left.
+TEST_F(OdometryNodelet, ACoveredLensIsReportedLostThenRecovers) {
+  std_srvs::Empty reset;
+  ASSERT_TRUE(ros::service::waitForService("/exact/reset_odom", ros::Duration(10.0)));
+  ASSERT_TRUE(ros::service::call("/exact/reset_odom", reset));
+  const std::string folder = vocal_test::makeTempFolder("odometry_nodelet_covered");
+  const int frames = 60, covered_from = 15, covered = 30;
+  vocal::SyntheticSequenceOptions options = vocal_test::smallSequenceOptions(frames);
+  options.sensor_model = vocal::kinectLikeSensorModel();
+  options.trajectory.speed = 0.1;  // 10 cm while covered
+  options.trajectory.start_stamp = 5.0e8;
+  options.covered_from = covered_from;
+  options.covered_frames = covered;
+  vocal::writeSyntheticSequence(folder + "/seq", options);
+  const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
+  const std::string bag = folder + "/seq.bag";
+  vocal::writeTumBag(sequence, bag);
+  {
+    std::lock_guard<std::mutex> lock(received_.mutex);
+    received_.odom.clear();
+    received_.odometry_states.clear();
+  }
+  playBag(bag);
+  if (HasFatalFailure()) return;
+  ASSERT_TRUE(vocal_test::waitUntil(received_.mutex, 10.0, [&] { return received_.odom.size() >= frames; }))
+      << received_.odom.size() << " of " << frames << " odometry messages";
+  ros::WallDuration(1.5).sleep();  // the diagnostics after the last frame
+
+  const Eigen::Isometry3d B = baseFromCamera();
+  std::lock_guard<std::mutex> lock(received_.mutex);
+  ASSERT_EQ(received_.odom.size(), static_cast<std::size_t>(frames)) << "every frame gets odometry, lost or not";
+  const int max_predicted = vocal::OdometryConfig{}.max_predicted_frames;
+  double worst_after = 0.0;
+  for (int i = 0; i < frames; ++i) {
+    const nav_msgs::Odometry& odom = *received_.odom[i];
+    ASSERT_NEAR(odom.header.stamp.toSec(), sequence.entry(i).rgb.stamp, 1e-4);
+    const double variance = odom.pose.covariance[0];
+    if (i >= covered_from + max_predicted && i < covered_from + covered) {
+      EXPECT_GE(variance, 1e6) << "frame " << i << " is lost";
+    } else {
+      EXPECT_LT(variance, 1.0) << "frame " << i;
+    }
+    if (i >= covered_from + covered) {
+      Eigen::Isometry3d estimate;
+      tf2::fromMsg(odom.pose.pose, estimate);
+      const Eigen::Isometry3d truth = sequence.groundTruth().front().pose.inverse() *
+                                      sequence.groundTruth()[i].pose;  // the first frame's pose is the origin
+      const Eigen::Isometry3d error = (B * truth * B.inverse()).inverse() * estimate;
+      worst_after = std::max(worst_after, error.translation().norm());
+    }
+  }
+  std::cout << "covered lens: worst error after recovering " << worst_after * 1000 << " mm; diagnostics states seen:";
+  for (const std::string& state : received_.odometry_states) std::cout << " " << state;
+  std::cout << "\n";
+  EXPECT_LT(worst_after, 0.06);
+  EXPECT_NE(std::find(received_.odometry_states.begin(), received_.odometry_states.end(), "lost"),
+            received_.odometry_states.end())
+      << "diagnostics never said lost";
+  EXPECT_EQ(diagnosticValue(received_.odometry_status, "tracking state"), "tracking") << received_.odometry_status.message;
+  EXPECT_GE(std::stoi("0" + diagnosticValue(received_.odometry_status, "relocalisations")), 1);
+  EXPECT_GE(std::stoi("0" + diagnosticValue(received_.odometry_status, "frames predicted")), max_predicted);
 }
 }  // namespace
 

@@ -248,16 +248,30 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     // An increment spans the previous frame, trusted or not, to this one: velocities divide by that.
     const double dt = last_stamp_.isZero() ? 0.0 : (rgb.header.stamp - last_stamp_).toSec();
     last_stamp_ = rgb.header.stamp;
-    if (!result.quality.trusted) {
+    state_ = result.state;
+    lost_frames_ = result.lost_frames;
+    keyframe_id_ = result.keyframe_id;
+    keyframes_ += result.new_keyframe;
+    const bool trusted = result.quality.trusted;
+    if (!trusted) {
       ++frames_lost_;
+      frames_predicted_ += result.state == TrackingState::kPredicted;
       last_problem_ = result.failure;
-      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: tracking lost: " << result.failure);
-      return;
+      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: tracking lost (" << trackingStateName(result.state) << " for "
+                                                                          << result.lost_frames << " frames): " << result.failure);
+    } else {
+      ++frames_tracked_;
+      last_problem_.clear();
+      quality_ = result.quality;
+      if (result.state == TrackingState::kRelocalised) {
+        ++relocalisations_;
+        NODELET_INFO_STREAM("IcpDvoOdometry: relocalised against keyframe " << result.keyframe_id << " after "
+                                                                            << result.lost_frames << " lost frames");
+      }
     }
-    ++frames_tracked_;
-    last_problem_.clear();
-    quality_ = result.quality;
 
+    // Every frame gets its odometry: tracked, predicted (the last motion repeated, its covariance
+    // grown) or lost (the pose stays, the covariance says nothing is known and tf is not moved on).
     // The odometry frame is the base's pose at the first frame: odom <- base = B (cam0 <- cam) B^-1.
     const Eigen::Isometry3d& B = base_from_camera;
     const Eigen::Isometry3d odom_from_base = B * result.pose * B.inverse();
@@ -272,9 +286,13 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       const Vector6d twist = se3Log(B * result.increment * B.inverse()) / dt;
       odom.twist.twist.linear.x = twist[0], odom.twist.twist.linear.y = twist[1], odom.twist.twist.linear.z = twist[2];
       odom.twist.twist.angular.x = twist[3], odom.twist.twist.angular.y = twist[4], odom.twist.twist.angular.z = twist[5];
-      copyCovariance(to_base * result.covariance * to_base.transpose() / (dt * dt), &odom.twist.covariance);
+      // Untrusted: the motion was assumed, not measured.
+      const Matrix6d twist_covariance =
+          trusted ? Matrix6d(to_base * result.covariance * to_base.transpose() / (dt * dt)) : Matrix6d(Matrix6d::Identity() * 1e6);
+      copyCovariance(twist_covariance, &odom.twist.covariance);
     }
     odom_pub_.publish(odom);
+    if (result.state == TrackingState::kLost) return;
     if (publish_tf_) tf_broadcaster_.sendTransform(toTransformStamped(odom_from_base, odom_frame_id_, base_frame, rgb.header.stamp));
 
     geometry_msgs::PoseStamped stamped;
@@ -283,12 +301,16 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     path_.header = odom.header;
     path_.poses.push_back(stamped);
     if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
+    if (!trusted) return;
 
-    // The map keeps growing while nobody watches, so a late rviz sees the whole run. It takes every
-    // fused_cloud_every-th tracked frame (consecutive frames overlap almost entirely; adding each one
-    // cost the odometry about 2 ms a frame) and is published right after.
+    // The map keeps growing while nobody watches, so a late rviz sees the whole run. It takes each new
+    // keyframe (frame to frame: every fused_cloud_every-th tracked frame; consecutive frames overlap
+    // almost entirely, and adding each one cost the odometry about 2 ms a frame) and is published
+    // right after.
     clock = std::chrono::steady_clock::now();
-    const bool map_frame = (frames_tracked_ - 1) % fused_cloud_every_ == 0;
+    const bool map_frame = config_.tracking_reference == TrackingReference::kKeyframe
+                               ? result.new_keyframe
+                               : (frames_tracked_ - 1) % fused_cloud_every_ == 0;
     const bool cloud_wanted = cloud_pub_.getNumSubscribers() > 0;
     if (map_frame || cloud_wanted) {
       const std::vector<ColoredPoint> points = backProjectFrame(frame, camera, cloud_stride_);
@@ -306,6 +328,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     if (odometry_) odometry_->reset();
     last_stamp_ = ros::Time();
+    state_ = TrackingState::kTracking;
+    lost_frames_ = 0;
     path_.poses.clear();
     if (fused_map_) fused_map_->clear();
     ++resets_;
@@ -334,16 +358,26 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
     } else if (received == 0) {
       status.summary(DiagnosticStatus::WARN, "no synchronised rgb/depth/camera_info frame received yet");
+    } else if (state_ == TrackingState::kLost || state_ == TrackingState::kPredicted) {
+      std::ostringstream message;
+      message << (state_ == TrackingState::kLost ? "lost" : "predicting from the last motion") << " for " << lost_frames_
+              << " frames: " << last_problem_;
+      status.summary(state_ == TrackingState::kLost ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN, message.str());
     } else if (!last_problem_.empty()) {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
-      status.summary(DiagnosticStatus::OK, "tracking");
+      status.summary(DiagnosticStatus::OK, trackingStateName(state_));
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
     status.add("frames received", received);
     status.add("frames skipped", frames_skipped_.load());
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);
+    status.add("frames predicted", frames_predicted_);
+    status.add("tracking state", trackingStateName(state_));
+    status.add("relocalisations", relocalisations_);
+    status.add("keyframes", keyframes_);
+    status.add("keyframe", keyframe_id_);
     status.add("frames dropped", frames_dropped_);
     status.add("frames out of order", frames_out_of_order_);
     status.add("resets", resets_);
@@ -395,6 +429,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   OdometryQuality quality_;
   std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
               resets_ = 0, frames_received_at_watchdog_ = 0;
+  // Tracking loss: frames_lost_ counts every frame not tracked, of which these were predicted.
+  std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0;
+  TrackingState state_ = TrackingState::kTracking;
+  int lost_frames_ = 0, keyframe_id_ = 0;
   double processing_seconds_ = 0.0;
   StageTimes stage_sums_;
 
