@@ -99,7 +99,7 @@ int run(const vocal::CommandLine& args) {
   std::unique_ptr<vocal::IcpDvoOdometry> odometry;
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
-  int failures = 0;
+  int failures = 0, relocalisations = 0;
   CameraInfoMsg::ConstPtr info;
 
   auto track = [&](const ImageMsg& rgb, const ImageMsg& depth) {
@@ -120,7 +120,16 @@ int run(const vocal::CommandLine& args) {
     trajectory.push_back({rgb.header.stamp.toSec(), result.pose});
     if (!result.quality.trusted) {
       ++failures;
-      if (!quiet) std::fprintf(stderr, "\nframe at %.6f: tracking not trusted: %s\n", rgb.header.stamp.toSec(), result.failure.c_str());
+      if (!quiet) {
+        std::fprintf(stderr, "\nframe at %.6f: tracking not trusted (%s): %s\n", rgb.header.stamp.toSec(),
+                     vocal::trackingStateName(result.state).c_str(), result.failure.c_str());
+      }
+    } else if (result.state == vocal::TrackingState::kRelocalised) {
+      ++relocalisations;
+      if (!quiet) {
+        std::fprintf(stderr, "\nframe at %.6f: relocalised against keyframe %d after %d lost frames\n",
+                     rgb.header.stamp.toSec(), result.keyframe_id, result.lost_frames);
+      }
     }
   };
   // Pass 1: the stamps of both image streams, paired by the TUM benchmark's rule (as tum_odometry
@@ -174,8 +183,8 @@ int run(const vocal::CommandLine& args) {
                             " within " + std::to_string(max_difference) + " s");
   }
   vocal::writeTumTrajectory(args.text("output", ""), trajectory);
-  std::printf("frames: %zu\nunpaired_colour_images: %d\ntracking_failures: %d\nframes_per_second: %.2f\n", trajectory.size(),
-              unpaired, failures, trajectory.size() / std::max(tracking_seconds, 1e-9));
+  std::printf("frames: %zu\nunpaired_colour_images: %d\ntracking_failures: %d\nrelocalisations: %d\nframes_per_second: %.2f\n",
+              trajectory.size(), unpaired, failures, relocalisations, trajectory.size() / std::max(tracking_seconds, 1e-9));
   if (!groundtruth.empty()) {
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(groundtruth, trajectory),
                                   vocal::computeRpe(groundtruth, trajectory, args.number("delta", 1.0)));
