@@ -240,6 +240,46 @@ TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
   EXPECT_EQ(systems[1].squared_residual_sum, systems[3].squared_residual_sum);
 }
 
+// Tracking against a keyframe: a frame pushed with kKeep replaces only the current frame. Every
+// backend then builds exactly the systems of the pair (keyframe, frame) pushed afresh.
+TEST(OdometryParity, KeepingTheReferenceReplacesOnlyTheCurrentFrame) {
+  const FramePair pair = renderPair(3, true);
+  const FramePair other = renderPair(6, true);  // its frames are pushed in between
+  std::vector<std::unique_ptr<vocal::OdometryBackend>> kept, fresh;
+  kept.push_back(std::make_unique<vocal::CpuOdometryBackend>(pair.camera, vocal::OdometryConfig{}));
+  fresh.push_back(std::make_unique<vocal::CpuOdometryBackend>(pair.camera, vocal::OdometryConfig{}));
+  kept.push_back(std::make_unique<vocal::FastCpuOdometryBackend>(pair.camera, withThreads(2)));
+  fresh.push_back(std::make_unique<vocal::FastCpuOdometryBackend>(pair.camera, withThreads(2)));
+#ifdef VOCAL_HAVE_OPENCL
+  if (openClAvailable()) {
+    vocal::OdometryConfig config;
+    config.backend = vocal::OdometryBackendKind::kOpenCl;
+    kept.push_back(vocal::makeOdometryBackend(pair.camera, config));
+    fresh.push_back(vocal::makeOdometryBackend(pair.camera, config));
+  }
+#endif
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    SCOPED_TRACE(kept[k]->name());
+    // The reference stays pair.first through three frames; only the last is the current one.
+    kept[k]->pushFrame(pair.first, vocal::ReferenceUpdate::kPreviousFrame);
+    kept[k]->pushFrame(other.second, vocal::ReferenceUpdate::kPreviousFrame);
+    kept[k]->pushFrame(other.first, vocal::ReferenceUpdate::kKeep);
+    kept[k]->pushFrame(pair.second, vocal::ReferenceUpdate::kKeep);
+    fresh[k]->pushFrame(pair.first, vocal::ReferenceUpdate::kPreviousFrame);
+    fresh[k]->pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
+    for (int level = 0; level < 3; ++level) {
+      vocal::NormalEquations kept_icp, kept_rgb, fresh_icp, fresh_rgb;
+      kept[k]->trackingSystems(level, pair.first_from_second, 0.02, &kept_icp, &kept_rgb);
+      fresh[k]->trackingSystems(level, pair.first_from_second, 0.02, &fresh_icp, &fresh_rgb);
+      ASSERT_GT(fresh_icp.count, 100.0);
+      EXPECT_EQ(kept_icp.A, fresh_icp.A) << "level " << level;
+      EXPECT_EQ(kept_icp.b, fresh_icp.b) << "level " << level;
+      EXPECT_EQ(kept_rgb.A, fresh_rgb.A) << "level " << level;
+      EXPECT_EQ(kept_rgb.count, fresh_rgb.count) << "level " << level;
+    }
+  }
+}
+
 TEST(FastCpuParity, SamePoseAfterAFullSolve) {
   for (vocal::CpuTrackingPass pass : kBothPasses) {
     SCOPED_TRACE(passName(pass));
