@@ -286,9 +286,11 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       const Vector6d twist = se3Log(B * result.increment * B.inverse()) / dt;
       odom.twist.twist.linear.x = twist[0], odom.twist.twist.linear.y = twist[1], odom.twist.twist.linear.z = twist[2];
       odom.twist.twist.angular.x = twist[3], odom.twist.twist.angular.y = twist[4], odom.twist.twist.angular.z = twist[5];
-      // Untrusted: the motion was assumed, not measured.
-      const Matrix6d twist_covariance =
-          trusted ? Matrix6d(to_base * result.covariance * to_base.transpose() / (dt * dt)) : Matrix6d(Matrix6d::Identity() * 1e6);
+      // Measured only while tracking: a predicted motion was assumed, and a relocalised frame's increment
+      // also holds the correction of the prediction before it.
+      const Matrix6d twist_covariance = result.state == TrackingState::kTracking
+                                            ? Matrix6d(to_base * result.covariance * to_base.transpose() / (dt * dt))
+                                            : Matrix6d(Matrix6d::Identity() * 1e6);
       copyCovariance(twist_covariance, &odom.twist.covariance);
     }
     odom_pub_.publish(odom);

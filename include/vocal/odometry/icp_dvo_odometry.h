@@ -59,8 +59,9 @@ struct OdometryResult {
   // Of the twist [v; w] of the motion from the reference (the keyframe) to this frame, a left
   // perturbation in the keyframe camera frame.
   Matrix6d covariance = Matrix6d::Identity();
-  // Of the pose's twist in the odometry frame (left perturbation): grows with every increment, zero
-  // after a reset (the start pose is given).
+  // Of the pose's twist in the odometry frame (left perturbation): the keyframe's plus that of the
+  // motion from it (frame to frame: grows with every increment); grown by each prediction; 1e6 on the
+  // diagonal while lost; zero after a reset (the start pose is given).
   Matrix6d pose_covariance = Matrix6d::Zero();
   OdometryQuality quality;
   OdometryTimings timings;
@@ -77,9 +78,9 @@ class IcpDvoOdometry {
   IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
                  std::unique_ptr<OdometryBackend> backend = nullptr);
 
-  // Estimates the motion since the previous frame. Throws InputError when the frame does not fit the
-  // camera (size, colour vs depth); bad content (no valid depth, no texture or structure, a jump)
-  // is reported in the result, the increment then is not applied.
+  // Estimates the frame's pose (against the keyframe, or the previous frame). Throws InputError when
+  // the frame does not fit the camera (size, colour vs depth); bad content (no valid depth, no texture
+  // or structure, a jump, a wrong minimum) is reported in the result with its state (predicted or lost).
   OdometryResult track(const RgbdFrame& frame);
 
   // Forgets the reference frame; the next frame starts again at `pose`.
@@ -126,7 +127,7 @@ class IcpDvoOdometry {
   // Marks a passing solve as failed when its residual is far above the running level, or its motion
   // far from the one the features agree on (when they were asked).
   void rejectWrongMinimum(const std::optional<Eigen::Isometry3d>& feature_motion, DenseSolve* solve) const;
-  // Matches the frame's features against the recent keyframes other than the active one and refines
+  // Matches the frame's features against the recent keyframes (the active one included) and refines
   // the best match densely; on success that keyframe becomes the active one.
   bool relocalise(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures>* features, DenseSolve* solve,
                   OdometryResult* result);
