@@ -168,23 +168,14 @@ void IcpDvoOdometry::addKeyframe(const RgbdFrame& frame, std::shared_ptr<const F
   active_ = std::move(keyframe);
 }
 
-std::string IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const {
-  if (config_.tracking_reference == TrackingReference::kFrame) return "frame to frame";
-  std::ostringstream why;
-  const int inliers = inliersOf(solve.quality);
-  const double distance = solve.increment.translation().norm();
-  const double turn_deg = rotationAngle(solve.increment) * 180.0 / M_PI;
-  if (keyframe.first_inliers > 0 && inliers < config_.keyframe_min_overlap * keyframe.first_inliers) {
-    why << "overlap " << static_cast<double>(inliers) / keyframe.first_inliers << " < " << config_.keyframe_min_overlap;
-  } else if (keyframe.first_residual > 0.0 &&
-             residualLevelOf(solve.quality) > config_.keyframe_max_residual_growth * keyframe.first_residual) {
-    why << "residual " << residualLevelOf(solve.quality) / keyframe.first_residual << "x the first's";
-  } else if (distance > config_.keyframe_max_translation) {
-    why << distance << " m from the keyframe";
-  } else if (turn_deg > config_.keyframe_max_rotation_deg) {
-    why << turn_deg << " deg from the keyframe";
-  }
-  return why.str();
+bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const {
+  if (config_.tracking_reference == TrackingReference::kFrame) return true;
+  const bool overlap_lost =
+      keyframe.first_inliers > 0 && inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers;
+  const bool fit_lost = keyframe.first_residual > 0.0 &&
+                        residualLevelOf(solve.quality) > config_.keyframe_max_residual_growth * keyframe.first_residual;
+  return overlap_lost || fit_lost || solve.increment.translation().norm() > config_.keyframe_max_translation ||
+         rotationAngle(solve.increment) * 180.0 / M_PI > config_.keyframe_max_rotation_deg;
 }
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
@@ -408,7 +399,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     keyframe.first_inliers = inliersOf(solve.quality);
     keyframe.first_residual = residual;
   }
-  if (!keyframeWornOut(keyframe, solve).empty()) {
+  if (keyframeWornOut(keyframe, solve)) {
     addKeyframe(frame, features);
     backend_current_id_ = active_->id;
     active_from_last_ = Eigen::Isometry3d::Identity();

@@ -131,8 +131,8 @@ class IcpDvoOdometry {
   // the best match densely; on success that keyframe becomes the active one.
   bool relocalise(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures>* features, DenseSolve* solve,
                   OdometryResult* result);
-  // Why the keyframe should be replaced after `solve`; empty when it still serves.
-  std::string keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
+  // Whether the keyframe should be replaced after `solve` (always frame to frame).
+  bool keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
   void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
   int inliersOf(const OdometryQuality& quality) const;
 
