@@ -469,8 +469,9 @@ TEST(PatternObservation, DistortedCornersGiveTheTruePlaneWithTheLensModel) {
   }
 }
 
-// Rendered through a wide-angle lens (plumb_bob, k1 -0.3) and a fisheye (equidistant, 640 px wide at
-// fx 300: 93 degrees across): the board is detected in the distorted image, and with the lens model its
+// Rendered through a wide-angle lens (plumb_bob, k1 -0.3), a rational one (8 coefficients, an Azure
+// Kinect colour camera's) and a fisheye (equidistant, 640 px wide at fx 300: 93 degrees across): the
+// board is detected in the distorted image, and with the lens model its
 // plane comes out within a few millimetres; without it, centimetres and degrees off.
 TEST(PatternObservation, DetectsTheBoardInDistortedRendersOfEachLens) {
   vocal::TargetDescription target;
@@ -491,6 +492,8 @@ TEST(PatternObservation, DetectsTheBoardInDistortedRendersOfEachLens) {
     Eigen::Vector3d board_at;  // in the camera frame: off-centre, where the lens bends most
   };
   for (const Lens& lens : {Lens{"plumb_bob", {-0.30, 0.09, 0.0012, -0.0008, -0.012}, 525.0, {0.35, 0.2, 1.5}},
+                           Lens{"rational_polynomial", {0.52, -2.57, 0.0006, -0.0002, 1.46, 0.40, -2.41, 1.39}, 525.0,
+                                {0.35, 0.2, 1.5}},
                            Lens{"equidistant", {-0.013, 0.021, -0.011, 0.0021}, 300.0, {0.45, 0.25, 1.3}}}) {
     vocal::PinholeCamera camera;
     camera.fx = camera.fy = lens.focal;

@@ -316,8 +316,8 @@ void expectCalibrationMatchesTheTruth(const std::string& result_path, const std:
 // Cameras behind a wide-angle (plumb_bob, k1 -0.3) and a fisheye (equidistant) lens: images rendered
 // through the lens, camera_info carrying it; calibrate_rig honours it and the camera lands within the
 // issue's bounds (1 cm, 0.01 rad; here held to 5 mm and 5 mrad).
-TEST(ToolsCli, CalibrateRigWithWideAngleAndFisheyeCameras) {
-  for (const std::string lens : {"plumb_bob", "equidistant"}) {
+TEST(ToolsCli, CalibrateRigWithCamerasBehindEachLensModel) {
+  for (const std::string lens : {"plumb_bob", "rational_polynomial", "equidistant"}) {
     const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig_" + lens);
     RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 0 --laser 0 --camera 1 --poses 8 --lens " +
                           lens);
@@ -328,8 +328,8 @@ TEST(ToolsCli, CalibrateRigWithWideAngleAndFisheyeCameras) {
   }
   const RunResult r = runTool("simulate_calibration_session " + vocal_test::makeTempFolder("cli_lens") + " --lens kannala");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --lens: 'kannala' is unknown: expected none, plumb_bob or "
-                      "equidistant\n");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --lens: 'kannala' is unknown: expected none, plumb_bob, "
+                      "rational_polynomial or equidistant\n");
 }
 
 // A rig recorded at 3 Hz (triggered camera, slow laser): the still poses are found as at 10 Hz (they

@@ -20,7 +20,8 @@ const char kUsage[] =
     "  --noise M           range noise, metres (default 0.001)\n"
     "  --rate HZ           messages per second of every sensor (default 10; the target is held still for\n"
     "                      6 messages and carried for 4)\n"
-    "  --lens MODEL        the cameras' lens: none (default), plumb_bob (wide angle, k1 -0.3) or\n"
+    "  --lens MODEL        the cameras' lens: none (default), plumb_bob (wide angle, k1 -0.3),\n"
+    "                      rational_polynomial (8 coefficients, as an Azure Kinect colour camera's) or\n"
     "                      equidistant (fisheye); images rendered through it, camera_info carries it\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
@@ -43,10 +44,13 @@ int run(const vocal::CommandLine& args) {
   const std::string lens = args.text("lens", "none");
   if (lens == "plumb_bob") {
     options.camera_lens = vocal::LensDistortion::fromCameraInfo("plumb_bob", {-0.30, 0.09, 0.0012, -0.0008, -0.012}, "--lens");
+  } else if (lens == "rational_polynomial") {
+    options.camera_lens = vocal::LensDistortion::fromCameraInfo(
+        "rational_polynomial", {0.52, -2.57, 0.0006, -0.0002, 1.46, 0.40, -2.41, 1.39}, "--lens");
   } else if (lens == "equidistant") {
     options.camera_lens = vocal::LensDistortion::fromCameraInfo("equidistant", {-0.013, 0.021, -0.011, 0.0021}, "--lens");
   } else if (lens != "none") {
-    throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob or equidistant");
+    throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob, rational_polynomial or equidistant");
   }
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
