@@ -531,16 +531,24 @@ TEST(PatternObservation, WrongCornerCountIsNamed) {
             "cam2: 40 corners detected, the 6x8 pattern has 48");
 }
 
+namespace {
+// The recorded-session tests' rig simulation: 1 mm range noise, 0.3 px corners, the 8x10 80 mm board.
+vocal::RigSimulationOptions recordedSessionOptions(int target_poses) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = target_poses;
+  options.range_noise = 0.001;
+  options.pixel_noise = 0.3;
+  options.pattern = {8, 10, 0.08};
+  return options;
+}
+}  // namespace
+
 // A recorded session: the target held still for 1 s at each pose and carried for 1 s between poses,
 // every sensor observing at 10 Hz. Association by stillness must find the poses and the calibration
 // must come out as from hand-associated data.
 TEST(StillTargetAssociation, RecordedSessionCalibratesLikeHandAssociatedData) {
   const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(2, 1, 1, 1);
-  vocal::RigSimulationOptions options;
-  options.target_poses = 20;
-  options.range_noise = 0.001;
-  options.pixel_noise = 0.3;
-  options.pattern = {8, 10, 0.08};
+  const vocal::RigSimulationOptions options = recordedSessionOptions(20);
   const vocal::SimulatedRig poses = vocal::simulateRig(sensors, options);  // the poses to visit
   std::mt19937 rng(9);
   std::vector<vocal::TimedObservation> recorded;
@@ -621,11 +629,7 @@ std::vector<std::set<int>> posesPerSensor(const std::vector<vocal::TargetObserva
 // (all 8 for the range sensors; the camera only where the whole pattern is in view).
 TEST(StillTargetAssociation, SensorsAtAnyRateAssociateTheSamePoses) {
   const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
-  vocal::RigSimulationOptions options;
-  options.target_poses = 8;
-  options.range_noise = 0.001;
-  options.pixel_noise = 0.3;
-  options.pattern = {8, 10, 0.08};
+  const vocal::RigSimulationOptions options = recordedSessionOptions(8);
   const vocal::SimulatedRig poses = vocal::simulateRig(sensors, options);
   std::vector<vocal::SensorSpec> specs;
   for (const auto& s : sensors) specs.push_back(s.spec);

@@ -380,30 +380,25 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
 
 TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
   const std::string path = ::testing::TempDir() + "/odometry_bad.yaml";
-  vocal_test::writeText(path, "rgb_weigth: 2\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": unknown odometry setting 'rgb_weigth'");
-  vocal_test::writeText(path, "mode: sideways\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": odometry mode 'sideways' is unknown: expected icp, rgb or fused");
-  vocal_test::writeText(path, "backend: gpu\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": odometry backend 'gpu' is unknown: expected auto, cpu, reference or opencl");
-  vocal_test::writeText(path, "cpu_threads: -1\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": odometry config: cpu_threads must be in [0, 256] (0 = every core), got -1");
-  vocal_test::writeText(path, "feature_initialisation: sometimes\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": feature initialisation 'sometimes' is unknown: expected always, fallback or off");
-  vocal_test::writeText(path, "feature_fallback_residual_ratio: 0.5\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": odometry config: feature_fallback_residual_ratio must be finite and > 1");
+  // Each file's line and the error it gets (after the file's path).
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"rgb_weigth: 2", "unknown odometry setting 'rgb_weigth'"},
+      {"mode: sideways", "odometry mode 'sideways' is unknown: expected icp, rgb or fused"},
+      {"backend: gpu", "odometry backend 'gpu' is unknown: expected auto, cpu, reference or opencl"},
+      {"cpu_threads: -1", "odometry config: cpu_threads must be in [0, 256] (0 = every core), got -1"},
+      {"feature_initialisation: sometimes", "feature initialisation 'sometimes' is unknown: expected always, fallback or off"},
+      {"feature_fallback_residual_ratio: 0.5", "odometry config: feature_fallback_residual_ratio must be finite and > 1"},
+      {"levels: 2", "odometry config: iterations lists 3 values for 2 levels"},
+      {"tracking_reference: sometimes", "tracking reference 'sometimes' is unknown: expected keyframe or frame"},
+      {"keyframes_kept: 0", "odometry config: keyframes_kept must be in [1, 1000], got 0"},
+  };
+  for (const auto& [line, error] : cases) {
+    vocal_test::writeText(path, line + "\n");
+    EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }), path + ": " + error);
+  }
   // The earlier boolean form still reads.
   vocal_test::writeText(path, "feature_initialisation: false\n");
   EXPECT_EQ(vocal::readOdometryConfigYaml(path).feature_initialisation, vocal::FeatureInitialisation::kOff);
-  vocal_test::writeText(path, "levels: 2\n");
-  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readOdometryConfigYaml(path); }),
-            path + ": odometry config: iterations lists 3 values for 2 levels");
 }
 
 // Frames dropped at 5 Hz and 0.5 m/s (a 20 cm step where the constant-velocity start predicts 10 cm):

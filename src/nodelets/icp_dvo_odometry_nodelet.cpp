@@ -257,16 +257,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       ++frames_lost_;
       frames_predicted_ += result.state == TrackingState::kPredicted;
       last_problem_ = result.failure;
-      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: tracking lost (" << trackingStateName(result.state) << " for "
-                                                                          << result.lost_frames << " frames): " << result.failure);
+      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: " << trackingEvent(result));
     } else {
       ++frames_tracked_;
       last_problem_.clear();
       quality_ = result.quality;
       if (result.state == TrackingState::kRelocalised) {
         ++relocalisations_;
-        NODELET_INFO_STREAM("IcpDvoOdometry: relocalised against keyframe " << result.keyframe_id << " after "
-                                                                            << result.lost_frames << " lost frames");
+        NODELET_INFO_STREAM("IcpDvoOdometry: " << trackingEvent(result));
       }
     }
 

@@ -59,6 +59,17 @@ std::string trackingStateName(TrackingState state) {
   return "unknown";
 }
 
+std::string trackingEvent(const OdometryResult& result) {
+  std::ostringstream event;
+  if (!result.quality.trusted) {
+    event << "not tracked (" << trackingStateName(result.state) << ", frame " << result.lost_frames
+          << " of the gap): " << result.failure;
+  } else if (result.state == TrackingState::kRelocalised) {
+    event << "relocalised against keyframe " << result.keyframe_id << " after " << result.lost_frames << " lost frames";
+  }
+  return event.str();
+}
+
 int IcpDvoOdometry::inliersOf(const OdometryQuality& quality) const {
   return config_.mode == OdometryMode::kRgb ? quality.rgb_inliers : quality.icp_inliers;
 }

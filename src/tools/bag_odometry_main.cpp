@@ -118,19 +118,10 @@ int run(const vocal::CommandLine& args) {
     const vocal::OdometryResult result = odometry->track(frame);
     tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     trajectory.push_back({rgb.header.stamp.toSec(), result.pose});
-    if (!result.quality.trusted) {
-      ++failures;
-      if (!quiet) {
-        std::fprintf(stderr, "\nframe at %.6f: tracking not trusted (%s): %s\n", rgb.header.stamp.toSec(),
-                     vocal::trackingStateName(result.state).c_str(), result.failure.c_str());
-      }
-    } else if (result.state == vocal::TrackingState::kRelocalised) {
-      ++relocalisations;
-      if (!quiet) {
-        std::fprintf(stderr, "\nframe at %.6f: relocalised against keyframe %d after %d lost frames\n",
-                     rgb.header.stamp.toSec(), result.keyframe_id, result.lost_frames);
-      }
-    }
+    failures += !result.quality.trusted;
+    relocalisations += result.state == vocal::TrackingState::kRelocalised;
+    const std::string event = vocal::trackingEvent(result);
+    if (!quiet && !event.empty()) std::fprintf(stderr, "\nframe at %.6f: %s\n", rgb.header.stamp.toSec(), event.c_str());
   };
   // Pass 1: the stamps of both image streams, paired by the TUM benchmark's rule (as tum_odometry
   // pairs a TUM folder's lists). Pass 2: each pair tracked as soon as both of its messages are read,

@@ -71,14 +71,9 @@ int run(const vocal::CommandLine& args) {
     feature_fallbacks += result.quality.feature_fallback;
     keyframes += result.new_keyframe;
     relocalisations += result.state == vocal::TrackingState::kRelocalised;
-    if (!result.quality.trusted) {
-      ++failures;
-      std::fprintf(stderr, "\nframe %zu (%.6f): tracking not trusted (%s): %s\n", i, frame.stamp,
-                   vocal::trackingStateName(result.state).c_str(), result.failure.c_str());
-    } else if (result.state == vocal::TrackingState::kRelocalised) {
-      std::fprintf(stderr, "\nframe %zu (%.6f): relocalised against keyframe %d after %d lost frames\n", i, frame.stamp,
-                   result.keyframe_id, result.lost_frames);
-    }
+    failures += !result.quality.trusted;
+    const std::string event = vocal::trackingEvent(result);
+    if (!event.empty()) std::fprintf(stderr, "\nframe %zu (%.6f): %s\n", i, frame.stamp, event.c_str());
     if (args.has("verbose")) {
       const vocal::OdometryQuality& q = result.quality;
       std::fprintf(stderr, "frame %zu: icp %d inliers rmse %.4f m, rgb %d inliers rmse %.4f, %d steps, condition %.3g, "

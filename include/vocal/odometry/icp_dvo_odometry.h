@@ -72,6 +72,11 @@ struct OdometryResult {
   int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
 };
 
+// One line for a log about a frame that was not tracked ("not tracked (predicted, frame 2 of the
+// gap): <failure>") or was relocalised ("relocalised against keyframe 3 after 10 lost frames");
+// empty for a frame tracked as usual.
+std::string trackingEvent(const OdometryResult& result);
+
 class IcpDvoOdometry {
  public:
   // Throws InputError for an invalid camera or config, or when the backend cannot be made.
