@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 
 #include <Eigen/Eigenvalues>
 
@@ -59,6 +60,28 @@ RunSummary runOnScene(vocal::SceneVariant variant, vocal::OdometryMode mode, int
     summary.worst_rotation_error_deg = std::max(summary.worst_rotation_error_deg, vocal::rotationAngle(error) * 180 / M_PI);
   }
   return summary;
+}
+
+// A noisy room at 320x240 passed at 0.5 m/s, `frames` frames at `rate` Hz, some of them dropped.
+struct FastMotion {
+  vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  vocal::Trajectory truth;  // of the frames kept
+  std::vector<vocal::RgbdFrame> frames;
+};
+FastMotion renderFastMotion(int frames, double rate, const std::set<int>& dropped = {}) {
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  vocal::SyntheticTrajectoryOptions options;
+  options.frames = frames;
+  options.frame_rate = rate;
+  options.speed = 0.5;
+  const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), options);
+  FastMotion run;
+  for (int i = 0; i < frames; ++i) {
+    if (dropped.count(i)) continue;
+    run.truth.push_back(path[i]);
+    run.frames.push_back(vocal::renderSyntheticFrame(scene, run.camera, path[i], vocal::kinectLikeSensorModel(), 40 + i));
+  }
+  return run;
 }
 
 vocal::RgbdFrame wallFrame(const vocal::PinholeCamera& camera) {
@@ -170,17 +193,10 @@ TEST(FeatureAlignment, FindsALargeMotionAndRefusesUnrelatedImages) {
 // minima; started from the features' motion it tracks, and so does the fallback (constant velocity
 // first, the features where that solve fails or fits far worse than usual).
 TEST(OdometryAccuracy, FeatureInitialisationTracksFastMotion) {
-  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
-  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
-  vocal::SyntheticTrajectoryOptions options;
-  options.frames = 25;
-  options.frame_rate = 3.0;
-  options.speed = 0.5;
-  const vocal::Trajectory truth = vocal::generateSyntheticTrajectory(scene.workspace(), options);
-  std::vector<vocal::RgbdFrame> frames;
-  for (int i = 0; i < options.frames; ++i) {
-    frames.push_back(vocal::renderSyntheticFrame(scene, camera, truth[i], vocal::kinectLikeSensorModel(), 40 + i));
-  }
+  const FastMotion run = renderFastMotion(25, 3.0);
+  const vocal::PinholeCamera& camera = run.camera;
+  const vocal::Trajectory& truth = run.truth;
+  const std::vector<vocal::RgbdFrame>& frames = run.frames;
   std::map<vocal::FeatureInitialisation, double> ate;
   for (const vocal::FeatureInitialisation features :
        {vocal::FeatureInitialisation::kAlways, vocal::FeatureInitialisation::kFallback, vocal::FeatureInitialisation::kOff}) {
@@ -406,20 +422,10 @@ TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
 // worse than the running level. The fallback sees the residual and restarts from the features; with
 // the residual test disabled (ratio 1e6) the wrong minimum is taken.
 TEST(OdometryAccuracy, FeatureFallbackCatchesAWrongMinimumAfterDroppedFrames) {
-  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
-  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
-  vocal::SyntheticTrajectoryOptions options;
-  options.frames = 30;
-  options.frame_rate = 5.0;
-  options.speed = 0.5;
-  const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), options);
-  vocal::Trajectory truth;
-  std::vector<vocal::RgbdFrame> frames;
-  for (int i = 0; i < options.frames; ++i) {
-    if (i == 10 || i == 20 || i == 21) continue;  // dropped
-    truth.push_back(path[i]);
-    frames.push_back(vocal::renderSyntheticFrame(scene, camera, path[i], vocal::kinectLikeSensorModel(), 40 + i));
-  }
+  const FastMotion run = renderFastMotion(30, 5.0, {10, 20, 21});
+  const vocal::PinholeCamera& camera = run.camera;
+  const vocal::Trajectory& truth = run.truth;
+  const std::vector<vocal::RgbdFrame>& frames = run.frames;
   double ate[2];
   int fallbacks[2] = {0, 0};
   for (int checked : {1, 0}) {
