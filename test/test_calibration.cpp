@@ -754,7 +754,15 @@ TEST(TargetExtraction, FindsTheTargetAmongFloorAndWall) {
     for (double y = -2.0; y < 2.0; y += 0.05)
       for (double z = 0.0; z < 2.5; z += 0.05) cloud.push_back(sensor_from_reference * Eigen::Vector3d(4.5 + noise(rng), y, z));
     vocal::TargetObservation found = o;
-    found.points = vocal::extractTargetPoints(cloud, options.target_width, options.target_height);
+    // The rays observeTarget casts: an 8-pixel grid of a 525-pixel focal length, a 16-ring lidar's.
+    const vocal::ScanSpacing spacing = sensors[o.sensor].spec.type == vocal::SensorType::kRgbd
+                                           ? vocal::ScanSpacing{8.0 / 525.0, 8.0 / 525.0}
+                                           : vocal::ScanSpacing{0.2 * M_PI / 180.0, 2.0 * M_PI / 180.0};
+    vocal::TargetExtractionOptions whole;  // every point of the board: no hands, no mixed pixels at its outline here
+    whole.edge_margin = 0.0;
+    const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, options.target_width, options.target_height, spacing, whole);
+    ASSERT_FALSE(search.candidates.empty()) << "sensor " << o.sensor << " pose " << o.target_pose << ": " << search.rejection;
+    found.points = search.candidates.front().points;
     ASSERT_GE(found.points.size(), o.points.size() * 9 / 10) << "sensor " << o.sensor << " pose " << o.target_pose;
     ASSERT_LE(found.points.size(), o.points.size() + 20) << "sensor " << o.sensor << " pose " << o.target_pose;
     extracted.push_back(std::move(found));
@@ -803,7 +811,7 @@ TEST(TargetExtraction, FindsTheTargetSegmentInAFullScan) {
     std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<Eigen::Vector3d> scan;
     for (const auto& entry : ordered) scan.push_back(entry.second);
-    const std::vector<Eigen::Vector3d> segment = vocal::extractTargetSegment(scan, options.target_width, options.target_height);
+    const std::vector<Eigen::Vector3d> segment = vocal::extractTargetSegment(scan, options.target_width, options.target_height, 0.25 * M_PI / 180.0);
     EXPECT_GE(segment.size(), o.points.size() * 9 / 10) << "pose " << o.target_pose;
     EXPECT_LE(segment.size(), o.points.size() + 3) << "pose " << o.target_pose;
     ++checked;

@@ -72,6 +72,46 @@ TEST(RigDescription, MistakesNameTheFileAndTheKey) {
   EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
                                    "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [0,0,0,0,0,0,2]}\n"),
             file + ": sensors[0] 'l': 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [0,0,0,0,0,0,1], "
+                                   "crop_box: [0, -2, -1, -4, 2, 1]}\n"),
+            file + ": sensors[0] 'l': 'crop_box' must be [xmin, ymin, zmin, xmax, ymax, zmax] in the sensor's frame (metres, each min < max)");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: c, type: camera, frame_id: v, image_topic: /i, camera_info_topic: /c, "
+                                   "pose: [0,0,0,0,0,0,1], crop_box: [0, -2, -1, 4, 2, 1]}\n"),
+            file + ": sensors[0] 'c': 'crop_box' is for range sensors (rgbd, lidar3d, laser2d), not cameras");
+}
+
+// A crop box is read, written back, and keeps the search inside it: a cloud whose only board lies
+// outside gives nothing, and says so.
+TEST(RigDescription, CropBoxLimitsWhereTheTargetIsSearched) {
+  const std::string folder = vocal_test::makeTempFolder("rig_crop_box");
+  vocal_test::writeText(folder + "/rig.yaml",
+                        "reference_frame: base_link\n"
+                        "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}\n"
+                        "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [0,0,0,0,0,0,1], "
+                        "crop_box: [0.5, -1, -1, 3, 1, 1]}\n");
+  const vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
+  ASSERT_TRUE(rig.sensors[0].crop_box.has_value());
+  vocal::writeRigDescription(folder + "/again.yaml", rig);
+  const vocal::RigDescription again = vocal::readRigDescription(folder + "/again.yaml");
+  ASSERT_TRUE(again.sensors[0].crop_box.has_value());
+  EXPECT_EQ(again.sensors[0].crop_box->min, Eigen::Vector3d(0.5, -1, -1));
+  EXPECT_EQ(again.sensors[0].crop_box->max, Eigen::Vector3d(3, 1, 1));
+
+  // A 0.9 x 0.7 m board 2 m ahead sampled every 1 cm (a depth camera's spacing at that range).
+  std::vector<Eigen::Vector3d> board;
+  for (double y = -0.45; y <= 0.45; y += 0.01)
+    for (double z = -0.35; z <= 0.35; z += 0.01) board.emplace_back(2.0, y, z);
+  const vocal::ScanSpacing spacing{0.005, 0.005};
+  vocal::TargetExtractionOptions options;
+  options.crop_box = again.sensors[0].crop_box;
+  EXPECT_EQ(vocal::findTargetInCloud(board, 0.9, 0.7, spacing, options).candidates.size(), 1u);
+  std::vector<Eigen::Vector3d> behind;
+  for (const Eigen::Vector3d& p : board) behind.push_back(p + Eigen::Vector3d(2.0, 0.0, 0.0));
+  const vocal::TargetSearch search = vocal::findTargetInCloud(behind, 0.9, 0.7, spacing, options);
+  EXPECT_TRUE(search.candidates.empty());
+  EXPECT_EQ(search.rejection, "only 0 points inside the crop box");
 }
 
 // A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,

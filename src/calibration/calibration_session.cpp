@@ -1,12 +1,38 @@
 #include "vocal/calibration/calibration_session.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "vocal/calibration/pattern_observation.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
 
+namespace {
+// A segment is background when it recurs in this share of the session's tenths: the board held at one
+// pose stays in the one or two its pose lasted (four with three poses, the fewest that calibrate).
+constexpr double kBackgroundRecurrence = 0.5;
+
+// The median angle between neighbouring returns of a scan given in beam order.
+double beamSpacingOf(const std::vector<Eigen::Vector3d>& scan) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < scan.size(); ++i) {
+    const double step = std::abs(std::remainder(std::atan2(scan[i].y(), scan[i].x()) - std::atan2(scan[i - 1].y(), scan[i - 1].x()), 2 * M_PI));
+    if (step > 1e-6) steps.push_back(step);
+  }
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+}  // namespace
+
 CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptions extraction, StillnessOptions stillness)
-    : rig_(std::move(rig)), extraction_(extraction), stillness_(stillness), counts_(rig_.sensors.size()) {}
+    : rig_(std::move(rig)),
+      extraction_(extraction),
+      stillness_(stillness),
+      counts_(rig_.sensors.size()),
+      backgrounds_(rig_.sensors.size()),
+      lidar_spacing_(rig_.sensors.size()) {}
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
   for (std::size_t i = 0; i < rig_.sensors.size(); ++i)
@@ -40,14 +66,43 @@ bool CalibrationSession::record(int sensor, double stamp, std::vector<Eigen::Vec
   return true;
 }
 
+TargetExtractionOptions CalibrationSession::extractionFor(int sensor) const {
+  TargetExtractionOptions options = extraction_;
+  if (rig_.sensors[sensor].crop_box) options.crop_box = rig_.sensors[sensor].crop_box;
+  return options;
+}
+
+bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch search) {
+  ++counts_[sensor].received;
+  std::vector<std::vector<Eigen::Vector3d>> segments;
+  for (const TargetCandidate& c : search.candidates) segments.push_back(c.points);
+  backgrounds_[sensor].addMessage(segments);
+  const bool found = !search.candidates.empty();
+  range_messages_.push_back({sensor, stamp, std::move(search), -1, ""});
+  return found;
+}
+
 bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud) {
-  checkSensor(sensor, SensorType::kLidar3d, "point cloud");
-  return record(sensor, stamp, extractTargetPoints(cloud, rig_.target.width, rig_.target.height, extraction_), {});
+  const RigSensorDescription& description = checkSensor(sensor, SensorType::kLidar3d, "point cloud");
+  ScanSpacing& spacing = lidar_spacing_[sensor];
+  if (!(spacing.horizontal > 0.0) && cloud.size() >= 1000) spacing = estimateScanSpacing(cloud);
+  if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
+    throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
+                     " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more)");
+  }
+  return recordRange(sensor, stamp, findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor)));
 }
 
 bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
   checkSensor(sensor, SensorType::kLaser2d, "2D scan");
-  return record(sensor, stamp, extractTargetSegment(scan, rig_.target.width, rig_.target.height, extraction_), {});
+  const double beam_spacing = beamSpacingOf(scan);
+  TargetSearch search;
+  if (beam_spacing > 0.0) {
+    search = findTargetInScan(scan, rig_.target.width, rig_.target.height, beam_spacing, extractionFor(sensor));
+  } else {
+    search.rejection = "the scan has fewer than 2 returns";
+  }
+  return recordRange(sensor, stamp, std::move(search));
 }
 
 bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera) {
@@ -58,11 +113,13 @@ bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& de
                      std::to_string(camera.height));
   }
   // Every second pixel: the plane fit gains nothing from more, extraction runs four times faster.
+  constexpr int kStep = 2;
   std::vector<Eigen::Vector3d> cloud;
-  for (int v = 0; v < depth.height(); v += 2)
-    for (int u = 0; u < depth.width(); u += 2)
+  for (int v = 0; v < depth.height(); v += kStep)
+    for (int u = 0; u < depth.width(); u += kStep)
       if (isValidDepth(depth(u, v))) cloud.push_back(camera.backProject(u, v, depth(u, v)));
-  return record(sensor, stamp, extractTargetPoints(cloud, rig_.target.width, rig_.target.height, extraction_), {});
+  const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy};
+  return recordRange(sensor, stamp, findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor)));
 }
 
 bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
@@ -79,8 +136,45 @@ bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& im
   return record(sensor, stamp, std::move(seen.points), {seen.plane});
 }
 
+std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
+  std::vector<RangeMessage> messages = range_messages_;
+  for (RangeMessage& m : messages) {
+    const std::vector<TargetCandidate>& candidates = m.search.candidates;
+    for (std::size_t c = 0; c < candidates.size() && m.chosen < 0; ++c) {
+      if (backgrounds_[m.sensor].recurrence(candidates[c].points) < kBackgroundRecurrence) m.chosen = static_cast<int>(c);
+    }
+    if (m.chosen >= 0) continue;
+    m.rejection = candidates.empty() ? m.search.rejection
+                                     : std::to_string(candidates.size()) + " board-shaped segment" + (candidates.size() > 1 ? "s" : "") +
+                                           ", all static background (in the same place in most of the sensor's messages)";
+  }
+  return messages;
+}
+
+std::vector<TimedObservation> CalibrationSession::timedObservations() const {
+  std::vector<TimedObservation> observations = observations_;
+  for (RangeMessage& m : rangeMessages()) {
+    if (m.chosen < 0) continue;
+    TimedObservation observation;
+    observation.sensor = m.sensor;
+    observation.stamp = m.stamp;
+    observation.points = std::move(m.search.candidates[m.chosen].points);
+    observations.push_back(std::move(observation));
+  }
+  return observations;
+}
+
+std::vector<SensorDataCounts> CalibrationSession::counts() const {
+  std::vector<SensorDataCounts> counts = counts_;
+  for (const RangeMessage& m : rangeMessages()) {
+    if (m.chosen >= 0) ++counts[m.sensor].target_found;
+    else if (!m.search.candidates.empty()) ++counts[m.sensor].only_background;
+  }
+  return counts;
+}
+
 std::vector<TargetObservation> CalibrationSession::associatedObservations() const {
-  return associateStillTarget(rig_.specs(), observations_, stillness_);
+  return associateStillTarget(rig_.specs(), timedObservations(), stillness_);
 }
 
 CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) const {
@@ -92,7 +186,7 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
-  const std::string unassociated = missingStillnessExplanation(rig_.specs(), observations_, associated, stillness_);
+  const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
   if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
   return calibrateRig(rig_.specs(), associated, options);
 }

@@ -73,6 +73,23 @@ Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
   }
   return poseFromTranslationQuaternion(Eigen::Vector3d(v[0], v[1], v[2]), q);
 }
+
+// [xmin, ymin, zmin, xmax, ymax, zmax] in the sensor's frame, each min below its max.
+CropBox readCropBox(const YAML::Node& node, const std::string& where) {
+  std::vector<double> v;
+  try {
+    v = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    v.clear();
+  }
+  if (v.size() != 6 || !(v[0] < v[3] && v[1] < v[4] && v[2] < v[5])) {
+    throw InputError(where + ": 'crop_box' must be [xmin, ymin, zmin, xmax, ymax, zmax] in the sensor's frame (metres, each min < max)");
+  }
+  CropBox box;
+  box.min = Eigen::Vector3d(v[0], v[1], v[2]);
+  box.max = Eigen::Vector3d(v[3], v[4], v[5]);
+  return box;
+}
 }  // namespace
 
 RigDescription readRigDescription(const std::string& path) {
@@ -96,7 +113,7 @@ RigDescription readRigDescription(const std::string& path) {
     sensor.spec.name = required<std::string>(node, "name", where);
     where += " '" + sensor.spec.name + "'";
     rejectUnknownKeys(node, {"name", "type", "frame_id", "image_topic", "camera_info_topic", "depth_topic", "cloud_topic",
-                             "scan_topic", "pose"},
+                             "scan_topic", "pose", "crop_box"},
                       where);
     if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
     try {
@@ -117,6 +134,10 @@ RigDescription readRigDescription(const std::string& path) {
     topic("depth_topic", &sensor.depth_topic, type == SensorType::kRgbd);
     topic("cloud_topic", &sensor.cloud_topic, type == SensorType::kLidar3d);
     topic("scan_topic", &sensor.scan_topic, type == SensorType::kLaser2d);
+    if (node["crop_box"]) {
+      if (type == SensorType::kCamera) throw InputError(where + ": 'crop_box' is for range sensors (rgbd, lidar3d, laser2d), not cameras");
+      sensor.crop_box = readCropBox(node["crop_box"], where);
+    }
     if (node["pose"]) {
       sensor.pose = readPose(node["pose"], where);
       if (rig.reference_sensor < 0) rig.reference_sensor = static_cast<int>(i);
@@ -150,6 +171,11 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
                                                                  {"scan_topic", &s.scan_topic}};
     for (const auto& topic : topics)
       if (!topic.second->empty()) file << ", " << topic.first << ": " << *topic.second;
+    if (s.crop_box) {
+      const CropBox& b = *s.crop_box;
+      file << ", crop_box: [" << b.min.x() << ", " << b.min.y() << ", " << b.min.z() << ", " << b.max.x() << ", " << b.max.y()
+           << ", " << b.max.z() << "]";
+    }
     if (s.pose) {
       const Eigen::Vector3d t = s.pose->translation();
       const Eigen::Quaterniond q(s.pose->rotation());

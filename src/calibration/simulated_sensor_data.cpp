@@ -8,40 +8,44 @@ namespace vocal {
 
 namespace {
 constexpr double kMaxRange = 8.0;
-constexpr double kWallX = 4.5;
 
-enum class Surface { kNone, kTarget, kFloor, kWall };
-
-struct Hit {
-  double range = std::numeric_limits<double>::infinity();
-  Surface surface = Surface::kNone;
-  Eigen::Vector2d on_target = Eigen::Vector2d::Zero();  // target-frame x, y
+// The room with the view's target in it, and the sensor's origin and axes in the rig frame.
+struct SensorInRoom {
+  explicit SensorInRoom(const SimulatedRoomView& view)
+      : room(view.layout, view.reference_from_target, *view.target, view.person_holds_target),
+        pose(view.sensor->reference_from_sensor) {}
+  RoomHit cast(const Eigen::Vector3d& direction) const {
+    return room.cast(pose.translation(), pose.linear() * direction.normalized(), kMaxRange);
+  }
+  SimulatedRoom room;
+  Eigen::Isometry3d pose;
 };
 
-// The nearest surface along a ray from the sensor (direction in the sensor frame).
-Hit castRay(const SimulatedRoomView& view, const Eigen::Vector3d& direction) {
-  const Eigen::Isometry3d& pose = view.sensor->reference_from_sensor;
-  const Eigen::Vector3d origin = pose.translation();
-  const Eigen::Vector3d d = pose.linear() * direction.normalized();
-  Hit hit;
-  auto consider = [&](double range, Surface surface) {
-    if (range > 0.05 && range < std::min(hit.range, kMaxRange)) hit.range = range, hit.surface = surface;
-  };
-  if (std::abs(d.z()) > 1e-9) consider(-origin.z() / d.z(), Surface::kFloor);
-  if (std::abs(d.x()) > 1e-9) consider((kWallX - origin.x()) / d.x(), Surface::kWall);
-  const Eigen::Vector3d normal = view.reference_from_target.linear().col(2);
-  const double denominator = normal.dot(d);
-  if (std::abs(denominator) > 1e-9) {
-    const double range = normal.dot(view.reference_from_target.translation() - origin) / denominator;
-    const Eigen::Vector3d local = view.reference_from_target.inverse() * (origin + range * d);
-    if (std::abs(local.x()) <= 0.5 * view.target->width && std::abs(local.y()) <= 0.5 * view.target->height &&
-        range > 0.05 && range < std::min(hit.range, kMaxRange)) {
-      hit.range = range;
-      hit.surface = Surface::kTarget;
-      hit.on_target = local.head<2>();
-    }
+// A range return along `direction`, with a mixed pixel where the beam's footprint (`direction` +-
+// `footprint`) straddles an edge: half the time a range between the two surfaces, labelled mixed
+// unless it lies near the centre's surface.
+RoomHit rangeReturn(const SensorInRoom& sensor, const SimulatedRoomView& view, const Eigen::Vector3d& direction,
+                    const Eigen::Vector3d& footprint, std::mt19937* rng) {
+  RoomHit centre = sensor.cast(direction);
+  if (!view.mixed_pixels) return centre;
+  RoomHit other = centre;
+  for (const double sign : {-1.0, 1.0}) {
+    const RoomHit side = sensor.cast(direction.normalized() + sign * footprint);
+    const double gap = std::abs((side.label == SurfaceLabel::kNone ? kMaxRange : side.range) -
+                                (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
+    const double other_gap = std::abs((other.label == SurfaceLabel::kNone ? kMaxRange : other.range) -
+                                      (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
+    if (gap > other_gap) other = side;
   }
-  return hit;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  if (other.label == SurfaceLabel::kNone || centre.label == SurfaceLabel::kNone || std::abs(other.range - centre.range) < 0.1 ||
+      unit(*rng) < 0.5) {
+    return centre;
+  }
+  const double mixed = centre.range + unit(*rng) * (other.range - centre.range);
+  if (std::abs(mixed - centre.range) > 0.02) centre.label = SurfaceLabel::kMixed;
+  centre.range = mixed;
+  return centre;
 }
 
 double noisy(double range, double sigma, std::mt19937* rng) {
@@ -59,40 +63,56 @@ double boardGrey(const TargetPattern& pattern, const Eigen::Vector2d& p) {
 }
 }  // namespace
 
-std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng) {
+std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
   std::vector<float> ranges;
+  if (truth) *truth = {};
   for (int step = 0; step <= 1080; ++step) {
     const double azimuth = (-135.0 + 0.25 * step) * M_PI / 180.0;
-    const Hit hit = castRay(view, Eigen::Vector3d(std::cos(azimuth), std::sin(azimuth), 0.0));
-    ranges.push_back(hit.surface == Surface::kNone ? std::numeric_limits<float>::infinity()
-                                                   : static_cast<float>(noisy(hit.range, view.range_noise, rng)));
+    const Eigen::Vector3d ray(std::cos(azimuth), std::sin(azimuth), 0.0);
+    const double footprint = 0.1 * M_PI / 180.0;
+    const RoomHit hit = rangeReturn(sensor, view, ray, footprint * Eigen::Vector3d(-ray.y(), ray.x(), 0.0), rng);
+    ranges.push_back(hit.label == SurfaceLabel::kNone ? std::numeric_limits<float>::infinity()
+                                                      : static_cast<float>(noisy(hit.range, view.range_noise, rng)));
+    if (truth) truth->labels.push_back(hit.label);
   }
   return ranges;
 }
 
-std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng) {
+std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
   std::vector<Eigen::Vector3d> points;
+  if (truth) *truth = {};
   for (int ring = 0; ring < 16; ++ring) {
     const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
+    const double bias = ring < static_cast<int>(view.ring_bias.size()) ? view.ring_bias[ring] : 0.0;
     for (int step = 0; step < 1800; ++step) {
       const double azimuth = step * 0.2 * M_PI / 180.0 - M_PI;
       const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-      const Hit hit = castRay(view, ray);
-      if (hit.surface != Surface::kNone) points.push_back(noisy(hit.range, view.range_noise, rng) * ray);
+      // A VLP-16 beam's footprint is about 3 mrad wide.
+      const Eigen::Vector3d footprint = 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0);
+      const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng);
+      if (hit.label == SurfaceLabel::kNone) continue;
+      points.push_back((noisy(hit.range, view.range_noise, rng) + bias) * ray);
+      if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
     }
   }
   return points;
 }
 
-DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng) {
+DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
   DepthImage depth(camera.width, camera.height, 0.0f);
+  if (truth) *truth = {}, truth->labels.assign(static_cast<std::size_t>(camera.width) * camera.height, SurfaceLabel::kNone);
   for (int v = 0; v < camera.height; ++v) {
     for (int u = 0; u < camera.width; ++u) {
       const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
-      const Hit hit = castRay(view, ray);
-      if (hit.surface == Surface::kNone) continue;
+      // The footprint: half a pixel either side.
+      const RoomHit hit = rangeReturn(sensor, view, ray, Eigen::Vector3d(0.5 / camera.fx, 0.0, 0.0) / ray.norm(), rng);
+      if (hit.label == SurfaceLabel::kNone) continue;
       // Range noise along the ray, stored as depth (z).
       depth(u, v) = static_cast<float>(noisy(hit.range, view.range_noise, rng) / ray.norm());
+      if (truth) truth->labels[static_cast<std::size_t>(v) * camera.width + u] = hit.label;
     }
   }
   return depth;
@@ -119,6 +139,7 @@ CameraRays::CameraRays(const PinholeCamera& camera, const LensDistortion& distor
 
 ColorImage simulateCameraImage(const SimulatedRoomView& view, const CameraRays& rays, double noise_levels,
                                std::mt19937* rng) {
+  const SensorInRoom sensor(view);
   const PinholeCamera& camera = rays.camera();
   ColorImage image(camera.width, camera.height);
   std::normal_distribution<double> noise(0.0, std::max(noise_levels, 1e-12));
@@ -126,10 +147,11 @@ ColorImage simulateCameraImage(const SimulatedRoomView& view, const CameraRays& 
     for (int u = 0; u < camera.width; ++u) {
       double grey = 0.0;
       for (int sample = 0; sample < 4; ++sample) {
-        const Hit hit = castRay(view, rays.ray(u, v, sample));
-        grey += 0.25 * (hit.surface == Surface::kTarget ? boardGrey(view.target->pattern, hit.on_target)
-                        : hit.surface == Surface::kNone ? 60.0
-                                                         : 120.0);
+        const RoomHit hit = sensor.cast(rays.ray(u, v, sample));
+        grey += 0.25 * (hit.label == SurfaceLabel::kTarget ? boardGrey(view.target->pattern, hit.on_target)
+                        : hit.label == SurfaceLabel::kNone   ? 60.0
+                        : hit.label == SurfaceLabel::kPerson ? 90.0
+                                                             : 120.0);
       }
       if (noise_levels > 0.0) grey += noise(*rng);
       const auto level = static_cast<std::uint8_t>(std::clamp(std::lround(grey), 0L, 255L));

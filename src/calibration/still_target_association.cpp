@@ -38,11 +38,37 @@ Shape shapeOf(const TimedObservation& o, SensorType type) {
   return shape;
 }
 
-bool sameShape(const Shape& a, const Shape& b, SensorType type, const StillnessOptions& options) {
-  const double cos_angle = std::abs(a.direction.dot(b.direction));
-  if (cos_angle < std::cos(options.max_angle)) return false;
-  return type == SensorType::kLaser2d ? (a.centroid - b.centroid).norm() < options.max_offset
-                                      : std::abs(a.offset - b.offset) < options.max_offset;
+// How far apart two observations' shapes are: the angle between them and their offsets' difference
+// (a laser line's: its centroids' distance).
+Eigen::Vector2d shapeDifference(const Shape& a, const Shape& b, SensorType type) {
+  const double angle = std::acos(std::min(1.0, std::abs(a.direction.dot(b.direction))));
+  return {angle, type == SensorType::kLaser2d ? (a.centroid - b.centroid).norm() : std::abs(a.offset - b.offset)};
+}
+
+// The largest difference still counted as unmoved, per sensor: the options' bounds, or a multiple of
+// the sensor's own jitter (the median difference between consecutive observations, most of which are
+// of a still target) where its noise, mixed pixels and hands on the board make that larger.
+std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
+                                             const StillnessOptions& options) {
+  std::vector<std::vector<double>> angles(sensors.size()), offsets(sensors.size());
+  for (std::size_t i = 1; i < sorted.size(); ++i) {
+    if (sorted[i].sensor != sorted[i - 1].sensor) continue;
+    const SensorType type = sensors[sorted[i].sensor].type;
+    const Eigen::Vector2d d = shapeDifference(shapeOf(sorted[i - 1], type), shapeOf(sorted[i], type), type);
+    angles[sorted[i].sensor].push_back(d[0]);
+    offsets[sorted[i].sensor].push_back(d[1]);
+  }
+  const auto median = [](std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  std::vector<Eigen::Vector2d> bounds;
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    bounds.emplace_back(std::max(options.max_angle, options.jitter_multiple * median(angles[s])),
+                        std::max(options.max_offset, options.jitter_multiple * median(offsets[s])));
+  }
+  return bounds;
 }
 
 struct StillRun {
@@ -91,6 +117,7 @@ double allowedGap(double median_period, const StillnessOptions& options) {
 std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
                               const StillnessOptions& options) {
   const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
+  const std::vector<Eigen::Vector2d> bounds = stillnessBounds(sensors, sorted, options);
   std::vector<StillRun> runs;
   for (std::size_t i = 0; i < sorted.size();) {
     const int sensor = sorted[i].sensor;
@@ -100,7 +127,8 @@ std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std:
     const Shape first = shapeOf(sorted[i], type);
     std::size_t j = i + 1;
     for (; j < sorted.size() && sorted[j].sensor == sensor; ++j) {
-      const bool continues = sorted[j].stamp - run.end <= gap && sameShape(first, shapeOf(sorted[j], type), type, options);
+      const Eigen::Vector2d moved = shapeDifference(first, shapeOf(sorted[j], type), type);
+      const bool continues = sorted[j].stamp - run.end <= gap && moved[0] < bounds[sensor][0] && moved[1] < bounds[sensor][1];
       if (!continues) break;
       run.end = sorted[j].stamp;
       run.members.push_back(&sorted[j]);

@@ -2,156 +2,484 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <random>
-#include <tuple>
+#include <cstdio>
+#include <numeric>
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+#include <pcl/console/print.h>
+#include <pcl/filters/crop_box.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/sac_segmentation.h>
 
-#include "vocal/calibration/plane.h"
+#include "vocal/core/errors.h"
 
 namespace vocal {
 
 namespace {
-using Cell = std::tuple<long, long, long>;
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Indices = std::vector<int>;
 
-Cell cellOf(const Eigen::Vector3d& p, double size) {
-  return {static_cast<long>(std::floor(p.x() / size)), static_cast<long>(std::floor(p.y() / size)),
-          static_cast<long>(std::floor(p.z() / size))};
+std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char text[200];
+  std::snprintf(text, sizeof(text), pattern, a, b, c, d);
+  return text;
 }
 
-// Connected patches of the given points: cells of `size` touching in any of 26 directions.
-std::vector<std::vector<Eigen::Vector3d>> patchesOf(const std::vector<Eigen::Vector3d>& points, double size) {
-  std::map<Cell, std::vector<std::size_t>> cells;
-  for (std::size_t i = 0; i < points.size(); ++i) cells[cellOf(points[i], size)].push_back(i);
-  std::map<Cell, bool> visited;
-  std::vector<std::vector<Eigen::Vector3d>> patches;
-  for (const auto& start : cells) {
-    if (visited[start.first]) continue;
-    std::vector<Eigen::Vector3d> patch;
-    std::vector<Cell> queue = {start.first};
-    visited[start.first] = true;
-    while (!queue.empty()) {
-      const Cell cell = queue.back();
-      queue.pop_back();
-      for (std::size_t i : cells.at(cell)) patch.push_back(points[i]);
-      for (long dx = -1; dx <= 1; ++dx)
-        for (long dy = -1; dy <= 1; ++dy)
-          for (long dz = -1; dz <= 1; ++dz) {
-            const Cell next{std::get<0>(cell) + dx, std::get<1>(cell) + dy, std::get<2>(cell) + dz};
-            if (cells.count(next) && !visited[next]) {
-              visited[next] = true;
-              queue.push_back(next);
-            }
-          }
-    }
-    patches.push_back(std::move(patch));
+Cloud::Ptr toPcl(const std::vector<Eigen::Vector3d>& points, const std::optional<CropBox>& crop) {
+  // RANSAC drawing three collinear points is routine here (ring-sampled boards), not worth a console line.
+  static const bool quiet = [] {
+    pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+    return true;
+  }();
+  (void)quiet;
+  Cloud::Ptr cloud(new Cloud);
+  cloud->reserve(points.size());
+  for (const Eigen::Vector3d& p : points) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  if (!crop) return cloud;
+  pcl::CropBox<pcl::PointXYZ> box;
+  box.setMin(Eigen::Vector4f(crop->min.x(), crop->min.y(), crop->min.z(), 1.0f));
+  box.setMax(Eigen::Vector4f(crop->max.x(), crop->max.y(), crop->max.z(), 1.0f));
+  box.setInputCloud(cloud);
+  Cloud::Ptr cropped(new Cloud);
+  box.filter(*cropped);
+  return cropped;
+}
+
+// The inliers of the model RANSAC finds among `indices` (deterministic: PCL seeds its sampler
+// with a constant unless asked not to).
+Indices fitModel(const Cloud::Ptr& cloud, const Indices& indices, pcl::SacModel model, double threshold, int iterations) {
+  if (indices.size() < 3) return {};
+  pcl::SACSegmentation<pcl::PointXYZ> segmentation;
+  segmentation.setOptimizeCoefficients(true);
+  segmentation.setModelType(model);
+  segmentation.setMethodType(pcl::SAC_RANSAC);
+  segmentation.setDistanceThreshold(threshold);
+  segmentation.setMaxIterations(iterations);
+  segmentation.setProbability(0.99);
+  segmentation.setInputCloud(cloud);
+  segmentation.setIndices(pcl::make_shared<Indices>(indices));
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients model_coefficients;
+  segmentation.segment(inliers, model_coefficients);
+  return inliers.indices;
+}
+
+std::vector<Indices> clustersOf(const Cloud::Ptr& cloud, const Indices& indices, double tolerance, int min_size) {
+  if (indices.empty()) return {};
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+  tree->setInputCloud(cloud, pcl::make_shared<Indices>(indices));
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
+  extraction.setClusterTolerance(tolerance);
+  extraction.setMinClusterSize(min_size);
+  extraction.setMaxClusterSize(std::numeric_limits<int>::max());
+  extraction.setSearchMethod(tree);
+  extraction.setInputCloud(cloud);
+  extraction.setIndices(pcl::make_shared<Indices>(indices));
+  std::vector<pcl::PointIndices> found;
+  extraction.extract(found);
+  std::vector<Indices> clusters;
+  for (pcl::PointIndices& cluster : found) clusters.push_back(std::move(cluster.indices));
+  return clusters;  // largest first
+}
+
+// The same on a voxel grid of half the gap (the clusters of the voxels' centroids, mapped back to the
+// points): a room's walls hold tens of thousands of points, each with hundreds within a room-sized gap.
+std::vector<Indices> coarseClustersOf(const Cloud::Ptr& cloud, const Indices& indices, double gap, int min_size) {
+  if (indices.empty()) return {};
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  grid.setLeafSize(0.5 * gap, 0.5 * gap, 0.5 * gap);
+  grid.setSaveLeafLayout(true);
+  grid.setInputCloud(cloud);
+  grid.setIndices(pcl::make_shared<Indices>(indices));
+  Cloud::Ptr centroids(new Cloud);
+  grid.filter(*centroids);
+  Indices all(centroids->size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<int> cluster_of(centroids->size(), -1);
+  const std::vector<Indices> voxel_clusters = clustersOf(centroids, all, gap, 1);
+  for (std::size_t c = 0; c < voxel_clusters.size(); ++c)
+    for (int v : voxel_clusters[c]) cluster_of[v] = static_cast<int>(c);
+  std::vector<Indices> clusters(voxel_clusters.size());
+  for (int i : indices) {
+    const int voxel = grid.getCentroidIndex(cloud->at(i));
+    if (voxel >= 0 && cluster_of[voxel] >= 0) clusters[cluster_of[voxel]].push_back(i);
   }
-  std::sort(patches.begin(), patches.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
-  return patches;
+  clusters.erase(std::remove_if(clusters.begin(), clusters.end(), [&](const Indices& c) { return static_cast<int>(c.size()) < min_size; }),
+                 clusters.end());
+  std::sort(clusters.begin(), clusters.end(), [](const Indices& a, const Indices& b) { return a.size() > b.size(); });
+  return clusters;
 }
 
-// Extent of a planar patch along its two principal in-plane directions, longest first.
-Eigen::Vector2d extentOf(const std::vector<Eigen::Vector3d>& patch) {
+Indices without(const Indices& all, Indices removed) {
+  std::sort(removed.begin(), removed.end());
+  Indices kept;
+  for (int i : all)
+    if (!std::binary_search(removed.begin(), removed.end(), i)) kept.push_back(i);
+  return kept;
+}
+
+// A planar segment's shape in its own plane: minimum-area rectangle (longer side first) and hull area,
+// the mean range and the cosine between its normal and the viewing ray.
+struct Shape {
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();
+  double area = 0.0, range = 0.0, facing = 1.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), centre = Eigen::Vector3d::Zero();
+  std::vector<double> inset;  // per point: its distance inside the minimum-area rectangle's nearest side
+
+  bool inPlaneOf(const Shape& other, double max_angle, double max_offset) const {
+    return std::abs(normal.dot(other.normal)) >= std::cos(max_angle) && std::abs(other.normal.dot(centre - other.centre)) <= max_offset;
+  }
+};
+
+Shape shapeOf(const Cloud& cloud, const Indices& indices) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : patch) mean += p;
-  mean /= patch.size();
+  for (int i : indices) mean += cloud[i].getVector3fMap().cast<double>();
+  mean /= indices.size();
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : patch) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  Eigen::Vector2d low(1e300, 1e300), high(-1e300, -1e300);
-  for (const Eigen::Vector3d& p : patch) {
-    const Eigen::Vector2d q((p - mean).dot(eigen.eigenvectors().col(2)), (p - mean).dot(eigen.eigenvectors().col(1)));
-    low = low.cwiseMin(q);
-    high = high.cwiseMax(q);
+  for (int i : indices) {
+    const Eigen::Vector3d d = cloud[i].getVector3fMap().cast<double>() - mean;
+    scatter += d * d.transpose();
   }
-  return high - low;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  std::vector<cv::Point2f> projected;
+  for (int i : indices) {
+    const Eigen::Vector3d d = cloud[i].getVector3fMap().cast<double>() - mean;
+    projected.emplace_back(static_cast<float>(d.dot(eigen.eigenvectors().col(2))), static_cast<float>(d.dot(eigen.eigenvectors().col(1))));
+  }
+  Shape shape;
+  const cv::RotatedRect rectangle = cv::minAreaRect(projected);
+  shape.size = Eigen::Vector2d(std::max(rectangle.size.width, rectangle.size.height), std::min(rectangle.size.width, rectangle.size.height));
+  const double c = std::cos(rectangle.angle * M_PI / 180.0), s = std::sin(rectangle.angle * M_PI / 180.0);
+  for (const cv::Point2f& p : projected) {
+    const double dx = p.x - rectangle.center.x, dy = p.y - rectangle.center.y;
+    const double along = c * dx + s * dy, across = -s * dx + c * dy;
+    shape.inset.push_back(std::min(0.5 * rectangle.size.width - std::abs(along), 0.5 * rectangle.size.height - std::abs(across)));
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(projected, hull);
+  shape.area = cv::contourArea(hull);
+  shape.range = mean.norm();
+  shape.facing = std::max(0.05, std::abs(eigen.eigenvectors().col(0).dot(mean.normalized())));
+  shape.normal = eigen.eigenvectors().col(0);
+  shape.centre = mean;
+  return shape;
+}
+
+// The piece without points far off its plane: a hand over the board's edge lies a few centimetres in
+// front of it, beyond three robust standard deviations of a depth sensor's noise (not of a lidar's).
+Indices trimmedToPlane(const Cloud& cloud, const Indices& piece, const Shape& shape) {
+  std::vector<double> distances;
+  for (int i : piece) distances.push_back(std::abs(shape.normal.dot(cloud[i].getVector3fMap().cast<double>() - shape.centre)));
+  std::vector<double> sorted = distances;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double limit = std::max(0.005, 3.0 * 1.4826 * sorted[sorted.size() / 2]);
+  Indices kept;
+  for (std::size_t k = 0; k < piece.size(); ++k)
+    if (distances[k] <= limit) kept.push_back(piece[k]);
+  return kept;
+}
+
+// How many returns land on `area` square metres facing the sensor at `facing` from `range`.
+double expectedReturns(double area, const Shape& shape, const ScanSpacing& spacing) {
+  return area * shape.facing / (shape.range * shape.range * spacing.horizontal * spacing.vertical);
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// Least mismatch first; among equals (a 2D segment between the board's side and diagonal) the one
+// with more points, the nearer.
+void sortByMismatch(std::vector<TargetCandidate>* candidates) {
+  std::stable_sort(candidates->begin(), candidates->end(), [](const TargetCandidate& a, const TargetCandidate& b) {
+    return a.mismatch != b.mismatch ? a.mismatch < b.mismatch : a.points.size() > b.points.size();
+  });
+}
+
+void keepBestRejection(double mismatch, const std::string& why, double* best, std::string* rejection) {
+  if (mismatch < *best) *best = mismatch, *rejection = why;
 }
 }  // namespace
 
+TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, double target_width, double target_height,
+                               const ScanSpacing& spacing, const TargetExtractionOptions& options) {
+  if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
+    throw InputError("target extraction: the sensor's angular spacing must be > 0 (got " + format("%g x %g rad)", spacing.horizontal, spacing.vertical));
+  }
+  TargetSearch search;
+  const Cloud::Ptr cloud = toPcl(points, options.crop_box);
+  if (static_cast<int>(cloud->size()) < options.min_points) {
+    search.rejection = format("only %.0f points", cloud->size()) + (options.crop_box ? " inside the crop box" : "");
+    return search;
+  }
+  const double longest = std::max(target_width, target_height), shortest = std::min(target_width, target_height);
+  const double diagonal = std::hypot(target_width, target_height), board_area = target_width * target_height;
+  const double widest_gap = std::max(spacing.horizontal, spacing.vertical);
+  const auto larger_than_board = [&](const Shape& s) { return s.size[0] > diagonal + options.size_slack || s.size[1] > longest + options.size_slack; };
+
+  // Room planes: the connected pieces of a plane larger than the board (floor, walls, ceiling) go;
+  // the rest of the plane's points stay (the board's plane crosses the floor and walls).
+  Indices remaining(cloud->size());
+  std::iota(remaining.begin(), remaining.end(), 0);
+  const double room_gap = std::clamp(2.5 * widest_gap * 4.0, 0.05, 0.3);
+  std::vector<Shape> room_planes;  // a segment in one of these is a piece of floor or wall cut off by something in front
+  // Planes without such a piece (the board's, a cabinet's) leave the search, not the cloud.
+  Indices unexplained = remaining;
+  for (int plane = 0; plane < options.max_room_planes && static_cast<int>(unexplained.size()) >= options.min_points; ++plane) {
+    const Indices inliers = fitModel(cloud, unexplained, pcl::SACMODEL_PLANE, options.room_threshold, options.room_iterations);
+    if (static_cast<int>(inliers.size()) < options.min_points) break;
+    Indices room;
+    for (const Indices& piece : coarseClustersOf(cloud, inliers, room_gap, options.min_points)) {
+      const Shape shape = shapeOf(*cloud, piece);
+      // Far larger than the board - far longer and not thin, or twice its area: not a strip where another
+      // plane (the board's) crosses the floor, nor the board with the hands and arms that hold it.
+      const bool far_longer = shape.size[0] > 1.5 * diagonal && shape.size[1] > 0.5 * shortest;
+      if (!far_longer && shape.area <= 2.0 * board_area) continue;
+      room.insert(room.end(), piece.begin(), piece.end());
+      room_planes.push_back(shape);
+    }
+    unexplained = without(unexplained, inliers);
+    if (!room.empty()) remaining = without(remaining, room);
+  }
+
+  // Objects left (the board with whoever holds it, furniture): planes in each, each plane's pieces checked.
+  double best_rejected = std::numeric_limits<double>::infinity();
+  for (const Indices& object : coarseClustersOf(cloud, remaining, room_gap, options.min_points)) {
+    Indices left = object;
+    for (int plane = 0; plane < options.max_planes_per_object && static_cast<int>(left.size()) >= options.min_points; ++plane) {
+      const Indices inliers = fitModel(cloud, left, pcl::SACMODEL_PLANE, options.plane_threshold, options.object_iterations);
+      if (static_cast<int>(inliers.size()) < options.min_points) break;
+      left = without(left, inliers);
+      double farthest = 0.0;
+      for (int i : inliers) farthest = std::max(farthest, static_cast<double>(cloud->at(i).getVector3fMap().norm()));
+      // Neighbours on the board lie up to one ring (row) apart, more where the board is tilted away.
+      const double gap = std::clamp(2.0 * widest_gap * farthest, 0.04, 0.3);
+      for (const Indices& found : clustersOf(cloud, inliers, gap, options.min_points)) {
+        const Indices piece = trimmedToPlane(*cloud, found, shapeOf(*cloud, found));
+        if (static_cast<int>(piece.size()) < options.min_points) continue;
+        const Shape shape = shapeOf(*cloud, piece);
+        const double mismatch = std::abs(std::log(std::max(shape.area, 1e-6) / board_area)) +
+                                std::abs(std::log(std::max(shape.size[0], 1e-3) / longest)) +
+                                std::abs(std::log(std::max(shape.size[1], 1e-3) / shortest));
+        const double expected = expectedReturns(board_area, shape, spacing);
+        const double expected_here = expectedReturns(shape.area, shape, spacing);
+        std::string why;
+        const auto room_plane = std::find_if(room_planes.begin(), room_planes.end(), [&](const Shape& room) {
+          return shape.inPlaneOf(room, 5.0 * M_PI / 180.0, options.room_threshold);
+        });
+        if (room_plane != room_planes.end()) {
+          why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0], shape.size[1],
+                       room_plane->size[0], room_plane->size[1]);
+        } else if (larger_than_board(shape) || shape.area > options.max_area_fraction * board_area) {
+          why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
+        } else if (shape.area < options.min_area_fraction * board_area) {
+          why = format("a %.2f x %.2f m segment (%.3f m^2) is smaller than a quarter of the board", shape.size[0], shape.size[1], shape.area);
+        } else if (piece.size() < options.min_density_fraction * expected_here) {
+          why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
+        } else if (piece.size() > options.max_count_fraction * expected) {
+          why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
+        }
+        if (!why.empty()) {
+          keepBestRejection(mismatch, why, &best_rejected, &search.rejection);
+          continue;
+        }
+        // The plane's points without a margin along the outline, where hands hold the board and a
+        // beam's footprint mixes it with what is behind.
+        TargetCandidate candidate;
+        for (std::size_t k = 0; k < piece.size(); ++k)
+          if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(cloud->at(piece[k]).getVector3fMap().cast<double>());
+        if (static_cast<int>(candidate.points.size()) < options.min_points) {
+          candidate.points.clear();
+          for (int i : piece) candidate.points.push_back(cloud->at(i).getVector3fMap().cast<double>());
+        }
+        candidate.size = shape.size;
+        candidate.area = shape.area;
+        candidate.expected_points = expected;
+        candidate.mismatch = mismatch;
+        search.candidates.push_back(std::move(candidate));
+      }
+    }
+  }
+  sortByMismatch(&search.candidates);
+  if (search.candidates.empty() && search.rejection.empty()) search.rejection = "no plane is left once the room's are removed";
+  if (!search.candidates.empty()) search.rejection.clear();
+  return search;
+}
+
+TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double target_width, double target_height,
+                              double beam_spacing, const TargetExtractionOptions& options) {
+  if (!(beam_spacing > 0.0)) throw InputError("target extraction: the scan's beam spacing must be > 0 (got " + format("%g rad)", beam_spacing));
+  TargetSearch search;
+  const Cloud::Ptr cloud = toPcl(scan, options.crop_box);
+  const double diagonal = std::hypot(target_width, target_height), shortest = std::min(target_width, target_height);
+  constexpr int kMinSegmentPoints = 10;
+  const auto point = [&](int i) { return cloud->at(i).getVector3fMap().cast<double>(); };
+  const auto neighbours = [&](int a, int b) {
+    return (point(a) - point(b)).norm() <= std::max(0.1, 4.0 * beam_spacing * std::max(point(a).norm(), point(b).norm()));
+  };
+  // Pieces of the scan between range jumps (beam order), then straight runs in each by RANSAC lines.
+  std::vector<Indices> pieces(1);
+  for (int i = 0; i < static_cast<int>(cloud->size()); ++i) {
+    if (!pieces.back().empty() && !neighbours(pieces.back().back(), i)) pieces.emplace_back();
+    pieces.back().push_back(i);
+  }
+  struct Run {
+    Indices points;
+    Eigen::Vector3d first, last;
+    double length() const { return (last - first).norm(); }
+  };
+  std::vector<Run> runs;
+  for (const Indices& piece : pieces) {
+    Indices left = piece;
+    for (int line = 0; line < options.max_planes_per_object && static_cast<int>(left.size()) >= kMinSegmentPoints; ++line) {
+      Indices inliers = fitModel(cloud, left, pcl::SACMODEL_LINE, options.plane_threshold, options.object_iterations);
+      if (static_cast<int>(inliers.size()) < kMinSegmentPoints) break;
+      std::sort(inliers.begin(), inliers.end());
+      left = without(left, inliers);
+      Indices run;
+      const auto close = [&] {
+        if (static_cast<int>(run.size()) >= kMinSegmentPoints) runs.push_back({run, point(run.front()), point(run.back())});
+        run.clear();
+      };
+      for (int i : inliers) {
+        // Split where points off the line lie between (something in front; a lone one is noise) or
+        // neighbours are far apart.
+        const bool skipped = !run.empty() && std::count_if(left.begin(), left.end(), [&](int j) { return j > run.back() && j < i; }) > 1;
+        if (!run.empty() && (skipped || !neighbours(run.back(), i))) close();
+        run.push_back(i);
+      }
+      close();
+    }
+  }
+  // A run longer than the board is a wall's; shorter runs on its line are pieces of that wall between
+  // things in front of it.
+  std::vector<const Run*> walls;
+  for (const Run& run : runs)
+    if (run.length() > diagonal + options.size_slack) walls.push_back(&run);
+  const auto on_wall = [&](const Run& run) {
+    return std::any_of(walls.begin(), walls.end(), [&](const Run* wall) {
+      const Eigen::Vector3d along = (wall->last - wall->first).normalized();
+      const Eigen::Vector3d normal(-along.y(), along.x(), 0.0);
+      return wall != &run && std::abs(normal.dot(run.first - wall->first)) < options.plane_threshold &&
+             std::abs(normal.dot(run.last - wall->first)) < options.plane_threshold;
+    });
+  };
+  double best_rejected = std::numeric_limits<double>::infinity();
+  for (const Run& run : runs) {
+    const double length = run.length();
+    const double mismatch = length > diagonal ? std::log(length / diagonal) : length < shortest ? std::log(shortest / length) : 0.0;
+    std::string why;
+    if (length > diagonal + options.size_slack) {
+      why = format("a %.2f m segment is longer than the board's %.2f m diagonal", length, diagonal);
+    } else if (on_wall(run)) {
+      why = format("a %.2f m segment lies on the line of a longer one (a wall)", length);
+    } else if (length < 0.5 * shortest) {
+      why = format("a %.2f m segment is shorter than half the board's %.2f m side", length, shortest);
+    } else {
+      const Eigen::Vector3d middle = 0.5 * (run.first + run.last), along = (run.last - run.first).normalized();
+      const double facing = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - std::pow(along.dot(middle.normalized()), 2))));
+      const double expected_here = length * facing / (middle.norm() * beam_spacing);
+      if (run.points.size() < options.min_density_fraction * expected_here) {
+        why = format("a board-sized segment has %.0f points where the beam spacing predicts %.0f", run.points.size(), expected_here);
+      }
+    }
+    if (!why.empty()) {
+      keepBestRejection(mismatch, why, &best_rejected, &search.rejection);
+      continue;
+    }
+    // As in 3D: without points far off the run's line (hands over the board's ends, mixed pixels).
+    const Eigen::Vector3d along = (run.last - run.first).normalized(), across(-along.y(), along.x(), 0.0);
+    std::vector<double> distances;
+    for (int i : run.points) distances.push_back(std::abs(across.dot(point(i) - run.first)));
+    const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
+    TargetCandidate candidate;
+    for (std::size_t k = 0; k < run.points.size(); ++k) {
+      const double from_ends = std::min(along.dot(point(run.points[k]) - run.first), along.dot(run.last - point(run.points[k])));
+      if (distances[k] <= limit && from_ends >= options.edge_margin) candidate.points.push_back(point(run.points[k]));
+    }
+    if (static_cast<int>(candidate.points.size()) < kMinSegmentPoints) continue;
+    candidate.size = Eigen::Vector2d(length, 0.0);
+    candidate.expected_points = static_cast<double>(run.points.size());
+    candidate.mismatch = mismatch;
+    search.candidates.push_back(std::move(candidate));
+  }
+  sortByMismatch(&search.candidates);
+  if (search.candidates.empty() && search.rejection.empty()) search.rejection = "no straight segment of 10 points or more";
+  if (!search.candidates.empty()) search.rejection.clear();
+  return search;
+}
+
+ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
+  ScanSpacing spacing;
+  if (cloud.size() < 10) return spacing;
+  // A spinning lidar: elevations fall into a few rings.
+  std::vector<double> elevations;
+  for (const Eigen::Vector3d& p : cloud) elevations.push_back(std::atan2(p.z(), p.head<2>().norm()));
+  std::sort(elevations.begin(), elevations.end());
+  std::vector<std::pair<double, std::size_t>> rings;  // mean elevation, count
+  for (std::size_t i = 0; i < elevations.size();) {
+    std::size_t j = i;
+    double sum = 0.0;
+    while (j < elevations.size() && elevations[j] - elevations[i] < 0.2 * M_PI / 180.0) sum += elevations[j++];
+    rings.emplace_back(sum / (j - i), j - i);
+    i = j;
+  }
+  if (rings.size() <= 128 && rings.size() >= 2 && cloud.size() / rings.size() >= 50) {
+    std::vector<double> gaps, steps;
+    for (std::size_t r = 1; r < rings.size(); ++r) gaps.push_back(rings[r].first - rings[r - 1].first);
+    spacing.vertical = median(gaps);
+    // Azimuth steps within the ring with the most points.
+    const double ring = std::max_element(rings.begin(), rings.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
+    std::vector<double> azimuths;
+    for (const Eigen::Vector3d& p : cloud)
+      if (std::abs(std::atan2(p.z(), p.head<2>().norm()) - ring) < 0.1 * M_PI / 180.0) azimuths.push_back(std::atan2(p.y(), p.x()));
+    std::sort(azimuths.begin(), azimuths.end());
+    for (std::size_t i = 1; i < azimuths.size(); ++i)
+      if (azimuths[i] - azimuths[i - 1] > 1e-5) steps.push_back(azimuths[i] - azimuths[i - 1]);
+    spacing.horizontal = median(steps);
+    if (spacing.horizontal > 0.0) return spacing;
+  }
+  // Dense (a depth camera): the angle to each point's nearest neighbour, seen from the sensor.
+  const Cloud::Ptr directions(new Cloud);
+  for (const Eigen::Vector3d& p : cloud) {
+    const Eigen::Vector3d d = p.normalized();
+    directions->push_back(pcl::PointXYZ(d.x(), d.y(), d.z()));
+  }
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(directions);
+  std::vector<double> angles;
+  std::vector<int> found(2);
+  std::vector<float> distances(2);
+  for (std::size_t i = 0; i < directions->size(); i += std::max<std::size_t>(1, directions->size() / 2000)) {
+    if (tree.nearestKSearch(directions->at(i), 2, found, distances) == 2 && distances[1] > 0.0f) angles.push_back(std::sqrt(distances[1]));
+  }
+  spacing.horizontal = spacing.vertical = median(angles);
+  return spacing;
+}
+
 std::vector<Eigen::Vector3d> extractTargetPoints(const std::vector<Eigen::Vector3d>& cloud, double target_width,
                                                  double target_height, const TargetExtractionOptions& options) {
-  std::mt19937 rng(options.seed);
-  std::vector<Eigen::Vector3d> remaining = cloud;
-  const double longest = std::max(target_width, target_height), shortest = std::min(target_width, target_height);
-  for (int plane_index = 0; plane_index < options.max_planes && static_cast<int>(remaining.size()) >= options.min_points;
-       ++plane_index) {
-    // RANSAC: the plane through three random points with the most inliers.
-    std::uniform_int_distribution<std::size_t> pick(0, remaining.size() - 1);
-    Plane best;
-    std::size_t best_count = 0;
-    for (int iteration = 0; iteration < options.iterations; ++iteration) {
-      const Eigen::Vector3d& a = remaining[pick(rng)];
-      const Eigen::Vector3d& b = remaining[pick(rng)];
-      const Eigen::Vector3d& c = remaining[pick(rng)];
-      const Eigen::Vector3d normal = (b - a).cross(c - a);
-      if (normal.norm() < 1e-9) continue;
-      Plane plane{normal.normalized(), 0.0};
-      plane.offset = -plane.normal.dot(a);
-      std::size_t count = 0;
-      for (const Eigen::Vector3d& p : remaining) count += std::abs(plane.signedDistance(p)) < options.distance_threshold;
-      if (count > best_count) best_count = count, best = plane;
-    }
-    if (static_cast<int>(best_count) < options.min_points) break;
-    std::vector<Eigen::Vector3d> inliers, outliers;
-    for (const Eigen::Vector3d& p : remaining) {
-      (std::abs(best.signedDistance(p)) < options.distance_threshold ? inliers : outliers).push_back(p);
-    }
-    // Only the plane's largest patch is a candidate: smaller pieces of a floor or wall cut up by
-    // shadows would otherwise pass for the target.
-    std::vector<std::vector<Eigen::Vector3d>> patches = patchesOf(inliers, options.cell_size);
-    if (static_cast<int>(patches.front().size()) >= options.min_points) {
-      const Eigen::Vector2d extent = extentOf(patches.front());
-      const bool not_larger = extent[0] <= std::hypot(target_width, target_height) + options.size_slack &&
-                              extent[1] <= longest + options.size_slack;
-      const bool not_scrap = extent[0] >= options.min_size_fraction * shortest;
-      if (not_larger && not_scrap) return patches.front();
-    }
-    remaining = std::move(outliers);
-  }
-  return {};
+  const ScanSpacing spacing = estimateScanSpacing(cloud);
+  if (!(spacing.horizontal > 0.0)) return {};
+  TargetSearch search = findTargetInCloud(cloud, target_width, target_height, spacing, options);
+  return search.candidates.empty() ? std::vector<Eigen::Vector3d>{} : std::move(search.candidates.front().points);
 }
 
 std::vector<Eigen::Vector3d> extractTargetSegment(const std::vector<Eigen::Vector3d>& scan, double target_width,
-                                                  double target_height, const TargetExtractionOptions& options) {
-  std::mt19937 rng(options.seed);
-  std::vector<Eigen::Vector3d> remaining = scan;
-  const double diagonal = std::hypot(target_width, target_height);
-  const double shortest = std::min(target_width, target_height);
-  for (int line_index = 0; line_index < options.max_planes && static_cast<int>(remaining.size()) >= 10; ++line_index) {
-    std::uniform_int_distribution<std::size_t> pick(0, remaining.size() - 1);
-    Eigen::Vector2d best_point = Eigen::Vector2d::Zero(), best_normal = Eigen::Vector2d::UnitX();
-    std::size_t best_count = 0;
-    for (int iteration = 0; iteration < options.iterations; ++iteration) {
-      const Eigen::Vector2d a = remaining[pick(rng)].head<2>(), b = remaining[pick(rng)].head<2>();
-      if ((b - a).norm() < 1e-6) continue;
-      const Eigen::Vector2d normal = Eigen::Vector2d(-(b - a).y(), (b - a).x()).normalized();
-      std::size_t count = 0;
-      for (const Eigen::Vector3d& p : remaining) count += std::abs(normal.dot(p.head<2>() - a)) < options.distance_threshold;
-      if (count > best_count) best_count = count, best_point = a, best_normal = normal;
-    }
-    if (best_count < 10) break;
-    // Runs of consecutive inliers (scan order) without gaps wider than cell_size.
-    std::vector<std::vector<Eigen::Vector3d>> runs(1);
-    std::vector<Eigen::Vector3d> outliers;
-    for (const Eigen::Vector3d& p : remaining) {
-      if (std::abs(best_normal.dot(p.head<2>() - best_point)) >= options.distance_threshold) {
-        outliers.push_back(p);
-        if (!runs.back().empty()) runs.emplace_back();
-        continue;
-      }
-      if (!runs.back().empty() && (p - runs.back().back()).norm() > options.cell_size) runs.emplace_back();
-      runs.back().push_back(p);
-    }
-    // Only the line's longest run is a candidate (a wall seen at a grazing angle breaks into short runs).
-    const auto run = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    if (run->size() >= 10) {
-      const double length = (run->back() - run->front()).norm();
-      if (length <= diagonal + options.size_slack && length >= options.min_size_fraction * shortest) return *run;
-    }
-    remaining = std::move(outliers);
-  }
-  return {};
+                                                  double target_height, double beam_spacing,
+                                                  const TargetExtractionOptions& options) {
+  TargetSearch search = findTargetInScan(scan, target_width, target_height, beam_spacing, options);
+  return search.candidates.empty() ? std::vector<Eigen::Vector3d>{} : std::move(search.candidates.front().points);
 }
 
 }  // namespace vocal

@@ -122,6 +122,43 @@ sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, 
   return msg;
 }
 
+sensor_msgs::PointCloud2 toLidarPointCloud2(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& rings,
+                                            const std::string& frame_id, const ros::Time& stamp) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame_id;
+  msg.height = 1;
+  msg.width = static_cast<std::uint32_t>(points.size());
+  // velodyne_pointcloud's PointXYZIR: x y z, 4 bytes of padding, intensity, ring, padding to 32 bytes.
+  const std::pair<const char*, std::pair<std::uint32_t, std::uint8_t>> fields[] = {
+      {"x", {0, sensor_msgs::PointField::FLOAT32}},          {"y", {4, sensor_msgs::PointField::FLOAT32}},
+      {"z", {8, sensor_msgs::PointField::FLOAT32}},          {"intensity", {16, sensor_msgs::PointField::FLOAT32}},
+      {"ring", {20, sensor_msgs::PointField::UINT16}}};
+  for (const auto& [name, layout] : fields) {
+    sensor_msgs::PointField field;
+    field.name = name;
+    field.offset = layout.first;
+    field.datatype = layout.second;
+    field.count = 1;
+    msg.fields.push_back(field);
+  }
+  msg.is_bigendian = false;
+  msg.point_step = 32;
+  msg.row_step = msg.point_step * msg.width;
+  msg.is_dense = true;
+  msg.data.assign(static_cast<std::size_t>(msg.row_step), 0);
+  std::uint8_t* out = msg.data.data();
+  for (std::size_t i = 0; i < points.size(); ++i, out += msg.point_step) {
+    const Eigen::Vector3f p = points[i].cast<float>();
+    const float intensity = 50.0f;
+    const auto ring = static_cast<std::uint16_t>(i < rings.size() ? rings[i] : 0);
+    std::memcpy(out, p.data(), 12);
+    std::memcpy(out + 16, &intensity, 4);
+    std::memcpy(out + 20, &ring, 2);
+  }
+  return msg;
+}
+
 geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& parent_from_child,
                                                    const std::string& parent, const std::string& child,
                                                    const ros::Time& stamp) {

@@ -220,10 +220,12 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::OK, last_result_.empty() ? "collecting observations" : last_result_);
     }
     const RigDescription& rig = session_->rig();
+    const std::vector<SensorDataCounts> counts = session_->counts();
     for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-      const SensorDataCounts& c = session_->counts()[s];
+      const SensorDataCounts& c = counts[s];
       std::ostringstream value;
       value << c.target_found << " of " << c.received << " messages show the target, " << dropped_[s] << " dropped";
+      if (c.only_background > 0) value << ", " << c.only_background << " only static board-shaped segments";
       status.add(rig.sensors[s].spec.name, value.str());
     }
   }

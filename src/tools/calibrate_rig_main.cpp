@@ -38,10 +38,13 @@ int run(const vocal::CommandLine& args) {
   int poses = 0;
   for (const auto& o : associated) poses = std::max(poses, o.target_pose + 1);
   std::printf("%d still target poses\n", poses);
+  const std::vector<vocal::SensorDataCounts> counts = session.counts();
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-    const vocal::SensorDataCounts& c = session.counts()[s];
-    std::printf("  %-12s %-8s target in %d of %d messages\n", rig.sensors[s].spec.name.c_str(),
+    const vocal::SensorDataCounts& c = counts[s];
+    std::printf("  %-12s %-8s target in %d of %d messages", rig.sensors[s].spec.name.c_str(),
                 vocal::sensorTypeName(rig.sensors[s].spec.type).c_str(), c.target_found, c.received);
+    if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
+    std::printf("\n");
   }
 
   vocal::CalibrationOptions options;

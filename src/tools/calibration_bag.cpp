@@ -62,6 +62,11 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   summary.reference_from_target = simulateRig(std::vector<SimulatedSensor>{}, poses).reference_from_target;
 
   std::mt19937 rng(options.seed);
+  std::vector<double> ring_bias(16, 0.0);
+  if (options.ring_bias > 0.0) {
+    std::uniform_real_distribution<double> bias(-options.ring_bias, options.ring_bias);
+    for (double& b : ring_bias) b = bias(rng);
+  }
   const PinholeCamera image_camera = defaultKinectCamera(640, 480);
   const CameraRays image_rays(image_camera, options.camera_lens);  // the lens, undistorted once
   const PinholeCamera depth_camera = defaultKinectCamera(options.depth_width, options.depth_height);
@@ -75,8 +80,13 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
         SimulatedRoomView view;
         view.reference_from_target = interpolatePose(still, next, alpha);
         view.target = &rig.target;
-        view.range_noise = options.range_noise;
+        view.layout = options.room;
+        view.person_holds_target = options.person_holds_target;
+        view.mixed_pixels = options.mixed_pixels;
         for (std::size_t s = 0; s < sensors.size(); ++s) {
+          const bool lidar = sensors[s].spec.type == SensorType::kLidar3d;
+          view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
+          view.ring_bias = lidar ? ring_bias : std::vector<double>{};
           view.sensor = &sensors[s];
           const RigSensorDescription& d = rig.sensors[s];
           // Sensors are not synchronised: each has its own phase.
@@ -94,9 +104,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
               summary.messages += 2;
               break;
             case SensorType::kLidar3d: {
-              std::vector<ColoredPoint> cloud;
-              for (const Eigen::Vector3d& p : simulateLidarCloud(view, &rng)) cloud.push_back({p.cast<float>(), Rgb8{}});
-              bag.write(d.cloud_topic, stamp, toPointCloud2(cloud, d.spec.frame_id, stamp));
+              SimulatedTruth truth;
+              const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
+              bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
               ++summary.messages;
               break;
             }

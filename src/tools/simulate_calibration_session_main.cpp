@@ -18,6 +18,12 @@ const char kUsage[] =
     "                                            the first RGB-D sensor is the reference)\n"
     "  --poses N           still target poses (default 12)\n"
     "  --noise M           range noise, metres (default 0.001)\n"
+    "  --room ROOM         plain (default: floor and one wall) or furnished (walls all round, ceiling, a\n"
+    "                      cabinet whose front is the board's size, a table, a shelf, a sofa)\n"
+    "  --person            someone holds the board by its sides (furnished rooms)\n"
+    "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
+    "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
+    "  --mixed-pixels      returns between two surfaces where a beam straddles an edge\n"
     "  --rate HZ           messages per second of every sensor (default 10; the target is held still for\n"
     "                      6 messages and carried for 4)\n"
     "  --lens MODEL        the cameras' lens: none (default), plumb_bob (wide angle, k1 -0.3),\n"
@@ -52,6 +58,16 @@ int run(const vocal::CommandLine& args) {
   } else if (lens != "none") {
     throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob, rational_polynomial or equidistant");
   }
+  const std::string room = args.text("room", "plain");
+  if (room != "plain" && room != "furnished") throw vocal::InputError("option --room: '" + room + "' is unknown: expected plain or furnished");
+  options.room = room == "furnished" ? vocal::RoomLayout::kFurnished : vocal::RoomLayout::kPlain;
+  options.person_holds_target = args.has("person");
+  if (options.person_holds_target && options.room != vocal::RoomLayout::kFurnished) {
+    throw vocal::InputError("option --person: only in a furnished room (--room furnished)");
+  }
+  options.lidar_noise = args.number("lidar-noise", -1.0);
+  options.ring_bias = args.number("ring-bias", 0.0);
+  options.mixed_pixels = args.has("mixed-pixels");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
@@ -66,5 +82,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens"}, {}, 1);
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias"},
+                        {"person", "mixed-pixels"}, 1);
 }

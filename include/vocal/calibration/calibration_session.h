@@ -8,6 +8,7 @@
 
 #include "vocal/calibration/graph_calibration.h"
 #include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/static_background.h"
 #include "vocal/calibration/still_target_association.h"
 #include "vocal/calibration/target_extraction.h"
 #include "vocal/core/image.h"
@@ -19,14 +20,26 @@ namespace vocal {
 struct SensorDataCounts {
   int received = 0;      // messages given to the session
   int target_found = 0;  // of which showed the target
+  int only_background = 0;  // range sensors: board-shaped segments found, all of them static (room, furniture)
+};
+
+// What a range sensor's message gave: the board's candidates by shape, resolved once the whole session
+// is known (the board is the candidate that is not static background).
+struct RangeMessage {
+  int sensor = -1;
+  double stamp = 0.0;
+  TargetSearch search;
+  int chosen = -1;  // index into search.candidates once resolved, -1 when none was taken
+  std::string rejection;  // why none was taken
 };
 
 class CalibrationSession {
  public:
   explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {});
 
-  // Each returns whether the target was found. Throws InputError naming the sensor when it has another
-  // type or the data is unusable (stamps are seconds).
+  // Each returns whether the target was found (range sensors: a board-shaped segment; whether it is
+  // static background is settled over the whole session). Throws InputError naming the sensor when it
+  // has another type or the data is unusable (stamps are seconds).
   bool addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud);          // lidar3d
   bool addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan);            // laser2d, in beam order
   bool addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera);  // rgbd
@@ -42,18 +55,27 @@ class CalibrationSession {
   CalibrationResult calibrate(const std::vector<TargetObservation>& associated, CalibrationOptions options = {}) const;
 
   const RigDescription& rig() const { return rig_; }
-  const std::vector<SensorDataCounts>& counts() const { return counts_; }
+  std::vector<SensorDataCounts> counts() const;
+  // Every range sensor's message in arrival order, with the candidate taken and why none was.
+  std::vector<RangeMessage> rangeMessages() const;
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
+  bool recordRange(int sensor, double stamp, TargetSearch search);
+  TargetExtractionOptions extractionFor(int sensor) const;
+  // Every observation: cameras' as recorded, range sensors' candidates resolved against the background.
+  std::vector<TimedObservation> timedObservations() const;
 
   RigDescription rig_;
   TargetExtractionOptions extraction_;
   StillnessOptions stillness_;
   std::vector<SensorDataCounts> counts_;
-  std::vector<TimedObservation> observations_;
+  std::vector<TimedObservation> observations_;  // cameras
+  std::vector<RangeMessage> range_messages_;
+  std::vector<StaticBackground> backgrounds_;  // per sensor
+  std::vector<ScanSpacing> lidar_spacing_;     // per sensor, estimated from its first full cloud
 };
 
 }  // namespace vocal

@@ -8,7 +8,8 @@
 //   sensors:
 //     - {name: kinect, type: rgbd, frame_id: camera_rgb_optical_frame, depth_topic: ...,
 //        camera_info_topic: ..., pose: [x, y, z, qx, qy, qz, qw]}
-//     - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /velodyne_points}
+//     - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /velodyne_points,
+//        crop_box: [0, -2, -1, 4, 2, 1]}   # optional, range sensors: search only inside (sensor frame)
 //     - {name: scan, type: laser2d, frame_id: laser, scan_topic: /scan}
 //     - {name: cam2, type: camera, frame_id: cam2_optical, image_topic: ..., camera_info_topic: ...}
 
@@ -20,6 +21,7 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/pattern_observation.h"
+#include "vocal/calibration/target_extraction.h"
 
 namespace vocal {
 
@@ -33,6 +35,7 @@ struct RigSensorDescription {
   SensorSpec spec;
   std::string image_topic, camera_info_topic, depth_topic, cloud_topic, scan_topic;
   std::optional<Eigen::Isometry3d> pose;  // in reference_frame
+  std::optional<CropBox> crop_box;        // range sensors: where the target is searched
 };
 
 struct RigDescription {
@@ -46,7 +49,7 @@ struct RigDescription {
 
 // Throws InputError naming the file and the key: unknown or missing keys, a sensor type without the
 // topics it needs (camera: image + camera_info; rgbd: depth + camera_info; lidar3d: cloud; laser2d:
-// scan), duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target.
+// scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target.
 RigDescription readRigDescription(const std::string& path);
 
 // Writes what readRigDescription reads (every sensor with a pose writes it). Throws InputError naming

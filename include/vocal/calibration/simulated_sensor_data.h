@@ -1,8 +1,10 @@
 #pragma once
 // What each sensor's driver would publish while the target is moved through a room: full range scans
-// of a lidar or 2D laser, depth images of an RGB-D sensor and images of a camera, with the target,
-// the floor (z = 0 of the rig frame) and a wall (x = 4.5 m) in view. The input of end-to-end tests
-// and demos of the calibration session (extraction, association, calibration) with known extrinsics.
+// of a lidar or 2D laser, depth images of an RGB-D sensor and images of a camera, of the target in a
+// plain or furnished room (simulated_room.h), with what real range sensors add: noise along the ray,
+// a range bias per lidar ring, mixed pixels where a beam's footprint straddles an edge. The input of
+// end-to-end tests and demos of the calibration session (extraction, association, calibration) with
+// known extrinsics; the range sensors also say what each point hit, the truth extraction is counted on.
 
 #include <random>
 #include <vector>
@@ -11,6 +13,7 @@
 
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/simulated_room.h"
 #include "vocal/core/image.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
@@ -22,14 +25,28 @@ struct SimulatedRoomView {
   Eigen::Isometry3d reference_from_target = Eigen::Isometry3d::Identity();
   const TargetDescription* target = nullptr;
   double range_noise = 0.0;  // metres along each ray
+  RoomLayout layout = RoomLayout::kPlain;
+  bool person_holds_target = false;  // furnished rooms only
+  std::vector<double> ring_bias;     // metres added to each lidar ring's ranges (none when empty)
+  // Where a beam's footprint straddles a range edge, half the returns lie between the two surfaces
+  // (what lidars and time-of-flight depth cameras do at a board's edges).
+  bool mixed_pixels = false;
+};
+
+// Per point (lidar, laser: per return; depth: per pixel) what it hit, and a lidar point's ring.
+struct SimulatedTruth {
+  std::vector<SurfaceLabel> labels;
+  std::vector<int> rings;
 };
 
 // A 2D laser's ranges in beam order (270 degrees, 0.25 degree steps from -135 degrees; infinity where
-// nothing is hit within 8 m) or a 16-ring lidar's points (its hits only).
-std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng);
-std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng);
+// nothing is hit within 8 m) or a 16-ring lidar's points (VLP-16: rings 2 degrees apart from -15,
+// 0.2 degree azimuth steps; its hits only).
+std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
+std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.
-DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng);
+DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng,
+                              SimulatedTruth* truth = nullptr);
 // The viewing ray (z = 1) of each 2x2 subsample of every pixel of a camera through its lens: computed
 // once per camera, as undistorting is most of the cost of rendering a distorted image.
 class CameraRays {

@@ -22,6 +22,7 @@ struct TimedObservation {
 struct StillnessOptions {
   double max_angle = 0.01;     // radians between consecutive planes (or laser lines) of a still run
   double max_offset = 0.005;   // metres between their offsets (or line centroids)
+  double jitter_multiple = 3.0;  // ... or this many times the sensor's median consecutive difference, if larger
   double max_gap = 0.3;        // seconds between consecutive observations of a run, at least ...
   double gap_periods = 2.5;    // ... and up to this many of the sensor's median message periods
   double min_duration = 0.4;   // seconds a run must last to count as still

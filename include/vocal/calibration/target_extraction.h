@@ -1,37 +1,91 @@
 #pragma once
-// Plane extraction for depth and lidar sensors: the target's points in a cloud that also holds the
-// floor, walls and clutter.
+// Finding the target board in a range sensor's data: a 3D lidar's or depth sensor's cloud that also
+// holds the floor, walls, furniture and the person holding the board, or a 2D laser's full scan.
+// Geometry alone gives candidates (segments of the board's size and shape); which one is the board is
+// for the caller to settle with what changes between poses (static_background.h).
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace vocal {
 
-struct TargetExtractionOptions {
-  double distance_threshold = 0.015;  // metres from a plane to count as its inlier
-  int iterations = 400;               // RANSAC samples per plane
-  int max_planes = 6;                 // planes tried, largest first
-  double cell_size = 0.08;            // metres: inliers closer than about this form one patch
-  double size_slack = 0.15;           // metres a patch may exceed the target's diagonal by
-  double min_size_fraction = 0.3;     // of the target's shorter side: a patch's longest extent at least
-  int min_points = 30;
-  std::uint32_t seed = 1;
+// An axis-aligned box in the sensor's frame: only points inside are searched (the rig YAML's
+// per-sensor crop_box, for a room too cluttered to search whole).
+struct CropBox {
+  Eigen::Vector3d min = Eigen::Vector3d::Constant(-1e9), max = Eigen::Vector3d::Constant(1e9);
+  bool contains(const Eigen::Vector3d& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
 };
 
-// The points of the patch that fits the target's size: planes are found by RANSAC, largest first; each
-// plane's inliers are split into connected patches; the first plane whose largest patch is neither
-// larger than the target (its extent against width x height) nor a scrap gives the result. Empty when
-// no plane fits.
+// Angles between neighbouring returns of a sensor, radians: within a lidar ring / image row
+// (horizontal) and between rings / rows (vertical). Predicts how many points the board gives at a
+// range and how far apart its neighbouring points may lie.
+struct ScanSpacing {
+  double horizontal = 0.0;
+  double vertical = 0.0;
+};
+
+struct TargetExtractionOptions {
+  double plane_threshold = 0.04;    // metres from a board plane to count as its point (a VLP-16's noise is ~2 cm)
+  double room_threshold = 0.06;     // ... from a room plane (floor, wall) removed before the search
+  int max_room_planes = 8;          // room planes removed at most
+  int max_planes_per_object = 6;    // planes tried in each cluster left over
+  // RANSAC samples at most (fewer once a plane holds enough points to be sure): a room plane holds a
+  // large share of the cloud, the board most of its object.
+  int room_iterations = 150;
+  int object_iterations = 300;
+  double size_slack = 0.15;         // metres a segment's sides may exceed the board's by
+  double min_area_fraction = 0.25;  // of the board's area: a partly seen board still counts
+  double max_area_fraction = 1.35;
+  double min_density_fraction = 0.35;  // of the points the spacing predicts on the segment's own area
+  double max_count_fraction = 2.5;     // of the points it predicts on the whole board
+  double edge_margin = 0.04;  // metres along the segment's outline left out of the points it gives (hands, mixed pixels)
+  int min_points = 30;                 // 3D; a 2D segment needs 10
+  std::uint32_t seed = 1;
+  std::optional<CropBox> crop_box;
+};
+
+struct TargetCandidate {
+  std::vector<Eigen::Vector3d> points;  // sensor frame, without the margin along its outline
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();  // minimum-area rectangle's sides in its plane, longer first (2D: length, 0)
+  double area = 0.0;                    // convex hull in its plane, square metres (2D: 0)
+  double expected_points = 0.0;         // the whole board at this range and tilt, by the spacing
+  double mismatch = 0.0;                // how unlike the board (log size and area ratios): 0 is the board seen whole
+};
+
+struct TargetSearch {
+  std::vector<TargetCandidate> candidates;  // board-like segments, least mismatch first (then most points)
+  std::string rejection;  // when there are none: why the most board-like segment was not taken
+};
+
+// The board's candidates in a 3D cloud (lidar or depth, sensor frame): points outside the crop box
+// dropped; room planes (planes with a connected piece larger than the board) removed by RANSAC;
+// what is left split into objects by Euclidean clustering; in each, planes by RANSAC, their points
+// clustered again; each cluster checked against the board's width, height (minimum-area rectangle),
+// area (convex hull) and the point count `spacing` predicts. Throws InputError for spacing <= 0.
+TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& cloud, double target_width, double target_height,
+                               const ScanSpacing& spacing, const TargetExtractionOptions& options = {});
+
+// The board's candidates in a 2D scan (points in the scan plane z = 0, in beam order, `beam_spacing`
+// radians apart): RANSAC lines, each line's points split where neighbours are farther apart than the
+// spacing allows; segments as long as the board's sides fit (at most its diagonal + slack).
+TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double target_width, double target_height,
+                              double beam_spacing, const TargetExtractionOptions& options = {});
+
+// A spinning lidar's ring and azimuth spacing from its cloud (elevations cluster into rings); a
+// dense cloud's (depth camera) from the angle to each point's nearest neighbour. Zero for < 10 points.
+ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud);
+
+// The most board-like candidate's points (empty when none): for callers without a background model.
 std::vector<Eigen::Vector3d> extractTargetPoints(const std::vector<Eigen::Vector3d>& cloud, double target_width,
                                                  double target_height, const TargetExtractionOptions& options = {});
-
-// The target's segment in a full 2D scan (points in the scan plane z = 0, in scan order): RANSAC lines,
-// longest first; each line's inliers split where consecutive points are more than cell_size apart or
-// something else is in between; the first line whose longest run fits the target (at most its diagonal
-// + slack, at least min_size_fraction of its shorter side) gives the result. Empty when none fits.
 std::vector<Eigen::Vector3d> extractTargetSegment(const std::vector<Eigen::Vector3d>& scan, double target_width,
-                                                  double target_height, const TargetExtractionOptions& options = {});
+                                                  double target_height, double beam_spacing,
+                                                  const TargetExtractionOptions& options = {});
 
 }  // namespace vocal

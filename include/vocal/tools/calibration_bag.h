@@ -10,6 +10,7 @@
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/simulated_room.h"
 #include "vocal/core/lens_distortion.h"
 
 namespace vocal {
@@ -24,8 +25,14 @@ struct SimulatedSessionOptions {
   int still_ticks = 6;    // messages per sensor while the target is held still
   int moving_ticks = 4;   // ... while it is carried to the next pose
   double rate = 10.0;     // Hz per sensor
-  double range_noise = 0.001;
+  double range_noise = 0.001;  // metres, every range sensor's unless given below
   double image_noise = 2.0;  // grey levels
+  // The room and what real range sensors add (simulated_room.h, simulated_sensor_data.h).
+  RoomLayout room = RoomLayout::kPlain;
+  bool person_holds_target = false;
+  double lidar_noise = -1.0;  // metres; < 0: range_noise
+  double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
+  bool mixed_pixels = false;
   LensDistortion camera_lens;  // cameras' lens: images rendered through it, camera_info carries it
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;

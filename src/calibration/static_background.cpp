@@ -1,0 +1,64 @@
+#include "vocal/calibration/static_background.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+#include <Eigen/Eigenvalues>
+
+namespace vocal {
+
+StaticBackground::Segment StaticBackground::summarise(const std::vector<Eigen::Vector3d>& points, int message) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p;
+  mean /= std::max<std::size_t>(points.size(), 1);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  // A 2D scan's segment is a line in the scan plane (z = 0): its normal is the in-plane perpendicular.
+  const bool line = std::all_of(points.begin(), points.end(), [](const Eigen::Vector3d& p) { return p.z() == 0.0; });
+  const Eigen::Vector3d normal = line ? eigen.eigenvectors().col(2).cross(Eigen::Vector3d::UnitZ()).normalized() : Eigen::Vector3d(eigen.eigenvectors().col(0));
+  return {normal, mean, message};
+}
+
+std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
+  std::uint64_t key = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto cell = static_cast<std::int64_t>(std::floor(centre[axis] / options_.centre)) + (1 << 20);
+    key = (key << 21) | (static_cast<std::uint64_t>(cell) & ((1u << 21) - 1));
+  }
+  return key;
+}
+
+void StaticBackground::addMessage(const std::vector<std::vector<Eigen::Vector3d>>& segments) {
+  for (const std::vector<Eigen::Vector3d>& points : segments) {
+    if (points.size() < 3) continue;
+    const Segment segment = summarise(points, messages_);
+    cells_[cellOf(segment.centre)].push_back(segment);
+  }
+  ++messages_;
+}
+
+double StaticBackground::recurrence(const std::vector<Eigen::Vector3d>& points) const {
+  if (messages_ == 0 || points.size() < 3) return 0.0;
+  const Segment query = summarise(points, -1);
+  const double cos_angle = std::cos(options_.angle);
+  constexpr int kParts = 10;
+  std::unordered_set<int> parts;
+  const Eigen::Vector3d cell = (query.centre / options_.centre).array().floor();
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const auto found = cells_.find(cellOf((cell + Eigen::Vector3d(dx + 0.5, dy + 0.5, dz + 0.5)) * options_.centre));
+        if (found == cells_.end()) continue;
+        for (const Segment& s : found->second) {
+          if (std::abs(s.normal.dot(query.normal)) >= cos_angle && std::abs(query.normal.dot(s.centre - query.centre)) <= options_.offset &&
+              (s.centre - query.centre).norm() <= options_.centre) {
+            parts.insert(s.message * kParts / messages_);
+          }
+        }
+      }
+  return static_cast<double>(parts.size()) / std::min(kParts, messages_);
+}
+
+}  // namespace vocal
