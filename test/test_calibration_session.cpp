@@ -112,6 +112,10 @@ TEST(RigDescription, CropBoxLimitsWhereTheTargetIsSearched) {
   const vocal::TargetSearch search = vocal::findTargetInCloud(behind, 0.9, 0.7, spacing, options);
   EXPECT_TRUE(search.candidates.empty());
   EXPECT_EQ(search.rejection, "only 0 points inside the crop box");
+  EXPECT_EQ(search.check, "crop box");
+  // Without the box, the board is found where it is (4 m away, 1 cm apart: half the angle).
+  options.crop_box.reset();
+  EXPECT_EQ(vocal::findTargetInCloud(behind, 0.9, 0.7, {0.0025, 0.0025}, options).candidates.size(), 1u);
 }
 
 // A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,

@@ -111,6 +111,23 @@ TEST(MessageConversions, PointCloudCarriesPositionsAndPackedColour) {
   EXPECT_EQ(rgb, 0xFF8001u);
 }
 
+// The layout a Velodyne driver publishes (x y z, padding, intensity, ring in 32-byte points) reads back.
+TEST(MessageConversions, LidarCloudHasAVelodyneDriversLayoutAndReadsBack) {
+  const std::vector<Eigen::Vector3d> points = {{1.5, -0.25, 0.125}, {-3.0, 2.0, -0.5}};
+  const sensor_msgs::PointCloud2 cloud = vocal::toLidarPointCloud2(points, {3, 15}, "velodyne", ros::Time(5));
+  ASSERT_EQ(cloud.fields.size(), 5u);
+  EXPECT_EQ(cloud.point_step, 32u);
+  EXPECT_EQ(cloud.fields[4].name, "ring");
+  EXPECT_EQ(cloud.fields[4].datatype, sensor_msgs::PointField::UINT16);
+  std::uint16_t ring = 0;
+  std::memcpy(&ring, cloud.data.data() + cloud.point_step + cloud.fields[4].offset, 2);
+  EXPECT_EQ(ring, 15);
+  const std::vector<Eigen::Vector3d> read = vocal::fromPointCloud2(cloud, "/velodyne_points");
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[0], points[0]);
+  EXPECT_EQ(read[1], points[1]);
+}
+
 TEST(VoxelCloudMap, FusesViewsOfOneSurfaceIntoOnePointPerVoxel) {
   // The same 1 m x 1 m patch seen from two camera poses lands in the same voxels of the map.
   std::vector<vocal::ColoredPoint> patch;

@@ -358,9 +358,13 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   EXPECT_EQ(r.output, "calibrate_rig: error: " + folder + "/a_file/out: cannot create folder (Not a directory)\n");
   // A missing output folder (and its parent) is created.
   const std::string output = folder + "/results/run1";
-  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + output);
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --report --output-dir " + output);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("8 still target poses"), std::string::npos) << r.output;
+  // The report: no range message went without the target, and a residual per pose and sensor.
+  EXPECT_NE(r.output.find("  lidar0       none\n  laser0       none\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pose          rgbd0       lidar0       laser0\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\n7     "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("wrote " + output + "/calibration.yaml"), std::string::npos) << r.output;
   // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
   expectCalibrationMatchesTheTruth(output + "/calibration.yaml", folder + "/ground_truth.yaml", 0.005, 0.005);

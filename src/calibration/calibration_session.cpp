@@ -78,7 +78,11 @@ bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch sear
   for (const TargetCandidate& c : search.candidates) segments.push_back(c.points);
   backgrounds_[sensor].addMessage(segments);
   const bool found = !search.candidates.empty();
-  range_messages_.push_back({sensor, stamp, std::move(search), -1, ""});
+  RangeMessage message;
+  message.sensor = sensor;
+  message.stamp = stamp;
+  message.search = std::move(search);
+  range_messages_.push_back(std::move(message));
   return found;
 }
 
@@ -101,6 +105,7 @@ bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eig
     search = findTargetInScan(scan, rig_.target.width, rig_.target.height, beam_spacing, extractionFor(sensor));
   } else {
     search.rejection = "the scan has fewer than 2 returns";
+    search.check = "no segment";
   }
   return recordRange(sensor, stamp, std::move(search));
 }
@@ -147,6 +152,7 @@ std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
     m.rejection = candidates.empty() ? m.search.rejection
                                      : std::to_string(candidates.size()) + " board-shaped segment" + (candidates.size() > 1 ? "s" : "") +
                                            ", all static background (in the same place in most of the sensor's messages)";
+    m.check = candidates.empty() ? m.search.check : "static background";
   }
   return messages;
 }

@@ -206,8 +206,19 @@ void sortByMismatch(std::vector<TargetCandidate>* candidates) {
   });
 }
 
-void keepBestRejection(double mismatch, const std::string& why, double* best, std::string* rejection) {
-  if (mismatch < *best) *best = mismatch, *rejection = why;
+// Candidates in order; a rejection only when there is none (`nothing` when no segment was even checked).
+TargetSearch finished(TargetSearch search, const char* nothing) {
+  sortByMismatch(&search.candidates);
+  if (!search.candidates.empty()) {
+    search.rejection.clear(), search.check.clear();
+  } else if (search.rejection.empty()) {
+    search.rejection = nothing, search.check = "no segment";
+  }
+  return search;
+}
+
+void keepBestRejection(double mismatch, const char* check, const std::string& why, double* best, TargetSearch* search) {
+  if (mismatch < *best) *best = mismatch, search->rejection = why, search->check = check;
 }
 }  // namespace
 
@@ -220,6 +231,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const Cloud::Ptr cloud = toPcl(points, options.crop_box);
   if (static_cast<int>(cloud->size()) < options.min_points) {
     search.rejection = format("only %.0f points", cloud->size()) + (options.crop_box ? " inside the crop box" : "");
+    search.check = options.crop_box ? "crop box" : "no segment";
     return search;
   }
   const double longest = std::max(target_width, target_height), shortest = std::min(target_width, target_height);
@@ -274,23 +286,29 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
         const double expected = expectedReturns(board_area, shape, spacing);
         const double expected_here = expectedReturns(shape.area, shape, spacing);
         std::string why;
+        const char* check = "";
         const auto room_plane = std::find_if(room_planes.begin(), room_planes.end(), [&](const Shape& room) {
           return shape.inPlaneOf(room, 5.0 * M_PI / 180.0, options.room_threshold);
         });
         if (room_plane != room_planes.end()) {
+          check = "floor or wall";
           why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0], shape.size[1],
                        room_plane->size[0], room_plane->size[1]);
         } else if (larger_than_board(shape) || shape.area > options.max_area_fraction * board_area) {
+          check = "larger than the board";
           why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
         } else if (shape.area < options.min_area_fraction * board_area) {
+          check = "smaller than the board";
           why = format("a %.2f x %.2f m segment (%.3f m^2) is smaller than a quarter of the board", shape.size[0], shape.size[1], shape.area);
         } else if (piece.size() < options.min_density_fraction * expected_here) {
+          check = "too few points";
           why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
         } else if (piece.size() > options.max_count_fraction * expected) {
+          check = "too many points";
           why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
         }
         if (!why.empty()) {
-          keepBestRejection(mismatch, why, &best_rejected, &search.rejection);
+          keepBestRejection(mismatch, check, why, &best_rejected, &search);
           continue;
         }
         // The plane's points without a margin along the outline, where hands hold the board and a
@@ -310,10 +328,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       }
     }
   }
-  sortByMismatch(&search.candidates);
-  if (search.candidates.empty() && search.rejection.empty()) search.rejection = "no plane is left once the room's are removed";
-  if (!search.candidates.empty()) search.rejection.clear();
-  return search;
+  return finished(std::move(search), "no plane is left once the room's are removed");
 }
 
 TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double target_width, double target_height,
@@ -378,27 +393,30 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
   for (const Run& run : runs) {
     const double length = run.length();
     const double mismatch = length > diagonal ? std::log(length / diagonal) : length < shortest ? std::log(shortest / length) : 0.0;
+    const Eigen::Vector3d middle = 0.5 * (run.first + run.last), along = (run.last - run.first).normalized();
+    const double facing = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - std::pow(along.dot(middle.normalized()), 2))));
+    const double expected_here = length * facing / (middle.norm() * beam_spacing);
     std::string why;
+    const char* check = "";
     if (length > diagonal + options.size_slack) {
+      check = "larger than the board";
       why = format("a %.2f m segment is longer than the board's %.2f m diagonal", length, diagonal);
     } else if (on_wall(run)) {
+      check = "floor or wall";
       why = format("a %.2f m segment lies on the line of a longer one (a wall)", length);
     } else if (length < 0.5 * shortest) {
+      check = "smaller than the board";
       why = format("a %.2f m segment is shorter than half the board's %.2f m side", length, shortest);
-    } else {
-      const Eigen::Vector3d middle = 0.5 * (run.first + run.last), along = (run.last - run.first).normalized();
-      const double facing = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - std::pow(along.dot(middle.normalized()), 2))));
-      const double expected_here = length * facing / (middle.norm() * beam_spacing);
-      if (run.points.size() < options.min_density_fraction * expected_here) {
-        why = format("a board-sized segment has %.0f points where the beam spacing predicts %.0f", run.points.size(), expected_here);
-      }
+    } else if (run.points.size() < options.min_density_fraction * expected_here) {
+      check = "too few points";
+      why = format("a board-sized segment has %.0f points where the beam spacing predicts %.0f", run.points.size(), expected_here);
     }
     if (!why.empty()) {
-      keepBestRejection(mismatch, why, &best_rejected, &search.rejection);
+      keepBestRejection(mismatch, check, why, &best_rejected, &search);
       continue;
     }
     // As in 3D: without points far off the run's line (hands over the board's ends, mixed pixels).
-    const Eigen::Vector3d along = (run.last - run.first).normalized(), across(-along.y(), along.x(), 0.0);
+    const Eigen::Vector3d across(-along.y(), along.x(), 0.0);
     std::vector<double> distances;
     for (int i : run.points) distances.push_back(std::abs(across.dot(point(i) - run.first)));
     const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
@@ -409,14 +427,11 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
     }
     if (static_cast<int>(candidate.points.size()) < kMinSegmentPoints) continue;
     candidate.size = Eigen::Vector2d(length, 0.0);
-    candidate.expected_points = static_cast<double>(run.points.size());
+    candidate.expected_points = expected_here;
     candidate.mismatch = mismatch;
     search.candidates.push_back(std::move(candidate));
   }
-  sortByMismatch(&search.candidates);
-  if (search.candidates.empty() && search.rejection.empty()) search.rejection = "no straight segment of 10 points or more";
-  if (!search.candidates.empty()) search.rejection.clear();
-  return search;
+  return finished(std::move(search), "no straight segment of 10 points or more");
 }
 
 ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {

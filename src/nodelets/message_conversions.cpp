@@ -91,6 +91,17 @@ sensor_msgs::Image toDepth16UImage(const DepthImage& depth, const std::string& f
   return msg;
 }
 
+namespace {
+void addPointField(sensor_msgs::PointCloud2* msg, const char* name, std::uint32_t offset, std::uint8_t datatype) {
+  sensor_msgs::PointField field;
+  field.name = name;
+  field.offset = offset;
+  field.datatype = datatype;
+  field.count = 1;
+  msg->fields.push_back(field);
+}
+}  // namespace
+
 sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, const std::string& frame_id,
                                        const ros::Time& stamp) {
   sensor_msgs::PointCloud2 msg;
@@ -98,15 +109,7 @@ sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, 
   msg.header.frame_id = frame_id;
   msg.height = 1;
   msg.width = static_cast<std::uint32_t>(points.size());
-  const char* names[] = {"x", "y", "z", "rgb"};
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    sensor_msgs::PointField field;
-    field.name = names[i];
-    field.offset = 4 * i;
-    field.datatype = sensor_msgs::PointField::FLOAT32;
-    field.count = 1;
-    msg.fields.push_back(field);
-  }
+  for (const char* name : {"x", "y", "z", "rgb"}) addPointField(&msg, name, 4 * static_cast<std::uint32_t>(msg.fields.size()), sensor_msgs::PointField::FLOAT32);
   msg.is_bigendian = false;
   msg.point_step = 16;
   msg.row_step = msg.point_step * msg.width;
@@ -130,18 +133,11 @@ sensor_msgs::PointCloud2 toLidarPointCloud2(const std::vector<Eigen::Vector3d>& 
   msg.height = 1;
   msg.width = static_cast<std::uint32_t>(points.size());
   // velodyne_pointcloud's PointXYZIR: x y z, 4 bytes of padding, intensity, ring, padding to 32 bytes.
-  const std::pair<const char*, std::pair<std::uint32_t, std::uint8_t>> fields[] = {
-      {"x", {0, sensor_msgs::PointField::FLOAT32}},          {"y", {4, sensor_msgs::PointField::FLOAT32}},
-      {"z", {8, sensor_msgs::PointField::FLOAT32}},          {"intensity", {16, sensor_msgs::PointField::FLOAT32}},
-      {"ring", {20, sensor_msgs::PointField::UINT16}}};
-  for (const auto& [name, layout] : fields) {
-    sensor_msgs::PointField field;
-    field.name = name;
-    field.offset = layout.first;
-    field.datatype = layout.second;
-    field.count = 1;
-    msg.fields.push_back(field);
-  }
+  addPointField(&msg, "x", 0, sensor_msgs::PointField::FLOAT32);
+  addPointField(&msg, "y", 4, sensor_msgs::PointField::FLOAT32);
+  addPointField(&msg, "z", 8, sensor_msgs::PointField::FLOAT32);
+  addPointField(&msg, "intensity", 16, sensor_msgs::PointField::FLOAT32);
+  addPointField(&msg, "ring", 20, sensor_msgs::PointField::UINT16);
   msg.is_bigendian = false;
   msg.point_step = 32;
   msg.row_step = msg.point_step * msg.width;

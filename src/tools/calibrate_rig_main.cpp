@@ -3,7 +3,9 @@
 // calibrates, prints each sensor's extrinsic with its standard deviation and residual, and writes the
 // result YAML, a URDF snippet and a static-transform launch file.
 
+#include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "vocal/calibration/calibration_output.h"
@@ -20,7 +22,43 @@ const char kUsage[] =
     "  BAG                 a recorded session: the target held still at many poses, moved in between\n"
     "  --output-dir DIR    write DIR/calibration.yaml, DIR/calibration.urdf, DIR/calibration.launch\n"
     "  --no-filter         keep every observation (no sampling-consensus filter)\n"
+    "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
+    "                      refused the most board-like segment), and per still pose each sensor's residual\n"
     "  --quiet             no progress line\n";
+
+// What a user checks a calibration by: where extraction found no board and why, and how well each
+// still pose's observations fit the result.
+void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSession& session, const vocal::CalibrationResult& result,
+                 int poses) {
+  std::vector<std::map<std::string, int>> refused(rig.sensors.size());
+  for (const vocal::RangeMessage& m : session.rangeMessages())
+    if (m.chosen < 0) ++refused[m.sensor][m.check];
+  std::printf("messages without the target, by the check that refused the most board-like segment:\n");
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (rig.sensors[s].spec.type == vocal::SensorType::kCamera) continue;
+    std::printf("  %-12s", rig.sensors[s].spec.name.c_str());
+    if (refused[s].empty()) std::printf(" none");
+    for (const auto& [check, count] : refused[s]) std::printf("  %s: %d", check.c_str(), count);
+    std::printf("\n");
+  }
+  std::printf("residual (mm, rms point to plane) per still pose; R: rejected by the consensus filter, -: not seen\n%-6s", "pose");
+  for (const vocal::RigSensorDescription& d : rig.sensors) std::printf(" %12s", d.spec.name.c_str());
+  std::printf("\n");
+  for (int pose = 0; pose < poses; ++pose) {
+    std::printf("%-6d", pose);
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+      std::string cell = "-";
+      for (const vocal::ObservationResidual& o : result.observations) {
+        if (o.sensor != static_cast<int>(s) || o.target_pose != pose) continue;
+        char text[32] = "n/a";  // every observation of the pose rejected: no plane solved
+        if (!std::isnan(o.rms)) std::snprintf(text, sizeof(text), "%.2f", 1000 * o.rms);
+        cell = std::string(text) + (o.rejected ? " R" : "");
+      }
+      std::printf(" %12s", cell.c_str());
+    }
+    std::printf("\n");
+  }
+}
 
 int run(const vocal::CommandLine& args) {
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
@@ -64,6 +102,7 @@ int run(const vocal::CommandLine& args) {
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
   for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
   if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
+  if (args.has("report")) printReport(rig, session, result, poses);
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
     const std::vector<vocal::SensorSpec> specs = rig.specs();
@@ -77,5 +116,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report"}, 2);
 }

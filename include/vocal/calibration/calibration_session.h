@@ -31,6 +31,7 @@ struct RangeMessage {
   TargetSearch search;
   int chosen = -1;  // index into search.candidates once resolved, -1 when none was taken
   std::string rejection;  // why none was taken
+  std::string check;      // which check refused the last candidate (TargetSearch::check, or "static background")
 };
 
 class CalibrationSession {

@@ -54,13 +54,15 @@ struct TargetCandidate {
   std::vector<Eigen::Vector3d> points;  // sensor frame, without the margin along its outline
   Eigen::Vector2d size = Eigen::Vector2d::Zero();  // minimum-area rectangle's sides in its plane, longer first (2D: length, 0)
   double area = 0.0;                    // convex hull in its plane, square metres (2D: 0)
-  double expected_points = 0.0;         // the whole board at this range and tilt, by the spacing
+  double expected_points = 0.0;         // the whole board at this range and tilt, by the spacing (2D: the segment)
   double mismatch = 0.0;                // how unlike the board (log size and area ratios): 0 is the board seen whole
 };
 
 struct TargetSearch {
   std::vector<TargetCandidate> candidates;  // board-like segments, least mismatch first (then most points)
   std::string rejection;  // when there are none: why the most board-like segment was not taken
+  std::string check;      // ... which check refused it: crop box, no segment, floor or wall, larger than the board,
+                          // smaller than the board, too few points, too many points
 };
 
 // The board's candidates in a 3D cloud (lidar or depth, sensor frame): points outside the crop box
