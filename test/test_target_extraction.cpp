@@ -215,11 +215,11 @@ TEST(StaticBackground, RecurrenceCountsTheTenthsOfTheSessionASegmentAppearsIn) {
     std::vector<Eigen::Vector3d> points;
     for (double u = -0.4; u <= 0.4; u += 0.05)
       for (double v = -0.3; v <= 0.3; v += 0.05) points.emplace_back(x + tilt * u, u, v);
-    return points;
+    return vocal::StaticBackground::summarise(points);
   };
   vocal::StaticBackground background;
   for (int message = 0; message < 100; ++message) {
-    std::vector<std::vector<Eigen::Vector3d>> segments;
+    std::vector<vocal::StaticBackground::Summary> segments;
     if (message % 3 == 0) segments.push_back(panel(3.0, 0.0));              // a cabinet, now and then
     if (message >= 40 && message < 48) segments.push_back(panel(1.5, 0.3));  // the board, at one pose
     segments.push_back(panel(1.0 + 0.01 * message, -0.2));                   // something carried across

@@ -74,9 +74,11 @@ TargetExtractionOptions CalibrationSession::extractionFor(int sensor) const {
 
 bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch search) {
   ++counts_[sensor].received;
-  std::vector<std::vector<Eigen::Vector3d>> segments;
-  for (const TargetCandidate& c : search.candidates) segments.push_back(c.points);
-  backgrounds_[sensor].addMessage(segments);
+  std::vector<StaticBackground::Summary> summaries;
+  for (const TargetCandidate& c : search.candidates) summaries.push_back(StaticBackground::summarise(c.points));
+  backgrounds_[sensor].addMessage(summaries);
+  candidate_summaries_.push_back(std::move(summaries));
+  chosen_.clear();
   const bool found = !search.candidates.empty();
   RangeMessage message;
   message.sensor = sensor;
@@ -141,40 +143,54 @@ bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& im
   return record(sensor, stamp, std::move(seen.points), {seen.plane});
 }
 
-std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
-  std::vector<RangeMessage> messages = range_messages_;
-  for (RangeMessage& m : messages) {
-    const std::vector<TargetCandidate>& candidates = m.search.candidates;
-    for (std::size_t c = 0; c < candidates.size() && m.chosen < 0; ++c) {
-      if (backgrounds_[m.sensor].recurrence(candidates[c].points) < kBackgroundRecurrence) m.chosen = static_cast<int>(c);
+const std::vector<int>& CalibrationSession::chosenCandidates() const {
+  if (chosen_.size() == range_messages_.size()) return chosen_;
+  chosen_.assign(range_messages_.size(), -1);
+  for (std::size_t i = 0; i < range_messages_.size(); ++i) {
+    const std::vector<StaticBackground::Summary>& candidates = candidate_summaries_[i];
+    for (std::size_t c = 0; c < candidates.size() && chosen_[i] < 0; ++c) {
+      if (backgrounds_[range_messages_[i].sensor].recurrence(candidates[c]) < kBackgroundRecurrence) chosen_[i] = static_cast<int>(c);
     }
+  }
+  return chosen_;
+}
+
+std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
+  const std::vector<int>& chosen = chosenCandidates();
+  std::vector<RangeMessage> messages = range_messages_;
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    RangeMessage& m = messages[i];
+    m.chosen = chosen[i];
     if (m.chosen >= 0) continue;
-    m.rejection = candidates.empty() ? m.search.rejection
-                                     : std::to_string(candidates.size()) + " board-shaped segment" + (candidates.size() > 1 ? "s" : "") +
-                                           ", all static background (in the same place in most of the sensor's messages)";
-    m.check = candidates.empty() ? m.search.check : "static background";
+    const std::size_t found = m.search.candidates.size();
+    m.rejection = found == 0 ? m.search.rejection
+                             : std::to_string(found) + " board-shaped segment" + (found > 1 ? "s" : "") +
+                                   ", all static background (in the same place in most of the sensor's messages)";
+    m.check = found == 0 ? m.search.check : "static background";
   }
   return messages;
 }
 
 std::vector<TimedObservation> CalibrationSession::timedObservations() const {
+  const std::vector<int>& chosen = chosenCandidates();
   std::vector<TimedObservation> observations = observations_;
-  for (RangeMessage& m : rangeMessages()) {
-    if (m.chosen < 0) continue;
+  for (std::size_t i = 0; i < range_messages_.size(); ++i) {
+    if (chosen[i] < 0) continue;
     TimedObservation observation;
-    observation.sensor = m.sensor;
-    observation.stamp = m.stamp;
-    observation.points = std::move(m.search.candidates[m.chosen].points);
+    observation.sensor = range_messages_[i].sensor;
+    observation.stamp = range_messages_[i].stamp;
+    observation.points = range_messages_[i].search.candidates[chosen[i]].points;
     observations.push_back(std::move(observation));
   }
   return observations;
 }
 
 std::vector<SensorDataCounts> CalibrationSession::counts() const {
+  const std::vector<int>& chosen = chosenCandidates();
   std::vector<SensorDataCounts> counts = counts_;
-  for (const RangeMessage& m : rangeMessages()) {
-    if (m.chosen >= 0) ++counts[m.sensor].target_found;
-    else if (!m.search.candidates.empty()) ++counts[m.sensor].only_background;
+  for (std::size_t i = 0; i < range_messages_.size(); ++i) {
+    if (chosen[i] >= 0) ++counts[range_messages_[i].sensor].target_found;
+    else if (!range_messages_[i].search.candidates.empty()) ++counts[range_messages_[i].sensor].only_background;
   }
   return counts;
 }

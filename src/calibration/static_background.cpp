@@ -8,7 +8,7 @@
 
 namespace vocal {
 
-StaticBackground::Segment StaticBackground::summarise(const std::vector<Eigen::Vector3d>& points, int message) {
+StaticBackground::Summary StaticBackground::summarise(const std::vector<Eigen::Vector3d>& points) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : points) mean += p;
   mean /= std::max<std::size_t>(points.size(), 1);
@@ -18,7 +18,7 @@ StaticBackground::Segment StaticBackground::summarise(const std::vector<Eigen::V
   // A 2D scan's segment is a line in the scan plane (z = 0): its normal is the in-plane perpendicular.
   const bool line = std::all_of(points.begin(), points.end(), [](const Eigen::Vector3d& p) { return p.z() == 0.0; });
   const Eigen::Vector3d normal = line ? eigen.eigenvectors().col(2).cross(Eigen::Vector3d::UnitZ()).normalized() : Eigen::Vector3d(eigen.eigenvectors().col(0));
-  return {normal, mean, message};
+  return {normal, mean};
 }
 
 std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
@@ -30,18 +30,13 @@ std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
   return key;
 }
 
-void StaticBackground::addMessage(const std::vector<std::vector<Eigen::Vector3d>>& segments) {
-  for (const std::vector<Eigen::Vector3d>& points : segments) {
-    if (points.size() < 3) continue;
-    const Segment segment = summarise(points, messages_);
-    cells_[cellOf(segment.centre)].push_back(segment);
-  }
+void StaticBackground::addMessage(const std::vector<Summary>& segments) {
+  for (const Summary& segment : segments) cells_[cellOf(segment.centre)].push_back({segment, messages_});
   ++messages_;
 }
 
-double StaticBackground::recurrence(const std::vector<Eigen::Vector3d>& points) const {
-  if (messages_ == 0 || points.size() < 3) return 0.0;
-  const Segment query = summarise(points, -1);
+double StaticBackground::recurrence(const Summary& query) const {
+  if (messages_ == 0) return 0.0;
   const double cos_angle = std::cos(options_.angle);
   constexpr int kParts = 10;
   std::unordered_set<int> parts;
@@ -51,10 +46,11 @@ double StaticBackground::recurrence(const std::vector<Eigen::Vector3d>& points) 
       for (int dz = -1; dz <= 1; ++dz) {
         const auto found = cells_.find(cellOf((cell + Eigen::Vector3d(dx + 0.5, dy + 0.5, dz + 0.5)) * options_.centre));
         if (found == cells_.end()) continue;
-        for (const Segment& s : found->second) {
+        for (const Seen& seen : found->second) {
+          const Summary& s = seen.segment;
           if (std::abs(s.normal.dot(query.normal)) >= cos_angle && std::abs(query.normal.dot(s.centre - query.centre)) <= options_.offset &&
               (s.centre - query.centre).norm() <= options_.centre) {
-            parts.insert(s.message * kParts / messages_);
+            parts.insert(seen.message * kParts / messages_);
           }
         }
       }

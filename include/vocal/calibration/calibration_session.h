@@ -68,6 +68,9 @@ class CalibrationSession {
   TargetExtractionOptions extractionFor(int sensor) const;
   // Every observation: cameras' as recorded, range sensors' candidates resolved against the background.
   std::vector<TimedObservation> timedObservations() const;
+  // Per range message, the candidate taken (-1: none): computed once per new message, as diagnostics
+  // ask for the counts every second of a long session.
+  const std::vector<int>& chosenCandidates() const;
 
   RigDescription rig_;
   TargetExtractionOptions extraction_;
@@ -75,6 +78,8 @@ class CalibrationSession {
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
   std::vector<RangeMessage> range_messages_;
+  std::vector<std::vector<StaticBackground::Summary>> candidate_summaries_;  // per range message
+  mutable std::vector<int> chosen_;  // chosenCandidates(), valid while its size matches range_messages_
   std::vector<StaticBackground> backgrounds_;  // per sensor
   std::vector<ScanSpacing> lidar_spacing_;     // per sensor, estimated from its first full cloud
 };

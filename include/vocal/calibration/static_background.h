@@ -25,24 +25,30 @@ class StaticBackground {
   StaticBackground() = default;
   explicit StaticBackground(const Options& options) : options_(options) {}
 
-  // One message's board-shaped segments (each its points, sensor frame; a 2D scan's in its plane z = 0).
-  void addMessage(const std::vector<std::vector<Eigen::Vector3d>>& segments);
-  // The share of the session's tenths (by message count so far) with a segment matching these points
+  // Where a segment lies: its plane's normal and its centre (a 2D scan's segment, in its plane z = 0:
+  // the in-plane perpendicular of its line).
+  struct Summary {
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), centre = Eigen::Vector3d::Zero();
+  };
+  static Summary summarise(const std::vector<Eigen::Vector3d>& points);
+
+  // One message's board-shaped segments (sensor frame).
+  void addMessage(const std::vector<Summary>& segments);
+  // The share of the session's tenths (by message count so far) with a segment matching this one
   // (0 before any message).
-  double recurrence(const std::vector<Eigen::Vector3d>& segment) const;
+  double recurrence(const Summary& segment) const;
   int messages() const { return messages_; }
 
  private:
-  struct Segment {
-    Eigen::Vector3d normal, centre;
+  struct Seen {
+    Summary segment;
     int message;
   };
-  static Segment summarise(const std::vector<Eigen::Vector3d>& points, int message);
   std::uint64_t cellOf(const Eigen::Vector3d& centre) const;
 
   Options options_;
   int messages_ = 0;
-  std::unordered_map<std::uint64_t, std::vector<Segment>> cells_;  // by centre, cells of options_.centre
+  std::unordered_map<std::uint64_t, std::vector<Seen>> cells_;  // by centre, cells of options_.centre
 };
 
 }  // namespace vocal
