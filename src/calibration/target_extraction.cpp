@@ -243,6 +243,8 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   // the rest of the plane's points stay (the board's plane crosses the floor and walls).
   Indices remaining(cloud->size());
   std::iota(remaining.begin(), remaining.end(), 0);
+  // Pieces of a room's surfaces join across 2.5 times the returns' spacing at 4 m (a VLP-16's rings
+  // are 14 cm apart on a wall there).
   const double room_gap = std::clamp(2.5 * widest_gap * 4.0, 0.05, 0.3);
   std::vector<Shape> room_planes;  // a segment in one of these is a piece of floor or wall cut off by something in front
   // Planes without such a piece (the board's, a cabinet's) leave the search, not the cloud.
