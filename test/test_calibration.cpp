@@ -670,6 +670,32 @@ TEST(StillTargetAssociation, SensorsAtAnyRateAssociateTheSamePoses) {
                 "longest lasted 0 s)");
 }
 
+// A sensor whose still planes jitter more than the fixed bounds (2 cm lidar noise, mixed pixels, hands
+// in and out of the segment: here each observation shifted by up to +-8 mm along the target's normal
+// and tilted up to +-0.012 rad) keeps every still pose: its bound follows its own median jitter.
+TEST(StillTargetAssociation, JitteringSensorsKeepTheirStillPoses) {
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 0, 0);
+  const vocal::RigSimulationOptions options = recordedSessionOptions(8);
+  const vocal::SimulatedRig poses = vocal::simulateRig(sensors, options);
+  const std::vector<vocal::SensorSpec> specs = {sensors[0].spec, sensors[1].spec};
+  std::vector<vocal::TimedObservation> recorded = recordAtRates(sensors, {10, 10}, poses, options);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (vocal::TimedObservation& o : recorded) {
+    if (o.sensor != 1) continue;
+    const Eigen::Vector3d normal = vocal::fitPlane(o.points, "test").plane.normal;
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.012 * unit(rng), normal.unitOrthogonal()).toRotationMatrix();
+    const Eigen::Vector3d shift = 0.008 * unit(rng) * normal;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : o.points) centre += p / o.points.size();
+    for (Eigen::Vector3d& p : o.points) p = centre + tilt * (p - centre) + shift;
+  }
+  EXPECT_EQ(posesPerSensor(vocal::associateStillTarget(specs, recorded), 2)[1].size(), 8u);
+  vocal::StillnessOptions fixed;
+  fixed.jitter_multiple = 0.0;  // the fixed bounds alone, as before
+  EXPECT_LT(posesPerSensor(vocal::associateStillTarget(specs, recorded, fixed), 2)[1].size(), 4u);
+}
+
 TEST(Calibration, DisconnectedSensorGraphIsNamed) {
   vocal::RigSimulationOptions options;
   options.target_poses = 12;
