@@ -214,6 +214,7 @@ std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
   std::vector<TimedObservation> sorted = observations;
   sortBySensorAndTime(&sorted);
   const double period = medianPeriods(sensors.size(), sorted)[missing];
+  const Eigen::Vector2d bound = stillnessBounds(sensors, sorted, options)[missing];  // this sensor's, jitter included
   int kept = 0;
   double longest = 0.0;
   for (const StillRun& run : cutRuns(sensors, sorted, options)) {
@@ -229,7 +230,7 @@ std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
   } else {
     why << "its observations are " << period << " s apart (median); a still run allows gaps up to "
         << allowedGap(period, options) << " s and must last " << options.min_duration
-        << " s with the target moving less than " << options.max_angle << " rad and " << options.max_offset
+        << " s with the target moving less than " << bound[0] << " rad and " << bound[1]
         << " m (its longest lasted " << longest << " s)";
   }
   return why.str();
