@@ -40,7 +40,7 @@ struct Received {
   nav_msgs::Path::ConstPtr path;
   sensor_msgs::PointCloud2::ConstPtr cloud, fused_cloud;
   diagnostic_msgs::DiagnosticStatus odometry_status, newest_status;
-  std::vector<std::string> odometry_states;  // "tracking state" of every diagnostics message of exact/
+  std::vector<std::string> odometry_states;  // "worst state since last report" of every diagnostics message of exact/
 };
 
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key) {
@@ -95,7 +95,7 @@ class OdometryNodelet : public ::testing::Test {
                                                             if (s.name.find("exact/icp_dvo_odometry") != std::string::npos) {
                                                               received_.odometry_status = s;
                                                               received_.odometry_states.push_back(
-                                                                  diagnosticValue(s, "tracking state"));
+                                                                  diagnosticValue(s, "worst state since last report"));
                                                             }
                                                             else if (s.name.find("newest/icp_dvo_odometry") != std::string::npos)
                                                               received_.newest_status = s;

@@ -250,6 +250,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     last_stamp_ = rgb.header.stamp;
     state_ = result.state;
     lost_frames_ = result.lost_frames;
+    if (result.state == TrackingState::kLost || (result.state == TrackingState::kPredicted && worst_since_report_ != TrackingState::kLost)) {
+      worst_since_report_ = result.state;
+    }
     keyframe_id_ = result.keyframe_id;
     keyframes_ += result.new_keyframe;
     const bool trusted = result.quality.trusted;
@@ -328,7 +331,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     if (odometry_) odometry_->reset();
     last_stamp_ = ros::Time();
-    state_ = TrackingState::kTracking;
+    state_ = worst_since_report_ = TrackingState::kTracking;
     lost_frames_ = 0;
     path_.poses.clear();
     if (fused_map_) fused_map_->clear();
@@ -358,6 +361,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
     } else if (received == 0) {
       status.summary(DiagnosticStatus::WARN, "no synchronised rgb/depth/camera_info frame received yet");
+    } else if (worst_since_report_ == TrackingState::kLost && state_ != TrackingState::kLost) {
+      status.summary(DiagnosticStatus::ERROR, std::string("lost since the last report, now ") + trackingStateName(state_));
     } else if (state_ == TrackingState::kLost || state_ == TrackingState::kPredicted) {
       std::ostringstream message;
       message << (state_ == TrackingState::kLost ? "lost" : "predicting from the last motion") << " for " << lost_frames_
@@ -375,6 +380,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("frames lost", frames_lost_);
     status.add("frames predicted", frames_predicted_);
     status.add("tracking state", trackingStateName(state_));
+    // A loss shorter than the report period would otherwise go unseen by whoever watches diagnostics.
+    status.add("worst state since last report", trackingStateName(worst_since_report_));
+    worst_since_report_ = state_;
     status.add("relocalisations", relocalisations_);
     status.add("keyframes", keyframes_);
     status.add("keyframe", keyframe_id_);
@@ -432,6 +440,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   // Tracking loss: frames_lost_ counts every frame not tracked, of which these were predicted.
   std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0;
   TrackingState state_ = TrackingState::kTracking;
+  TrackingState worst_since_report_ = TrackingState::kTracking;  // lost > predicted > tracking, since the last diagnostics
   int lost_frames_ = 0, keyframe_id_ = 0;
   double processing_seconds_ = 0.0;
   StageTimes stage_sums_;

@@ -33,7 +33,7 @@ struct SimulatedRoomView {
   bool mixed_pixels = false;
 };
 
-// Per point (lidar, laser: per return; depth: per pixel) what it hit, and a lidar point's ring.
+// What each ray hit (laser: per beam, kNone where nothing; lidar: per returned point; depth: per pixel), and a lidar point's ring.
 struct SimulatedTruth {
   std::vector<SurfaceLabel> labels;
   std::vector<int> rings;
