@@ -34,9 +34,10 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
 }
 
 Cloud::Ptr toPcl(const std::vector<Eigen::Vector3d>& points, const std::optional<CropBox>& crop) {
-  // RANSAC drawing three collinear points is routine here (ring-sampled boards), not worth a console line.
+  // RANSAC drawing three collinear points is routine here (ring-sampled boards), yet PCL prints it as
+  // an error on every draw; what goes wrong is reported by the checks that follow.
   static const bool quiet = [] {
-    pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
     return true;
   }();
   (void)quiet;
