@@ -38,6 +38,14 @@ Shape shapeOf(const TimedObservation& o, SensorType type) {
   return shape;
 }
 
+// Every observation's shape, fitted once.
+std::vector<Shape> shapesOf(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations) {
+  std::vector<Shape> shapes;
+  shapes.reserve(observations.size());
+  for (const TimedObservation& o : observations) shapes.push_back(shapeOf(o, sensors[o.sensor].type));
+  return shapes;
+}
+
 // How far apart two observations' shapes are: the angle between them and their offsets' difference
 // (a laser line's: its centroids' distance).
 Eigen::Vector2d shapeDifference(const Shape& a, const Shape& b, SensorType type) {
@@ -49,12 +57,11 @@ Eigen::Vector2d shapeDifference(const Shape& a, const Shape& b, SensorType type)
 // the sensor's own jitter (the median difference between consecutive observations, most of which are
 // of a still target) where its noise, mixed pixels and hands on the board make that larger.
 std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
-                                             const StillnessOptions& options) {
+                                             const std::vector<Shape>& shapes, const StillnessOptions& options) {
   std::vector<std::vector<double>> angles(sensors.size()), offsets(sensors.size());
   for (std::size_t i = 1; i < sorted.size(); ++i) {
     if (sorted[i].sensor != sorted[i - 1].sensor) continue;
-    const SensorType type = sensors[sorted[i].sensor].type;
-    const Eigen::Vector2d d = shapeDifference(shapeOf(sorted[i - 1], type), shapeOf(sorted[i], type), type);
+    const Eigen::Vector2d d = shapeDifference(shapes[i - 1], shapes[i], sensors[sorted[i].sensor].type);
     angles[sorted[i].sensor].push_back(d[0]);
     offsets[sorted[i].sensor].push_back(d[1]);
   }
@@ -117,17 +124,17 @@ double allowedGap(double median_period, const StillnessOptions& options) {
 std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
                               const StillnessOptions& options) {
   const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
-  const std::vector<Eigen::Vector2d> bounds = stillnessBounds(sensors, sorted, options);
+  const std::vector<Shape> shapes = shapesOf(sensors, sorted);
+  const std::vector<Eigen::Vector2d> bounds = stillnessBounds(sensors, sorted, shapes, options);
   std::vector<StillRun> runs;
   for (std::size_t i = 0; i < sorted.size();) {
     const int sensor = sorted[i].sensor;
     const SensorType type = sensors[sensor].type;
     const double gap = allowedGap(periods[sensor], options);
     StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {&sorted[i]}};
-    const Shape first = shapeOf(sorted[i], type);
     std::size_t j = i + 1;
     for (; j < sorted.size() && sorted[j].sensor == sensor; ++j) {
-      const Eigen::Vector2d moved = shapeDifference(first, shapeOf(sorted[j], type), type);
+      const Eigen::Vector2d moved = shapeDifference(shapes[i], shapes[j], type);
       const bool continues = sorted[j].stamp - run.end <= gap && moved[0] < bounds[sensor][0] && moved[1] < bounds[sensor][1];
       if (!continues) break;
       run.end = sorted[j].stamp;
@@ -214,7 +221,7 @@ std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
   std::vector<TimedObservation> sorted = observations;
   sortBySensorAndTime(&sorted);
   const double period = medianPeriods(sensors.size(), sorted)[missing];
-  const Eigen::Vector2d bound = stillnessBounds(sensors, sorted, options)[missing];  // this sensor's, jitter included
+  const Eigen::Vector2d bound = stillnessBounds(sensors, sorted, shapesOf(sensors, sorted), options)[missing];  // jitter included
   int kept = 0;
   double longest = 0.0;
   for (const StillRun& run : cutRuns(sensors, sorted, options)) {
