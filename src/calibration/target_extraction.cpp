@@ -174,14 +174,18 @@ Shape shapeOf(const Cloud& cloud, const Indices& indices) {
   return shape;
 }
 
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
 // The piece without points far off its plane: a hand over the board's edge lies a few centimetres in
 // front of it, beyond three robust standard deviations of a depth sensor's noise (not of a lidar's).
 Indices trimmedToPlane(const Cloud& cloud, const Indices& piece, const Shape& shape) {
   std::vector<double> distances;
   for (int i : piece) distances.push_back(std::abs(shape.normal.dot(cloud[i].getVector3fMap().cast<double>() - shape.centre)));
-  std::vector<double> sorted = distances;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double limit = std::max(0.005, 3.0 * 1.4826 * sorted[sorted.size() / 2]);
+  const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
   Indices kept;
   for (std::size_t k = 0; k < piece.size(); ++k)
     if (distances[k] <= limit) kept.push_back(piece[k]);
@@ -191,12 +195,6 @@ Indices trimmedToPlane(const Cloud& cloud, const Indices& piece, const Shape& sh
 // How many returns land on `area` square metres facing the sensor at `facing` from `range`.
 double expectedReturns(double area, const Shape& shape, const ScanSpacing& spacing) {
   return area * shape.facing / (shape.range * shape.range * spacing.horizontal * spacing.vertical);
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
 }
 
 // Least mismatch first; among equals (a 2D segment between the board's side and diagonal) the one
@@ -302,7 +300,8 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
           why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
         } else if (shape.area < options.min_area_fraction * board_area) {
           check = "smaller than the board";
-          why = format("a %.2f x %.2f m segment (%.3f m^2) is smaller than a quarter of the board", shape.size[0], shape.size[1], shape.area);
+          why = format("a %.2f x %.2f m segment (%.3f m^2) is under %.2f of the board's area", shape.size[0], shape.size[1], shape.area,
+                       options.min_area_fraction);
         } else if (piece.size() < options.min_density_fraction * expected_here) {
           check = "too few points";
           why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
@@ -323,9 +322,6 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
           candidate.points.clear();
           for (int i : piece) candidate.points.push_back(cloud->at(i).getVector3fMap().cast<double>());
         }
-        candidate.size = shape.size;
-        candidate.area = shape.area;
-        candidate.expected_points = expected;
         candidate.mismatch = mismatch;
         search.candidates.push_back(std::move(candidate));
       }
@@ -429,8 +425,6 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
       if (distances[k] <= limit && from_ends >= options.edge_margin) candidate.points.push_back(point(run.points[k]));
     }
     if (static_cast<int>(candidate.points.size()) < kMinSegmentPoints) continue;
-    candidate.size = Eigen::Vector2d(length, 0.0);
-    candidate.expected_points = expected_here;
     candidate.mismatch = mismatch;
     search.candidates.push_back(std::move(candidate));
   }

@@ -4,7 +4,6 @@
 // Geometry alone gives candidates (segments of the board's size and shape); which one is the board is
 // for the caller to settle with what changes between poses (static_background.h).
 
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,9 +16,6 @@ namespace vocal {
 // per-sensor crop_box, for a room too cluttered to search whole).
 struct CropBox {
   Eigen::Vector3d min = Eigen::Vector3d::Constant(-1e9), max = Eigen::Vector3d::Constant(1e9);
-  bool contains(const Eigen::Vector3d& p) const {
-    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
-  }
 };
 
 // Angles between neighbouring returns of a sensor, radians: within a lidar ring / image row
@@ -45,16 +41,12 @@ struct TargetExtractionOptions {
   double min_density_fraction = 0.35;  // of the points the spacing predicts on the segment's own area
   double max_count_fraction = 2.5;     // of the points it predicts on the whole board
   double edge_margin = 0.04;  // metres along the segment's outline left out of the points it gives (hands, mixed pixels)
-  int min_points = 30;                 // 3D; a 2D segment needs 10
-  std::uint32_t seed = 1;
+  int min_points = 30;                 // 3D; a 2D segment needs 10 (RANSAC is PCL's, seeded with a constant)
   std::optional<CropBox> crop_box;
 };
 
 struct TargetCandidate {
   std::vector<Eigen::Vector3d> points;  // sensor frame, without the margin along its outline
-  Eigen::Vector2d size = Eigen::Vector2d::Zero();  // minimum-area rectangle's sides in its plane, longer first (2D: length, 0)
-  double area = 0.0;                    // convex hull in its plane, square metres (2D: 0)
-  double expected_points = 0.0;         // the whole board at this range and tilt, by the spacing (2D: the segment)
   double mismatch = 0.0;                // how unlike the board (log size and area ratios): 0 is the board seen whole
 };
 
