@@ -125,7 +125,7 @@ bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& de
   for (int v = 0; v < depth.height(); v += kStep)
     for (int u = 0; u < depth.width(); u += kStep)
       if (isValidDepth(depth(u, v))) cloud.push_back(camera.backProject(u, v, depth(u, v)));
-  const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy};
+  const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy, ScanPattern::kPinhole};
   return recordRange(sensor, stamp, findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor)));
 }
 
@@ -180,6 +180,7 @@ std::vector<TimedObservation> CalibrationSession::timedObservations() const {
     observation.sensor = range_messages_[i].sensor;
     observation.stamp = range_messages_[i].stamp;
     observation.points = range_messages_[i].search.candidates[chosen[i]].points;
+    observation.outline = range_messages_[i].search.candidates[chosen[i]].outline;
     observations.push_back(std::move(observation));
   }
   return observations;
@@ -207,6 +208,14 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
                                                 CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
+  if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
+    // The board along the pattern's x and y: its side the pattern's row of squares fits along.
+    const TargetDescription& target = rig_.target;
+    const double pattern_x = (target.pattern.cols + 1) * target.pattern.square_size;
+    const bool turned = pattern_x > target.width && pattern_x <= target.height;
+    options.board_edges.width = turned ? target.height : target.width;
+    options.board_edges.height = turned ? target.width : target.height;
+  }
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
   if (!unassociated.empty()) throw InputError("calibration: " + unassociated);

@@ -13,6 +13,7 @@
 #include <ceres/manifold.h>
 #include <ceres/sphere_manifold.h>
 
+#include "vocal/calibration/board_outline.h"
 #include "vocal/calibration/pairwise_initialization.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/core/errors.h"
@@ -99,6 +100,107 @@ double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorTyp
   return std::max(kFloor, std::sqrt(std::max(line.eigenvalues()[0], 0.0) / points.size()));
 }
 
+// A plane residual on a board pose (rig_from_board): its plane is the board's z = 0.
+template <typename PlaneResidual>
+struct OnBoardPlane {
+  PlaneResidual plane;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(board_translation);
+    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
+    const T offset = -normal.dot(t);
+    return plane(rotation, translation, normal.data(), &offset, residual);
+  }
+};
+
+// A point a sensor saw on the board's edge (sensor frame): its distance within the board's plane to the
+// board's outline, in standard deviations.
+struct OutlinePointResidual {
+  Eigen::Vector3d point;
+  double sigma, half_width, half_height;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
+    const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q * point.cast<T>() + t - t_board);
+    residual[0] = distanceToOutline(on_board.x(), on_board.y(), half_width, half_height) / T(sigma);
+    return true;
+  }
+};
+
+// A camera view's board outline from its PnP pose: three points along each edge (the pattern is
+// centred on the board, its x along the board's width).
+std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, double half_width, double half_height) {
+  std::vector<Eigen::Vector3d> outline;
+  for (double s : {-0.5, 0.0, 0.5}) {
+    for (double side : {-1.0, 1.0}) {
+      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(side * half_width, s * 2.0 * half_height, 0.0));
+      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(s * 2.0 * half_width, side * half_height, 0.0));
+    }
+  }
+  return outline;
+}
+
+Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p;
+  return points.empty() ? mean : Eigen::Vector3d(mean / points.size());
+}
+
+// Where a sensor saw the board's centre: a camera's pattern, a range sensor's edge points (both ends of
+// every line) or, with too few of them, its points.
+Eigen::Vector3d boardCentreSeen(const TargetObservation& o) {
+  if (!o.plane_measurements.empty()) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const PlaneMeasurement& m : o.plane_measurements) sum += m.sensor_from_pattern.translation();
+    return sum / o.plane_measurements.size();
+  }
+  return o.outline.size() >= 4 ? meanOf(o.outline) : meanOf(o.points);
+}
+
+// The board's pose (rig frame) from one observation of a placed sensor: a camera's PnP pose, or a range
+// sensor's plane, centre and longest in-plane direction (along the board's longer side).
+Eigen::Isometry3d boardPoseSeen(const TargetObservation& o, const Eigen::Isometry3d& rig_from_sensor, const Plane& plane_in_rig,
+                                bool width_is_longer) {
+  if (!o.plane_measurements.empty()) return rig_from_sensor * o.plane_measurements.front().sensor_from_pattern;
+  const Eigen::Vector3d centre = rig_from_sensor * boardCentreSeen(o);
+  const Eigen::Vector3d normal = plane_in_rig.normal;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d mean = rig_from_sensor * meanOf(o.points);
+  for (const Eigen::Vector3d& p : o.points) {
+    const Eigen::Vector3d d = rig_from_sensor * p - mean;
+    const Eigen::Vector3d in_plane = d - normal.dot(d) * normal;
+    scatter += in_plane * in_plane.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  Eigen::Vector3d longest = eigen.eigenvectors().col(2);
+  Eigen::Vector3d x_axis = width_is_longer ? longest : normal.cross(longest);
+  x_axis = (x_axis - normal.dot(x_axis) * normal).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() << x_axis, normal.cross(x_axis), normal;
+  pose.translation() = centre - normal.dot(centre - (-plane_in_rig.offset * normal)) * normal;  // onto the plane
+  return pose;
+}
+
+// A 2D laser's two ends on the board from the end points of its pooled scans (each scan gives up to
+// two): the mean of those on either side of their middle along the line, in beam order; none when one
+// side was never seen.
+std::vector<Eigen::Vector3d> lineEnds(const std::vector<Eigen::Vector3d>& outline) {
+  if (outline.size() < 2) return {};
+  const Eigen::Vector3d mean = meanOf(outline);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : outline) scatter += (p - mean) * (p - mean).transpose();
+  Eigen::Vector3d along = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  if (along.head<2>().dot(Eigen::Vector2d(-mean.y(), mean.x())) < 0.0) along = -along;  // beam order: counter-clockwise
+  std::vector<Eigen::Vector3d> low, high;
+  for (const Eigen::Vector3d& p : outline) (along.dot(p - mean) < 0.0 ? low : high).push_back(p);
+  if (low.empty() || high.empty() || (meanOf(high) - meanOf(low)).norm() < 0.1) return {};
+  return {meanOf(low), meanOf(high)};
+}
+
 struct SensorState {
   Eigen::Quaterniond rotation;  // Ceres block, Eigen's (x, y, z, w) memory order
   Eigen::Vector3d translation;
@@ -108,6 +210,30 @@ struct PlaneState {
   Eigen::Vector3d normal;
   double offset;
 };
+
+// A plane residual on the target pose's plane, or (with board edges) on its board's pose.
+template <typename Residual, int kSize>
+void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
+                      PlaneState* plane, SensorState* board) {
+  if (plane) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, 3, 1>(new Residual(residual)), loss,
+                              sensor->rotation.coeffs().data(), sensor->translation.data(), plane->normal.data(), &plane->offset);
+    return;
+  }
+  problem->AddResidualBlock(
+      new ceres::AutoDiffCostFunction<OnBoardPlane<Residual>, kSize, 4, 3, 4, 3>(new OnBoardPlane<Residual>{residual}), loss,
+      sensor->rotation.coeffs().data(), sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+}
+
+void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
+                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board) {
+  for (const Eigen::Vector3d& p : outline) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<OutlinePointResidual, 1, 4, 3, 4, 3>(
+                                  new OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height}),
+                              new ceres::CauchyLoss(edges.loss_sigmas), sensor->rotation.coeffs().data(),
+                              sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+  }
+}
 }  // namespace
 
 CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
@@ -116,6 +242,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   if (options.reference_sensor < 0 || options.reference_sensor >= sensor_count) {
     throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
                      std::to_string(sensor_count) + " sensors");
+  }
+  const BoardEdgeOptions& edges = options.board_edges;
+  if (edges.enabled && !(edges.width > 0.0 && edges.height > 0.0)) {
+    throw InputError("calibration: board edges need the board's width and height (got " + std::to_string(edges.width) + " x " +
+                     std::to_string(edges.height) + " m)");
   }
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
@@ -131,6 +262,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     }
     ++observation_count[o.sensor];
   }
+  std::map<std::pair<int, int>, const TargetObservation*> observation_of;  // (sensor, target pose)
+  for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
   std::set<std::pair<int, int>> rejected;
   if (options.consensus_filter) {
     rejected = rejectInconsistentObservations(planes, options.consensus);
@@ -181,12 +314,19 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                        " share no target pose with the reference's group");
     }
     std::vector<Plane> in_parent, in_child;
+    BoardCentres centres;
     for (int k : sharedPoses(best_parent, best_child)) {
       in_parent.push_back(planes[best_parent][k]);
       in_child.push_back(planes[best_child][k]);
+      if (edges.enabled) {
+        centres.in_a.push_back(boardCentreSeen(*observation_of.at({best_parent, k})));
+        centres.in_b.push_back(boardCentreSeen(*observation_of.at({best_child, k})));
+      }
     }
-    initial[best_child] = initial[best_parent] * alignPlanes(in_parent, in_child, "calibration of '" + sensors[best_child].name +
-                                                                                    "' against '" + sensors[best_parent].name + "'");
+    initial[best_child] = initial[best_parent] * alignPlanes(in_parent, in_child,
+                                                             "calibration of '" + sensors[best_child].name + "' against '" +
+                                                                 sensors[best_parent].name + "'",
+                                                             edges.enabled ? &centres : nullptr);
     placed[best_child] = true;
   }
 
@@ -197,17 +337,39 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
     }
   }
+  // With edges, the board's pose per target pose: from a camera that saw it where one did.
+  std::map<int, Eigen::Isometry3d> rig_boards;
+  if (edges.enabled) {
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int s = 0; s < sensor_count; ++s) {
+        if (isLaser(s) || (pass == 0) != (sensors[s].type == SensorType::kCamera)) continue;
+        for (const auto& entry : planes[s]) {
+          if (rig_boards.count(entry.first)) continue;
+          rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initial[s], rig_planes[entry.first],
+                                                  edges.width >= edges.height);
+        }
+      }
+    }
+  }
   // 2D lasers: their scan points on those planes.
   for (int s = 0; s < sensor_count; ++s) {
     if (!isLaser(s)) continue;
     std::vector<Plane> seen_planes;
     std::vector<std::vector<Eigen::Vector3d>> scans;
+    ScanEnds scan_ends;
+    scan_ends.board_width = edges.width;
+    scan_ends.board_height = edges.height;
     for (const TargetObservation& o : observations) {
       if (o.sensor != s || !rig_planes.count(o.target_pose)) continue;
       seen_planes.push_back(rig_planes[o.target_pose]);
       scans.push_back(o.points);
+      if (edges.enabled) {
+        scan_ends.rig_from_board.push_back(rig_boards.at(o.target_pose));
+        scan_ends.ends.push_back(lineEnds(o.outline));
+      }
     }
-    initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'");
+    initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'",
+                                 edges.enabled ? &scan_ends : nullptr);
     placed[s] = true;
   }
 
@@ -219,35 +381,43 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   std::map<int, PlaneState> plane_state;
   for (const auto& entry : rig_planes) plane_state[entry.first] = {entry.second.normal, entry.second.offset};
+  std::map<int, SensorState> board_state;  // with edges: rig_from_board per target pose, instead of its plane
+  for (const auto& entry : rig_boards) board_state[entry.first] = {Eigen::Quaterniond(entry.second.rotation()), entry.second.translation()};
+  const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
 
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
     if (rejected.count({o.sensor, o.target_pose})) continue;
     SensorState& sensor = sensor_state[o.sensor];
-    PlaneState& plane = plane_state[o.target_pose];
+    PlaneState* plane = edges.enabled ? nullptr : &plane_state[o.target_pose];
+    SensorState* board = edges.enabled ? &board_state.at(o.target_pose) : nullptr;
     // Huber on each whitened block: down-weighted once its residuals pass huber_sigmas standard
     // deviations on average.
     if (!o.plane_measurements.empty()) {
       for (const PlaneMeasurement& measurement : o.plane_measurements) {
-        auto* cost = new ceres::AutoDiffCostFunction<PlaneMeasurementResidual, 3, 4, 3, 3, 1>(
-            new PlaneMeasurementResidual(measurement));
-        problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)),
-                                 sensor.rotation.coeffs().data(), sensor.translation.data(), plane.normal.data(),
-                                 &plane.offset);
+        addPlaneResidual<PlaneMeasurementResidual, 3>(&problem, PlaneMeasurementResidual(measurement),
+                                                      new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), &sensor, plane, board);
+        if (board) addOutlineResiduals(&problem, cameraOutline(measurement, half_width, half_height), edges.camera_sigma, edges, &sensor, board);
       }
       continue;
     }
-    auto* cost = new ceres::AutoDiffCostFunction<ObservationOnPlaneResidual, 4, 4, 3, 3, 1>(
-        new ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, sensors[o.sensor].type)));
     const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
-    problem.AddResidualBlock(cost, new ceres::HuberLoss(threshold), sensor.rotation.coeffs().data(),
-                             sensor.translation.data(), plane.normal.data(), &plane.offset);
+    addPlaneResidual<ObservationOnPlaneResidual, 4>(
+        &problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, sensors[o.sensor].type)),
+        new ceres::HuberLoss(threshold), &sensor, plane, board);
+    if (board) addOutlineResiduals(&problem, o.outline, edges.range_sigma, edges, &sensor, board);
   }
   for (int s = 0; s < sensor_count; ++s) {
     problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   }
-  for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
+  if (!edges.enabled) {
+    for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
+  }
+  for (auto& entry : board_state) {
+    if (problem.HasParameterBlock(entry.second.rotation.coeffs().data()))
+      problem.SetManifold(entry.second.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
 
@@ -260,6 +430,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   solver_options.num_threads = 2;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
+
+  for (const auto& entry : board_state) {  // with edges: the solved boards' planes
+    const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
+    plane_state[entry.first] = {normal, -normal.dot(entry.second.translation)};
+  }
 
   CalibrationResult result;
   result.warnings = warnings;

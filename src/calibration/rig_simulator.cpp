@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "vocal/calibration/board_outline.h"
 #include "vocal/core/pinhole_camera.h"
 
 #include "vocal/core/errors.h"
@@ -139,7 +140,24 @@ TargetObservation observeTarget(const SimulatedSensor& sensor, const Eigen::Isom
     points.push_back((range + noise) * ray);
   }
   const std::size_t minimum = sensor.spec.type == SensorType::kLaser2d ? 10 : 30;
-  if (points.size() < minimum) points.clear();
+  if (points.size() < minimum) {
+    points.clear();
+    return observation;
+  }
+  // The edges as extraction finds them: each line's ends on the plane fitted to the noisy points.
+  if (sensor.spec.type == SensorType::kLaser2d) {
+    const Eigen::Vector3d along = (points.back() - points.front()).normalized();
+    const Eigen::Vector3d across(-along.y(), along.x(), 0.0);
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : points) mean += p;
+    mean /= points.size();
+    observation.outline = boardOutlinePoints(points, Plane{across, -across.dot(mean)}, {0.25 * M_PI / 180.0, 0.0});
+  } else {
+    const ScanSpacing spacing = sensor.spec.type == SensorType::kRgbd
+                                    ? ScanSpacing{8.0 / 525.0, 8.0 / 525.0, ScanPattern::kPinhole}
+                                    : ScanSpacing{0.2 * M_PI / 180.0, 2.0 * M_PI / 180.0, ScanPattern::kSpinning};
+    observation.outline = boardOutlinePoints(points, fitPlane(points, sensor.spec.name.c_str()).plane, spacing);
+  }
   return observation;
 }
 
@@ -154,7 +172,8 @@ SimulatedRig simulateRig(const std::vector<SimulatedSensor>& sensors, const RigS
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const Eigen::Matrix3d facing = targetFacingRig();
   for (int k = 0; k < options.target_poses; ++k) {
-    const double yaw = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
+    const double turn = options.turn_range >= 0.0 ? options.turn_range : options.tilt_range;
+    const double yaw = options.parallel_targets ? 0.0 : turn * unit(rng);
     const double pitch = options.parallel_targets ? 0.0 : options.tilt_range * unit(rng);
     const Eigen::Vector3d position(options.target_distance + 0.3 * unit(rng), 0.4 * unit(rng), 1.0 + 0.2 * unit(rng));
     rig.reference_from_target.push_back(makePose(position, rotationFromRollPitchYaw(0.0, pitch, yaw) * facing));

@@ -188,6 +188,7 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
       for (const TimedObservation* member : run.members) {
         observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());
+        observation.outline.insert(observation.outline.end(), member->outline.begin(), member->outline.end());
         observation.plane_measurements.insert(observation.plane_measurements.end(), member->plane_measurements.begin(),
                                               member->plane_measurements.end());
       }

@@ -19,6 +19,7 @@
 #include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/sac_segmentation.h>
 
+#include "vocal/calibration/board_outline.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -322,6 +323,9 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
           candidate.points.clear();
           for (int i : piece) candidate.points.push_back(cloud->at(i).getVector3fMap().cast<double>());
         }
+        std::vector<Eigen::Vector3d> whole;
+        for (int i : piece) whole.push_back(cloud->at(i).getVector3fMap().cast<double>());
+        candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
         candidate.mismatch = mismatch;
         search.candidates.push_back(std::move(candidate));
       }
@@ -425,6 +429,20 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
       if (distances[k] <= limit && from_ends >= options.edge_margin) candidate.points.push_back(point(run.points[k]));
     }
     if (static_cast<int>(candidate.points.size()) < kMinSegmentPoints) continue;
+    // The run's ends on the board's edges, unless the beam beyond an end hit something nearer (a hand
+    // over the edge hides where it is).
+    std::vector<Eigen::Vector3d> on_line;
+    for (std::size_t k = 0; k < run.points.size(); ++k)
+      if (distances[k] <= limit) on_line.push_back(point(run.points[k]));
+    const std::vector<Eigen::Vector3d> ends =
+        boardOutlinePoints(on_line, Plane{across, -across.dot(run.first)}, ScanSpacing{beam_spacing, 0.0, ScanPattern::kSpinning});
+    const auto hidden = [&](int end, int beyond) {
+      return beyond >= 0 && beyond < static_cast<int>(cloud->size()) && point(beyond).norm() < point(end).norm() - options.plane_threshold;
+    };
+    if (ends.size() == 2) {
+      if (!hidden(run.points.front(), run.points.front() - 1)) candidate.outline.push_back(ends[0]);
+      if (!hidden(run.points.back(), run.points.back() + 1)) candidate.outline.push_back(ends[1]);
+    }
     candidate.mismatch = mismatch;
     search.candidates.push_back(std::move(candidate));
   }

@@ -46,6 +46,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       }
     }
     consensus_filter_ = pnh.param("consensus_filter", true);
+    board_edges_ = pnh.param("board_edges", false);
     const int queue_size = std::max(1, pnh.param("queue_size", 50));
     calibrate_service_ = pnh.advertiseService("calibrate", &MsgCalibrationNodelet::calibrate, this);
     reset_service_ = pnh.advertiseService("reset", &MsgCalibrationNodelet::reset, this);
@@ -156,6 +157,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     try {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
+      options.board_edges.enabled = board_edges_;
       const std::vector<TargetObservation> associated = session_->associatedObservations();
       const CalibrationResult result = session_->calibrate(associated, options);
       const RigDescription& rig = session_->rig();
@@ -232,6 +234,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
 
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
+  bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;
   std::map<int, PinholeCamera> cameras_;

@@ -22,6 +22,8 @@ const char kUsage[] =
     "  BAG                 a recorded session: the target held still at many poses, moved in between\n"
     "  --output-dir DIR    write DIR/calibration.yaml, DIR/calibration.urdf, DIR/calibration.launch\n"
     "  --no-filter         keep every observation (no sampling-consensus filter)\n"
+    "  --edges             hold the board's outline as well as its plane (range sensors' scan-line ends on its\n"
+    "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
     "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
     "                      refused the most board-like segment), and per still pose each sensor's residual\n"
     "  --quiet             no progress line\n";
@@ -87,6 +89,7 @@ int run(const vocal::CommandLine& args) {
 
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
+  options.board_edges.enabled = args.has("edges");
   const vocal::CalibrationResult result = session.calibrate(associated, options);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
               "sigma t (mm) / r (mrad), rms (mm), observations (rejected)");
@@ -116,5 +119,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report", "edges"}, 2);
 }

@@ -56,6 +56,7 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   RigSimulationOptions poses;
   poses.target_poses = options.target_poses;
   poses.seed = options.seed;
+  poses.turn_range = options.turn_range;
   poses.target_width = rig.target.width;
   poses.target_height = rig.target.height;
   SimulatedSessionSummary summary;

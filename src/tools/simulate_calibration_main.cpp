@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -35,6 +36,10 @@ const char kUsage[] =
     "  --noise M                      range noise, metres (default 0.001)\n"
     "  --outliers F                   fraction of outlier observations (default 0)\n"
     "  --seed S                       first seed (default 1)\n"
+    "  --turn RAD                     how far the target turns left / right (default: as far as it tilts, 0.6);\n"
+    "                                 e.g. 0.03: tilted mainly up and down, normals of little spread\n"
+    "  --edges                        hold the board's outline as well as its plane (range sensors' line ends,\n"
+    "                                 the cameras' board outline from PnP)\n"
     "  --plot FILE.png                mean errors against the number of poses (log scale)\n"
     "  --output-dir DIR               the last trial's result as rig.yaml, rig.urdf, rig.launch\n";
 
@@ -62,6 +67,7 @@ struct Row {
   double rms = 0.0;
   int failures = 0;
   std::string first_failure;
+  std::map<vocal::SensorType, Accumulator> by_type;  // global + filter
 };
 
 std::vector<int> parseList(const std::string& text) {
@@ -170,10 +176,14 @@ int run(const vocal::CommandLine& args) {
       options.outlier_fraction = args.number("outliers", 0.0);
       options.pixel_noise = args.number("pixel-noise", 0.5);
       options.pattern = pattern;
+      options.turn_range = args.number("turn", -1.0);
       options.seed = static_cast<std::uint32_t>(args.integer("seed", 1) + 1000 * trial + poses);
       const vocal::SimulatedRig rig = vocal::simulateRig(sensors, options);
       vocal::CalibrationOptions calibration;
       calibration.reference_pose = rig.sensors[0].reference_from_sensor;
+      calibration.board_edges.enabled = args.has("edges");
+      calibration.board_edges.width = options.target_width;
+      calibration.board_edges.height = options.target_height;
       try {
         const vocal::CalibrationResult filtered = vocal::calibrateRig(specs, rig.observations, calibration);
         if (!filtered.trusted) throw vocal::InputError("not trusted: " + filtered.failure);
@@ -182,6 +192,7 @@ int run(const vocal::CommandLine& args) {
         for (std::size_t s = 1; s < sensors.size(); ++s) {
           const Eigen::Isometry3d& truth = rig.sensors[s].reference_from_sensor;
           row.series[kGlobalFiltered].add(filtered.sensors[s].reference_from_sensor, truth);
+          row.by_type[rig.sensors[s].spec.type].add(filtered.sensors[s].reference_from_sensor, truth);
           row.series[kPairwiseFiltered].add(filtered.sensors[s].pairwise_estimate, truth);
           row.series[kGlobalUnfiltered].add(unfiltered.sensors[s].reference_from_sensor, truth);
           row.series[kPairwiseUnfiltered].add(unfiltered.sensors[s].pairwise_estimate, truth);
@@ -199,9 +210,9 @@ int run(const vocal::CommandLine& args) {
   }
 
   std::printf("rig: %d RGB-D (reference: rgbd0), %d lidar3d, %d laser2d, %d camera; %d trials; range noise %.4g m; "
-              "pixel noise %.3g px; outliers %.0f%%\n",
+              "pixel noise %.3g px; outliers %.0f%%; target turned up to %.3g rad; %s\n",
               rgbd, lidar, laser, cameras, trials, args.number("noise", 0.001), args.number("pixel-noise", 0.5),
-              100 * args.number("outliers", 0.0));
+              100 * args.number("outliers", 0.0), args.number("turn", 0.6), args.has("edges") ? "planes and edges" : "planes only");
   std::printf("mean over the non-reference sensors and trials: translation error m / rotation error rad\n");
   std::printf("%6s %24s %24s %24s %24s %24s %12s %8s\n", "poses", "global+filter", "pairwise+filter", "global,no filter",
               "pairwise,no filter", "worst global+filter", "rms_m", "failed");
@@ -211,6 +222,11 @@ int run(const vocal::CommandLine& args) {
     const Accumulator& global = r.series[kGlobalFiltered];
     std::printf(" %11.6f / %10.7f %12.6f %8d\n", global.worst_translation, global.worst_rotation, r.rms, r.failures);
     if (r.failures) std::printf("       first failure: %s\n", r.first_failure.c_str());
+    for (const auto& [type, errors] : r.by_type) {
+      std::printf("       %-8s global + filter: mean %.2f mm / %.2f mrad, worst %.2f mm / %.2f mrad\n", vocal::sensorTypeName(type).c_str(),
+                  1000 * errors.meanTranslation(), 1000 * errors.meanRotation(), 1000 * errors.worst_translation,
+                  1000 * errors.worst_rotation);
+    }
   }
   for (const vocal::ObservabilityWarning& w : last_result.warnings) std::printf("warning (last trial): %s\n", w.message.c_str());
   if (args.has("plot")) plot(args.text("plot", ""), rows);
@@ -227,6 +243,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration", kUsage, run, argc, argv,
                         {"rgbd", "lidar", "laser", "camera", "pattern", "pixel-noise", "poses", "trials", "noise", "outliers", "seed",
-                         "plot", "output-dir"},
-                        {}, 0);
+                         "plot", "output-dir", "turn"},
+                        {"edges"}, 0);
 }

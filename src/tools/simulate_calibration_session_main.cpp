@@ -17,6 +17,8 @@ const char kUsage[] =
     "  --rgbd N --lidar N --laser N --camera N   sensors (default 1 RGB-D, 1 lidar, 1 2D laser, 1 camera;\n"
     "                                            the first RGB-D sensor is the reference)\n"
     "  --poses N           still target poses (default 12)\n"
+    "  --turn RAD          how far the target turns left / right (default: as far as it tilts, 0.6 rad);\n"
+    "                      e.g. 0.03: tilted mainly up and down (calibrate_rig --edges)\n"
     "  --noise M           range noise, metres (default 0.001)\n"
     "  --room ROOM         plain (default: floor and one wall) or furnished (walls all round, ceiling, a\n"
     "                      cabinet whose front is the board's size, a table, a shelf, a sofa)\n"
@@ -43,6 +45,7 @@ int run(const vocal::CommandLine& args) {
   vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target
   vocal::SimulatedSessionOptions options;
   options.target_poses = args.integer("poses", 12);
+  options.turn_range = args.number("turn", -1.0);
   options.range_noise = args.number("noise", 0.001);
   options.rate = args.number("rate", options.rate);
   if (!(options.rate > 0.0)) throw vocal::InputError("option --rate: messages per second must be > 0");
@@ -82,6 +85,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias"},
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn"},
                         {"person", "mixed-pixels"}, 1);
 }

@@ -40,6 +40,9 @@ struct TargetObservation {
   // these instead of the points, which all share each view's plane error; range sensors leave it
   // empty and are weighted by their points' own scatter about the fitted plane.
   std::vector<PlaneMeasurement> plane_measurements;
+  // Range sensors: points on the board's edges (board_outline.h), sensor frame; used when the graph
+  // holds the board's outline as well as its plane (CalibrationOptions::board_edges).
+  std::vector<Eigen::Vector3d> outline;
 };
 
 }  // namespace vocal

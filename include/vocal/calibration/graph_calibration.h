@@ -2,7 +2,11 @@
 // The global calibration: closed-form pairwise estimates chained along the best-connected paths of the
 // sensor graph initialise one Ceres problem over every sensor pose and every target plane, with the
 // point-to-plane residuals of each range observation and the plane measurement of each camera view
-// (whitened by its PnP covariance) under a robust loss; the reference sensor stays fixed.
+// (whitened by its PnP covariance) under a robust loss; the reference sensor stays fixed. With board
+// edges, each target pose is the board's full pose and the points where range sensors saw its edges,
+// and each camera view's board outline, are held on the board's outline (point-to-line, as Zhou et al.
+// 2018 and velo2cam): the board's position within its plane is then fixed even when the normals span
+// too little to fix the sensors' translation.
 
 #include <vector>
 
@@ -12,6 +16,16 @@
 #include "vocal/core/se3.h"
 
 namespace vocal {
+
+// The board's outline as constraints as well as its plane (the plane-only graph is the default).
+struct BoardEdgeOptions {
+  bool enabled = false;
+  // The board along the camera pattern's x and y axes, metres (CalibrationSession sets them from the rig).
+  double width = 0.0, height = 0.0;
+  double range_sigma = 0.01;   // metres: a range sensor's edge point (its step along the line, the beam's width)
+  double camera_sigma = 0.002; // metres: a camera view's board outline (PnP, the print's place on the board)
+  double loss_sigmas = 2.0;    // Cauchy scale: a hand over an edge ends a line early
+};
 
 struct CalibrationOptions {
   int reference_sensor = 0;
@@ -27,6 +41,7 @@ struct CalibrationOptions {
   // Reject observations inconsistent with the consensus of their sensor pairs before initialising.
   bool consensus_filter = true;
   ConsensusOptions consensus;
+  BoardEdgeOptions board_edges;
 };
 
 struct SensorCalibration {
@@ -58,7 +73,8 @@ struct CalibrationResult {
 };
 
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
-// rest (the sensor graph is not connected), or its planes cannot fix its pose.
+// rest (the sensor graph is not connected), or its planes cannot fix its pose (with board edges: its
+// planes and the board's centres), or board edges are enabled without the board's size.
 CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                const CalibrationOptions& options = {});
 

@@ -26,6 +26,8 @@ struct RigSimulationOptions {
   double pixel_noise = 0.0;    // camera corner noise, pixels (standard deviation per axis)
   double target_distance = 1.6;  // metres ahead of the rig (x), +-0.3
   double tilt_range = 0.6;     // radians: target normals spread up to this from facing the rig
+  double turn_range = -1.0;    // radians turned left / right, when less than tilt_range (a board tilted
+                               // mainly up and down: normals of little spread); < 0: tilt_range
   bool parallel_targets = false;  // every pose keeps the same orientation (a degenerate data set)
   // Fraction of depth and lidar observations that are outliers under their target pose id: half see
   // another surface (a large panel), half the target at another pose (a wrong association).
@@ -46,8 +48,8 @@ struct SimulatedRig {
 std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0, int cameras = 0);
 
 // What one sensor sees of a target rectangle (half extents in metres) at the given pose: its points in
-// the sensor frame (none when too little is in view) and, for a camera, its plane measurement. The
-// sensor and target_pose fields are left for the caller.
+// the sensor frame (none when too little is in view) and where they end on the board's edges, or, for a
+// camera, its plane measurement. The sensor and target_pose fields are left for the caller.
 TargetObservation observeTarget(const SimulatedSensor& sensor, const Eigen::Isometry3d& reference_from_target,
                                 double half_width, double half_height, const RigSimulationOptions& options,
                                 std::mt19937* rng);

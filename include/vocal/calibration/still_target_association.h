@@ -17,6 +17,7 @@ struct TimedObservation {
   double stamp = 0.0;  // seconds
   std::vector<Eigen::Vector3d> points;  // in the sensor frame
   std::vector<PlaneMeasurement> plane_measurements;  // a camera's, as in TargetObservation
+  std::vector<Eigen::Vector3d> outline;              // a range sensor's, as in TargetObservation
 };
 
 struct StillnessOptions {

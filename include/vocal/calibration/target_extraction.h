@@ -18,12 +18,17 @@ struct CropBox {
   Eigen::Vector3d min = Eigen::Vector3d::Constant(-1e9), max = Eigen::Vector3d::Constant(1e9);
 };
 
+// How a sensor's returns are laid out: a spinning lidar's rings (constant elevation about its z axis,
+// a 2D laser's one ring) or a depth camera's pixel rows and columns (optical frame, z forward).
+enum class ScanPattern { kSpinning, kPinhole };
+
 // Angles between neighbouring returns of a sensor, radians: within a lidar ring / image row
 // (horizontal) and between rings / rows (vertical). Predicts how many points the board gives at a
 // range and how far apart its neighbouring points may lie.
 struct ScanSpacing {
   double horizontal = 0.0;
   double vertical = 0.0;
+  ScanPattern pattern = ScanPattern::kSpinning;
 };
 
 struct TargetExtractionOptions {
@@ -47,6 +52,7 @@ struct TargetExtractionOptions {
 
 struct TargetCandidate {
   std::vector<Eigen::Vector3d> points;  // sensor frame, without the margin along its outline
+  std::vector<Eigen::Vector3d> outline;  // sensor frame, on the board's edges (board_outline.h)
   double mismatch = 0.0;                // how unlike the board (log size and area ratios): 0 is the board seen whole
 };
 

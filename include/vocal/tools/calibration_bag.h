@@ -22,6 +22,7 @@ RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors,
 
 struct SimulatedSessionOptions {
   int target_poses = 12;
+  double turn_range = -1.0;  // radians the target turns left / right at most (< 0: as far as it tilts)
   int still_ticks = 6;    // messages per sensor while the target is held still
   int moving_ticks = 4;   // ... while it is carried to the next pose
   double rate = 10.0;     // Hz per sensor

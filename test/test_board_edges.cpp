@@ -1,0 +1,114 @@
+// The board's outline in MSG-Cal: where range sensors see its edges, and the graph that holds them,
+// against simulated rigs whose target is tilted only up and down (normals of little spread).
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <set>
+
+#include "vocal/calibration/board_outline.h"
+#include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/rig_simulator.h"
+#include "vocal/core/se3.h"
+
+namespace {
+std::vector<vocal::SensorSpec> specs(const vocal::SimulatedRig& rig) {
+  std::vector<vocal::SensorSpec> out;
+  for (const auto& s : rig.sensors) out.push_back(s.spec);
+  return out;
+}
+
+// RGB-D reference, a second RGB-D, a lidar, a 2D laser and a camera; 20 poses tilted up to 0.6 rad up
+// and down but turned at most 0.03 rad left or right; a VLP-16's 2 cm range noise on every range sensor.
+vocal::SimulatedRig weakSpreadRig(std::uint32_t seed) {
+  vocal::RigSimulationOptions options;
+  options.target_poses = 20;
+  options.turn_range = 0.03;
+  options.range_noise = 0.02;
+  options.pixel_noise = 0.5;
+  options.seed = seed;
+  return vocal::simulateRig(vocal::exampleRig(2, 1, 1, 1), options);
+}
+
+vocal::CalibrationOptions edgeOptions(const vocal::SimulatedRig& rig, const vocal::RigSimulationOptions& simulated = {}) {
+  vocal::CalibrationOptions options;
+  options.reference_pose = rig.sensors[0].reference_from_sensor;
+  options.board_edges.enabled = true;
+  options.board_edges.width = simulated.target_width;
+  options.board_edges.height = simulated.target_height;
+  return options;
+}
+}  // namespace
+
+TEST(BoardOutline, DistanceToTheOutlineIsSignedAndZeroOnTheEdges) {
+  EXPECT_DOUBLE_EQ(vocal::distanceToOutline(0.45, 0.1, 0.45, 0.35), 0.0);   // on the right edge
+  EXPECT_DOUBLE_EQ(vocal::distanceToOutline(-0.2, -0.35, 0.45, 0.35), 0.0); // on the bottom edge
+  EXPECT_DOUBLE_EQ(vocal::distanceToOutline(0.0, 0.0, 0.45, 0.35), -0.35);  // the centre: nearest are top and bottom
+  EXPECT_DOUBLE_EQ(vocal::distanceToOutline(0.5, 0.0, 0.45, 0.35), 0.05);   // beside the right edge
+  EXPECT_NEAR(vocal::distanceToOutline(0.48, -0.39, 0.45, 0.35), 0.05, 1e-12);  // beyond a corner
+}
+
+TEST(BoardOutline, EachLidarRingEndsOnTheBoardsEdges) {
+  const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1)[0];
+  vocal::RigSimulationOptions options;  // noise-free: the ends are off the edges by the azimuth step only
+  const double half_width = 0.45, half_height = 0.35;
+  std::mt19937 rng(3);
+  for (double tilt : {0.0, 0.4, -0.5}) {
+    Eigen::Isometry3d reference_from_target = Eigen::Isometry3d::Identity();
+    reference_from_target.linear() = vocal::rotationFromRollPitchYaw(0.3, tilt, 0.2) * vocal::targetFacingRig();
+    reference_from_target.translation() = lidar.reference_from_sensor.translation() + Eigen::Vector3d(2.0, 0.1, 0.05);
+    const vocal::TargetObservation seen = vocal::observeTarget(lidar, reference_from_target, half_width, half_height, options, &rng);
+    ASSERT_FALSE(seen.points.empty());
+    // Rings on the board: the distinct elevations among its points.
+    std::set<long> rings;
+    for (const Eigen::Vector3d& p : seen.points) rings.insert(std::lround(std::atan2(p.z(), p.head<2>().norm()) * 180.0 / M_PI));
+    EXPECT_EQ(seen.outline.size(), 2 * rings.size()) << "tilt " << tilt;
+    const Eigen::Isometry3d target_from_sensor = reference_from_target.inverse() * lidar.reference_from_sensor;
+    const double step = 2.0 * 0.2 * M_PI / 180.0 * 2.5;  // metres: an azimuth step at 2.5 m, with room for the slant
+    for (const Eigen::Vector3d& p : seen.outline) {
+      const Eigen::Vector3d on_board = target_from_sensor * p;
+      EXPECT_NEAR(on_board.z(), 0.0, 1e-9);  // in the board's plane
+      EXPECT_LT(std::abs(vocal::distanceToOutline(on_board.x(), on_board.y(), half_width, half_height)), step)
+          << "tilt " << tilt << " at " << on_board.transpose();
+    }
+  }
+}
+
+TEST(BoardEdges, PlaneOnlyRefusesATargetTiltedOnlyUpAndDown) {
+  const vocal::SimulatedRig rig = weakSpreadRig(5);
+  vocal::CalibrationOptions options = edgeOptions(rig);
+  options.board_edges.enabled = false;
+  const std::string error = vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs(rig), rig.observations, options); });
+  EXPECT_NE(error.find("the target planes are too close to parallel"), std::string::npos) << error;
+}
+
+TEST(BoardEdges, EdgesFixEverySensorOfATargetTiltedOnlyUpAndDown) {
+  for (std::uint32_t seed : {5u, 6u}) {
+    const vocal::SimulatedRig rig = weakSpreadRig(seed);
+    const vocal::CalibrationResult result = vocal::calibrateRig(specs(rig), rig.observations, edgeOptions(rig));
+    EXPECT_TRUE(result.trusted) << result.failure;
+    // The weak direction is still reported before solving.
+    EXPECT_FALSE(result.warnings.empty());
+    for (std::size_t s = 1; s < rig.sensors.size(); ++s) {
+      const Eigen::Isometry3d difference = rig.sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
+      std::cout << rig.sensors[s].spec.name << " seed " << seed << ": " << difference.translation().norm() * 1000 << " mm, "
+                << vocal::rotationAngle(difference) << " rad, reported sigma " << result.sensors[s].standard_deviation.head<3>().norm() * 1000
+                << " mm\n";
+      EXPECT_LT(difference.translation().norm(), 0.01) << rig.sensors[s].spec.name << " seed " << seed;
+      EXPECT_LT(vocal::rotationAngle(difference), 0.01) << rig.sensors[s].spec.name << " seed " << seed;
+      EXPECT_GT(result.sensors[s].standard_deviation.head<3>().norm(), 0.0) << rig.sensors[s].spec.name;
+    }
+  }
+}
+
+TEST(BoardEdges, WithoutTheBoardsSizeEdgesAreRefused) {
+  const vocal::SimulatedRig rig = weakSpreadRig(5);
+  vocal::CalibrationOptions options = edgeOptions(rig);
+  options.board_edges.height = 0.0;
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs(rig), rig.observations, options); }),
+            "calibration: board edges need the board's width and height (got 0.900000 x 0.000000 m)");
+}
