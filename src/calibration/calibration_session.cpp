@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vocal/calibration/pattern_observation.h"
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -20,9 +21,7 @@ double beamSpacingOf(const std::vector<Eigen::Vector3d>& scan) {
     const double step = std::abs(std::remainder(std::atan2(scan[i].y(), scan[i].x()) - std::atan2(scan[i - 1].y(), scan[i - 1].x()), 2 * M_PI));
     if (step > 1e-6) steps.push_back(step);
   }
-  if (steps.empty()) return 0.0;
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  return steps[steps.size() / 2];
+  return median(std::move(steps));
 }
 }  // namespace
 

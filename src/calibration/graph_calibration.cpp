@@ -16,6 +16,7 @@
 #include "vocal/calibration/board_outline.h"
 #include "vocal/calibration/pairwise_initialization.h"
 #include "vocal/calibration/plane.h"
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -91,13 +92,8 @@ double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorTyp
   constexpr double kFloor = 1e-4;
   if (points.size() < 3) return kFloor;
   if (type != SensorType::kLaser2d) return std::max(kFloor, fitPlane(points, "observation").rms);
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p.head<2>();
-  mean /= points.size();
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const Eigen::Vector3d& p : points) scatter += (p.head<2>() - mean) * (p.head<2>() - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> line(scatter);
-  return std::max(kFloor, std::sqrt(std::max(line.eigenvalues()[0], 0.0) / points.size()));
+  // The scan's points lie in z = 0: the spread across their line is the middle one.
+  return std::max(kFloor, std::sqrt(std::max(principalAxesOf(points).spread[1], 0.0) / points.size()));
 }
 
 // A plane residual on a board pose (rig_from_board): its plane is the board's z = 0.
@@ -133,7 +129,8 @@ struct OutlinePointResidual {
 
 // A camera view's board outline from its PnP pose: three points along each edge (the pattern is
 // centred on the board, its x along the board's width).
-std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, double half_width, double half_height) {
+std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
+  const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
   std::vector<Eigen::Vector3d> outline;
   for (double s : {-0.5, 0.0, 0.5}) {
     for (double side : {-1.0, 1.0}) {
@@ -144,12 +141,6 @@ std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, double 
   return outline;
 }
 
-Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  return points.empty() ? mean : Eigen::Vector3d(mean / points.size());
-}
-
 // Where a sensor saw the board's centre: a camera's pattern, a range sensor's edge points (both ends of
 // every line) or, with too few of them, its points.
 Eigen::Vector3d boardCentreSeen(const TargetObservation& o) {
@@ -158,7 +149,7 @@ Eigen::Vector3d boardCentreSeen(const TargetObservation& o) {
     for (const PlaneMeasurement& m : o.plane_measurements) sum += m.sensor_from_pattern.translation();
     return sum / o.plane_measurements.size();
   }
-  return o.outline.size() >= 4 ? meanOf(o.outline) : meanOf(o.points);
+  return centroidOf(o.outline.size() >= 4 ? o.outline : o.points);
 }
 
 // The board's pose (rig frame) from one observation of a placed sensor: a camera's PnP pose, or a range
@@ -168,15 +159,7 @@ Eigen::Isometry3d boardPoseSeen(const TargetObservation& o, const Eigen::Isometr
   if (!o.plane_measurements.empty()) return rig_from_sensor * o.plane_measurements.front().sensor_from_pattern;
   const Eigen::Vector3d centre = rig_from_sensor * boardCentreSeen(o);
   const Eigen::Vector3d normal = plane_in_rig.normal;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  const Eigen::Vector3d mean = rig_from_sensor * meanOf(o.points);
-  for (const Eigen::Vector3d& p : o.points) {
-    const Eigen::Vector3d d = rig_from_sensor * p - mean;
-    const Eigen::Vector3d in_plane = d - normal.dot(d) * normal;
-    scatter += in_plane * in_plane.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  Eigen::Vector3d longest = eigen.eigenvectors().col(2);
+  const Eigen::Vector3d longest = rig_from_sensor.linear() * principalAxesOf(o.points).axes.col(0);
   Eigen::Vector3d x_axis = width_is_longer ? longest : normal.cross(longest);
   x_axis = (x_axis - normal.dot(x_axis) * normal).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -190,15 +173,14 @@ Eigen::Isometry3d boardPoseSeen(const TargetObservation& o, const Eigen::Isometr
 // side was never seen.
 std::vector<Eigen::Vector3d> lineEnds(const std::vector<Eigen::Vector3d>& outline) {
   if (outline.size() < 2) return {};
-  const Eigen::Vector3d mean = meanOf(outline);
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : outline) scatter += (p - mean) * (p - mean).transpose();
-  Eigen::Vector3d along = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  const PrincipalAxes line = principalAxesOf(outline);
+  const Eigen::Vector3d& mean = line.centroid;
+  Eigen::Vector3d along = line.axes.col(0);
   if (along.head<2>().dot(Eigen::Vector2d(-mean.y(), mean.x())) < 0.0) along = -along;  // beam order: counter-clockwise
   std::vector<Eigen::Vector3d> low, high;
   for (const Eigen::Vector3d& p : outline) (along.dot(p - mean) < 0.0 ? low : high).push_back(p);
-  if (low.empty() || high.empty() || (meanOf(high) - meanOf(low)).norm() < 0.1) return {};
-  return {meanOf(low), meanOf(high)};
+  if (low.empty() || high.empty() || (centroidOf(high) - centroidOf(low)).norm() < 0.1) return {};
+  return {centroidOf(low), centroidOf(high)};
 }
 
 struct SensorState {
@@ -337,18 +319,18 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
     }
   }
-  // With edges, the board's pose per target pose: from a camera that saw it where one did.
+  // With edges, the board's pose per target pose: from a camera that saw it where one did (cameras
+  // first), else from the first range sensor (2D lasers fit no plane).
   std::map<int, Eigen::Isometry3d> rig_boards;
-  if (edges.enabled) {
-    for (int pass = 0; pass < 2; ++pass) {
-      for (int s = 0; s < sensor_count; ++s) {
-        if (isLaser(s) || (pass == 0) != (sensors[s].type == SensorType::kCamera)) continue;
-        for (const auto& entry : planes[s]) {
-          if (rig_boards.count(entry.first)) continue;
-          rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initial[s], rig_planes[entry.first],
-                                                  edges.width >= edges.height);
-        }
-      }
+  std::vector<int> board_sources;
+  for (int s = 0; s < sensor_count && edges.enabled; ++s)
+    if (!isLaser(s)) board_sources.push_back(s);
+  std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return sensors[s].type == SensorType::kCamera; });
+  for (int s : board_sources) {
+    for (const auto& entry : planes[s]) {
+      if (rig_boards.count(entry.first)) continue;
+      rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initial[s], rig_planes[entry.first],
+                                              edges.width >= edges.height);
     }
   }
   // 2D lasers: their scan points on those planes.
@@ -383,7 +365,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const auto& entry : rig_planes) plane_state[entry.first] = {entry.second.normal, entry.second.offset};
   std::map<int, SensorState> board_state;  // with edges: rig_from_board per target pose, instead of its plane
   for (const auto& entry : rig_boards) board_state[entry.first] = {Eigen::Quaterniond(entry.second.rotation()), entry.second.translation()};
-  const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
 
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
@@ -398,7 +379,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       for (const PlaneMeasurement& measurement : o.plane_measurements) {
         addPlaneResidual<PlaneMeasurementResidual, 3>(&problem, PlaneMeasurementResidual(measurement),
                                                       new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), &sensor, plane, board);
-        if (board) addOutlineResiduals(&problem, cameraOutline(measurement, half_width, half_height), edges.camera_sigma, edges, &sensor, board);
+        if (board) addOutlineResiduals(&problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, &sensor, board);
       }
       continue;
     }

@@ -1,11 +1,10 @@
 #include "vocal/calibration/plane.h"
 
 #include <cmath>
-#include <numeric>
+#include <algorithm>
 #include <string>
 
-#include <Eigen/SVD>
-
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -21,18 +20,13 @@ PlaneFit fitPlane(const std::vector<Eigen::Vector3d>& points, const char* what) 
   if (points.size() < 3) {
     throw InputError(std::string(what) + ": a plane needs at least 3 points, got " + std::to_string(points.size()));
   }
-  const Eigen::Vector3d centroid =
-      std::accumulate(points.begin(), points.end(), Eigen::Vector3d(Eigen::Vector3d::Zero())) / points.size();
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) scatter += (p - centroid) * (p - centroid).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(scatter, Eigen::ComputeFullU);
-  const Eigen::Vector3d singular = svd.singularValues();
-  if (singular[1] <= 1e-12 * std::max(singular[0], 1e-300)) {
+  const PrincipalAxes principal = principalAxesOf(points);
+  if (principal.spread[1] <= 1e-12 * std::max(principal.spread[0], 1e-300)) {
     throw InputError(std::string(what) + ": the points are collinear, they do not define a plane");
   }
   PlaneFit fit;
-  fit.plane.normal = svd.matrixU().col(2);
-  fit.plane.offset = -fit.plane.normal.dot(centroid);
+  fit.plane.normal = principal.axes.col(2);
+  fit.plane.offset = -fit.plane.normal.dot(principal.centroid);
   if (fit.plane.offset < 0.0) {  // face the sensor: the origin is on the positive side
     fit.plane.normal = -fit.plane.normal;
     fit.plane.offset = -fit.plane.offset;

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "vocal/calibration/board_outline.h"
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/pinhole_camera.h"
 
 #include "vocal/core/errors.h"
@@ -148,10 +149,7 @@ TargetObservation observeTarget(const SimulatedSensor& sensor, const Eigen::Isom
   if (sensor.spec.type == SensorType::kLaser2d) {
     const Eigen::Vector3d along = (points.back() - points.front()).normalized();
     const Eigen::Vector3d across(-along.y(), along.x(), 0.0);
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : points) mean += p;
-    mean /= points.size();
-    observation.outline = boardOutlinePoints(points, Plane{across, -across.dot(mean)}, {0.25 * M_PI / 180.0, 0.0});
+    observation.outline = boardOutlinePoints(points, Plane{across, -across.dot(centroidOf(points))}, {0.25 * M_PI / 180.0, 0.0});
   } else {
     const ScanSpacing spacing = sensor.spec.type == SensorType::kRgbd
                                     ? ScanSpacing{8.0 / 525.0, 8.0 / 525.0, ScanPattern::kPinhole}

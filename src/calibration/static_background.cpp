@@ -4,21 +4,19 @@
 #include <cmath>
 #include <unordered_set>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include "vocal/calibration/point_statistics.h"
 
 namespace vocal {
 
 StaticBackground::Summary StaticBackground::summarise(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= std::max<std::size_t>(points.size(), 1);
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  const PrincipalAxes principal = principalAxesOf(points);
   // A 2D scan's segment is a line in the scan plane (z = 0): its normal is the in-plane perpendicular.
   const bool line = std::all_of(points.begin(), points.end(), [](const Eigen::Vector3d& p) { return p.z() == 0.0; });
-  const Eigen::Vector3d normal = line ? eigen.eigenvectors().col(2).cross(Eigen::Vector3d::UnitZ()).normalized() : Eigen::Vector3d(eigen.eigenvectors().col(0));
-  return {normal, mean};
+  const Eigen::Vector3d normal =
+      line ? principal.axes.col(0).cross(Eigen::Vector3d::UnitZ()).normalized() : Eigen::Vector3d(principal.axes.col(2));
+  return {normal, principal.centroid};
 }
 
 std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {

@@ -5,9 +5,8 @@
 #include <iomanip>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
-
 #include "vocal/calibration/plane.h"
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -23,14 +22,12 @@ struct Shape {
 
 Shape shapeOf(const TimedObservation& o, SensorType type) {
   Shape shape;
-  shape.centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : o.points) shape.centroid += p;
-  shape.centroid /= std::max<std::size_t>(o.points.size(), 1);
   if (type == SensorType::kLaser2d) {
-    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-    for (const Eigen::Vector3d& p : o.points) scatter += (p - shape.centroid) * (p - shape.centroid).transpose();
-    shape.direction = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+    const PrincipalAxes line = principalAxesOf(o.points);
+    shape.centroid = line.centroid;
+    shape.direction = line.axes.col(0);
   } else {
+    shape.centroid = centroidOf(o.points);
     const Plane plane = fitPlane(o.points, "still-target association").plane;
     shape.direction = plane.normal;
     shape.offset = plane.offset;
@@ -65,11 +62,6 @@ std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sens
     angles[sorted[i].sensor].push_back(d[0]);
     offsets[sorted[i].sensor].push_back(d[1]);
   }
-  const auto median = [](std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
   std::vector<Eigen::Vector2d> bounds;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     bounds.emplace_back(std::max(options.max_angle, options.jitter_multiple * median(angles[s])),
@@ -106,14 +98,9 @@ std::vector<double> medianPeriods(std::size_t sensors, const std::vector<TimedOb
   std::vector<std::vector<double>> spacing(sensors);
   for (std::size_t i = 1; i < sorted.size(); ++i)
     if (sorted[i].sensor == sorted[i - 1].sensor) spacing[sorted[i].sensor].push_back(sorted[i].stamp - sorted[i - 1].stamp);
-  std::vector<double> median(sensors, 0.0);
-  for (std::size_t s = 0; s < sensors; ++s) {
-    std::vector<double>& d = spacing[s];
-    if (d.empty()) continue;
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    median[s] = d[d.size() / 2];
-  }
-  return median;
+  std::vector<double> periods;
+  for (std::vector<double>& d : spacing) periods.push_back(median(std::move(d)));
+  return periods;
 }
 
 double allowedGap(double median_period, const StillnessOptions& options) {

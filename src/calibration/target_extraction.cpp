@@ -20,6 +20,7 @@
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include "vocal/calibration/board_outline.h"
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -175,12 +176,6 @@ Shape shapeOf(const Cloud& cloud, const Indices& indices) {
   return shape;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
 // The piece without points far off its plane: a hand over the board's edge lies a few centimetres in
 // front of it, beyond three robust standard deviations of a depth sensor's noise (not of a lidar's).
 Indices trimmedToPlane(const Cloud& cloud, const Indices& piece, const Shape& shape) {
@@ -316,16 +311,13 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
         }
         // The plane's points without a margin along the outline, where hands hold the board and a
         // beam's footprint mixes it with what is behind.
-        TargetCandidate candidate;
-        for (std::size_t k = 0; k < piece.size(); ++k)
-          if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(cloud->at(piece[k]).getVector3fMap().cast<double>());
-        if (static_cast<int>(candidate.points.size()) < options.min_points) {
-          candidate.points.clear();
-          for (int i : piece) candidate.points.push_back(cloud->at(i).getVector3fMap().cast<double>());
-        }
         std::vector<Eigen::Vector3d> whole;
         for (int i : piece) whole.push_back(cloud->at(i).getVector3fMap().cast<double>());
+        TargetCandidate candidate;
+        for (std::size_t k = 0; k < piece.size(); ++k)
+          if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(whole[k]);
         candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
+        if (static_cast<int>(candidate.points.size()) < options.min_points) candidate.points = std::move(whole);
         candidate.mismatch = mismatch;
         search.candidates.push_back(std::move(candidate));
       }
