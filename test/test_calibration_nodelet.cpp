@@ -30,8 +30,8 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   vocal::writeRigDescription(folder + "/rig.yaml", rig);
   vocal::SimulatedSessionOptions options;
   options.target_poses = 8;
-  options.still_ticks = 6;
-  options.moving_ticks = 3;
+  options.still_seconds = 0.6;
+  options.moving_seconds = 0.3;
   options.depth_width = 160;
   options.depth_height = 120;
   options.seed = 5;

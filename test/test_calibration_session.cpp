@@ -118,6 +118,34 @@ TEST(RigDescription, CropBoxLimitsWhereTheTargetIsSearched) {
   EXPECT_EQ(vocal::findTargetInCloud(behind, 0.9, 0.7, {0.0025, 0.0025}, options).candidates.size(), 1u);
 }
 
+// Sensors of one rig at their own rates (a 30 Hz camera, a 10 Hz lidar, a 3 Hz laser) publish what
+// their rates and the session's length say, on one timeline of the target.
+TEST(CalibrationSession, SimulatedSensorsPublishAtTheirOwnRates) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_session_rates");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 3;
+  options.still_seconds = 0.6;
+  options.moving_seconds = 0.4;  // 3 s in all
+  options.camera_rate = 30.0;
+  options.laser_rate = 3.0;
+  options.rate = 10.0;  // the RGB-D sensor and the lidar
+  options.depth_width = 80;
+  options.depth_height = 60;
+  const vocal::SimulatedSessionSummary written = vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  // Sensor s starts 0.013 s * s in: the camera (s = 3) has 89 images before 3 s, depth and images come
+  // with their camera_info.
+  EXPECT_EQ(written.messages, 2u * 30 + 30 + 9 + 2u * 89);
+  vocal::CalibrationSession session(rig);
+  vocal::readCalibrationBag(folder + "/session.bag", &session);
+  const std::vector<int> expected = {30, 30, 9, 89};  // rgbd0, lidar0, laser0, camera0
+  for (std::size_t s = 0; s < sensors.size(); ++s) EXPECT_EQ(session.counts()[s].received, expected[s]) << sensors[s].spec.name;
+  options.rate = 0.0;  // and no rate of its own for the RGB-D sensor
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/bad.bag"); }),
+            "simulated session: sensor 'rgbd0' has no positive rate");
+}
+
 // A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,
 // 0.6 s still and 0.3 s moving, sensors at 10 Hz and unsynchronised, 1 mm range noise and 2 grey levels
 // of image noise. The rig must come out within the bounds.
@@ -128,8 +156,8 @@ TEST(CalibrationSession, RecordedBagCalibratesEveryTypeOfSensor) {
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::SimulatedSessionOptions options;
   options.target_poses = 10;
-  options.still_ticks = 6;
-  options.moving_ticks = 3;
+  options.still_seconds = 0.6;
+  options.moving_seconds = 0.3;
   options.depth_width = 160;
   options.depth_height = 120;
   options.seed = 3;

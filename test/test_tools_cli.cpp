@@ -332,11 +332,13 @@ TEST(ToolsCli, CalibrateRigWithCamerasBehindEachLensModel) {
                       "rational_polynomial or equidistant\n");
 }
 
-// A rig recorded at 3 Hz (triggered camera, slow laser): the still poses are found as at 10 Hz (they
-// were not while a still run allowed a fixed 0.3 s between observations).
+// A rig recorded at 3 Hz (triggered camera, slow laser), the board held still 2 s at each pose: the
+// still poses are found as at 10 Hz (they were not while a still run allowed a fixed 0.3 s between
+// observations).
 TEST(ToolsCli, CalibrateRigFromASessionRecordedAtThreeHertz) {
   const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig_3hz");
-  RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 1 --camera 1 --poses 6 --rate 3");
+  RunResult r = runTool("simulate_calibration_session " + folder +
+                        " --rgbd 1 --lidar 1 --laser 1 --camera 1 --poses 6 --rate 3 --still 2 --moving 1.3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet");
   EXPECT_EQ(r.exit_code, 0) << r.output;

@@ -1,6 +1,8 @@
 #include "vocal/tools/calibration_bag.h"
 
+#include <algorithm>
 #include <map>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -69,56 +71,74 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
     for (double& b : ring_bias) b = bias(rng);
   }
   const PinholeCamera image_camera = defaultKinectCamera(640, 480);
-  const CameraRays image_rays(image_camera, options.camera_lens);  // the lens, undistorted once
+  std::vector<LensDistortion> lenses;      // per sensor (cameras')
+  std::vector<std::unique_ptr<CameraRays>> rays;  // each lens undistorted once
+  std::vector<double> rates;
+  for (std::size_t s = 0, camera = 0; s < sensors.size(); ++s) {
+    const SensorType type = sensors[s].spec.type;
+    const double own = type == SensorType::kCamera ? options.camera_rate
+                       : type == SensorType::kRgbd ? options.rgbd_rate
+                       : type == SensorType::kLidar3d ? options.lidar_rate
+                                                      : options.laser_rate;
+    rates.push_back(own > 0.0 ? own : options.rate);
+    if (!(rates.back() > 0.0)) throw InputError("simulated session: sensor '" + sensors[s].spec.name + "' has no positive rate");
+    lenses.push_back(type == SensorType::kCamera && !options.camera_lenses.empty()
+                         ? options.camera_lenses[camera++ % options.camera_lenses.size()]
+                         : LensDistortion{});
+    rays.push_back(type == SensorType::kCamera ? std::make_unique<CameraRays>(image_camera, lenses.back()) : nullptr);
+  }
+  if (!(options.still_seconds > 0.0 && options.moving_seconds >= 0.0)) {
+    throw InputError("simulated session: the still time must be > 0 s and the moving time >= 0 s");
+  }
   const PinholeCamera depth_camera = defaultKinectCamera(options.depth_width, options.depth_height);
-  const int ticks_per_pose = options.still_ticks + options.moving_ticks;
+  // Every message in time order: sensor s publishes at 0.013 s * s + i / rate.
+  const double pose_seconds = options.still_seconds + options.moving_seconds;
+  const double duration = options.target_poses * pose_seconds;
+  std::vector<std::pair<double, std::size_t>> messages;
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    for (int i = 0; 0.013 * s + i / rates[s] < duration - 1e-9; ++i) messages.emplace_back(0.013 * s + i / rates[s], s);
+  std::sort(messages.begin(), messages.end());
   try {
-    for (int k = 0; k < options.target_poses; ++k) {
-      const Eigen::Isometry3d& still = summary.reference_from_target[k];
-      const Eigen::Isometry3d& next = summary.reference_from_target[(k + 1) % options.target_poses];
-      for (int tick = 0; tick < ticks_per_pose; ++tick) {
-        const double alpha = tick < options.still_ticks ? 0.0 : (tick - options.still_ticks + 1.0) / (options.moving_ticks + 1.0);
-        SimulatedRoomView view;
-        view.reference_from_target = interpolatePose(still, next, alpha);
-        view.target = &rig.target;
-        view.layout = options.room;
-        view.person_holds_target = options.person_holds_target;
-        view.mixed_pixels = options.mixed_pixels;
-        for (std::size_t s = 0; s < sensors.size(); ++s) {
-          const bool lidar = sensors[s].spec.type == SensorType::kLidar3d;
-          view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
-          view.ring_bias = lidar ? ring_bias : std::vector<double>{};
-          view.sensor = &sensors[s];
-          const RigSensorDescription& d = rig.sensors[s];
-          // Sensors are not synchronised: each has its own phase.
-          const ros::Time stamp(1000.0 + (k * ticks_per_pose + tick) / options.rate + 0.013 * s);
-          switch (d.spec.type) {
-            case SensorType::kCamera:
-              bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, options.camera_lens));
-              bag.write(d.image_topic, stamp,
-                        toMono8Image(simulateCameraImage(view, image_rays, options.image_noise, &rng), d.spec.frame_id, stamp));
-              summary.messages += 2;
-              break;
-            case SensorType::kRgbd:
-              bag.write(d.camera_info_topic, stamp, toCameraInfo(depth_camera, d.spec.frame_id, stamp));
-              bag.write(d.depth_topic, stamp, toDepth32FImage(simulateDepthImage(view, depth_camera, &rng), d.spec.frame_id, stamp));
-              summary.messages += 2;
-              break;
-            case SensorType::kLidar3d: {
-              SimulatedTruth truth;
-              const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
-              bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
-              ++summary.messages;
-              break;
-            }
-            case SensorType::kLaser2d:
-              bag.write(d.scan_topic, stamp,
-                        toLaserScan(simulateLaserRanges(view, &rng), -135.0 * M_PI / 180.0, 0.25 * M_PI / 180.0, 8.0, d.spec.frame_id,
-                                    stamp));
-              ++summary.messages;
-              break;
-          }
+    for (const auto& [time, s] : messages) {
+      const int k = std::min(options.target_poses - 1, static_cast<int>(time / pose_seconds));
+      const double into_pose = time - k * pose_seconds;
+      const double alpha = into_pose < options.still_seconds ? 0.0 : (into_pose - options.still_seconds) / options.moving_seconds;
+      SimulatedRoomView view;
+      view.reference_from_target = interpolatePose(summary.reference_from_target[k],
+                                                   summary.reference_from_target[(k + 1) % options.target_poses], alpha);
+      view.target = &rig.target;
+      view.layout = options.room;
+      view.person_holds_target = options.person_holds_target;
+      view.mixed_pixels = options.mixed_pixels;
+      const bool lidar = sensors[s].spec.type == SensorType::kLidar3d;
+      view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
+      view.ring_bias = lidar ? ring_bias : std::vector<double>{};
+      view.sensor = &sensors[s];
+      const RigSensorDescription& d = rig.sensors[s];
+      const ros::Time stamp(1000.0 + time);
+      switch (d.spec.type) {
+        case SensorType::kCamera:
+          bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, lenses[s]));
+          bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, *rays[s], options.image_noise, &rng), d.spec.frame_id, stamp));
+          summary.messages += 2;
+          break;
+        case SensorType::kRgbd:
+          bag.write(d.camera_info_topic, stamp, toCameraInfo(depth_camera, d.spec.frame_id, stamp));
+          bag.write(d.depth_topic, stamp, toDepth32FImage(simulateDepthImage(view, depth_camera, &rng), d.spec.frame_id, stamp));
+          summary.messages += 2;
+          break;
+        case SensorType::kLidar3d: {
+          SimulatedTruth truth;
+          const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
+          bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
+          ++summary.messages;
+          break;
         }
+        case SensorType::kLaser2d:
+          bag.write(d.scan_topic, stamp,
+                    toLaserScan(simulateLaserRanges(view, &rng), -135.0 * M_PI / 180.0, 0.25 * M_PI / 180.0, 8.0, d.spec.frame_id, stamp));
+          ++summary.messages;
+          break;
       }
     }
   } catch (const rosbag::BagException& e) {

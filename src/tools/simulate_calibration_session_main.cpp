@@ -3,7 +3,9 @@
 // room and held still at each pose), with the rig description calibrate_rig needs and the ground truth.
 
 #include <cstdio>
+#include <sstream>
 #include <string>
+#include <utility>
 
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/core/errors.h"
@@ -26,11 +28,16 @@ const char kUsage[] =
     "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
     "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
     "  --mixed-pixels      returns between two surfaces where a beam straddles an edge\n"
-    "  --rate HZ           messages per second of every sensor (default 10; the target is held still for\n"
-    "                      6 messages and carried for 4)\n"
-    "  --lens MODEL        the cameras' lens: none (default), plumb_bob (wide angle, k1 -0.3),\n"
-    "                      rational_polynomial (8 coefficients, as an Azure Kinect colour camera's) or\n"
+    "  --rate HZ           messages per second of every sensor (default 10), unsynchronised\n"
+    "  --camera-rate HZ --rgbd-rate HZ --lidar-rate HZ --laser-rate HZ   one sensor type's own rate\n"
+    "  --still S --moving S   seconds the target is held still at each pose (default 0.6) and carried\n"
+    "                      to the next (default 0.4)\n"
+    "  --lens MODEL[,MODEL...]   each camera's lens, in turn: none (default), plumb_bob (wide angle, k1\n"
+    "                      -0.3), rational_polynomial (8 coefficients, as an Azure Kinect colour camera's) or\n"
     "                      equidistant (fisheye); images rendered through it, camera_info carries it\n"
+    "  --board-width M --board-height M   the board (default 0.9 x 0.7)\n"
+    "  --pattern-cols N --pattern-rows N --square M   its checkerboard's inner corners and squares\n"
+    "                      (default 8 x 6, 0.06 m; the columns run along the width)\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
@@ -42,24 +49,52 @@ int run(const vocal::CommandLine& args) {
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   const std::vector<vocal::SimulatedSensor> sensors =
       vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
-  vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target
+  vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target, unless given
+  target.width = args.number("board-width", target.width);
+  target.height = args.number("board-height", target.height);
+  target.pattern.cols = args.integer("pattern-cols", target.pattern.cols);
+  target.pattern.rows = args.integer("pattern-rows", target.pattern.rows);
+  target.pattern.square_size = args.number("square", target.pattern.square_size);
+  if (!(target.width > 0.0 && target.height > 0.0 && target.pattern.square_size > 0.0 && target.pattern.cols >= 3 &&
+        target.pattern.rows >= 3)) {
+    throw vocal::InputError("options --board-width, --board-height, --pattern-cols, --pattern-rows, --square: sizes must be > 0 and "
+                            "the pattern at least 3 x 3 inner corners");
+  }
+  if ((target.pattern.cols + 1) * target.pattern.square_size > target.width ||
+      (target.pattern.rows + 1) * target.pattern.square_size > target.height) {
+    throw vocal::InputError("options --pattern-cols, --pattern-rows, --square: the pattern's squares do not fit on the " +
+                            std::to_string(target.width) + " x " + std::to_string(target.height) + " m board (its columns run along the width)");
+  }
   vocal::SimulatedSessionOptions options;
   options.target_poses = args.integer("poses", 12);
   options.turn_range = args.number("turn", -1.0);
   options.range_noise = args.number("noise", 0.001);
   options.rate = args.number("rate", options.rate);
   if (!(options.rate > 0.0)) throw vocal::InputError("option --rate: messages per second must be > 0");
-  // Real magnitudes: a wide-angle lens and a fisheye as OpenCV calibrates them.
-  const std::string lens = args.text("lens", "none");
-  if (lens == "plumb_bob") {
-    options.camera_lens = vocal::LensDistortion::fromCameraInfo("plumb_bob", {-0.30, 0.09, 0.0012, -0.0008, -0.012}, "--lens");
-  } else if (lens == "rational_polynomial") {
-    options.camera_lens = vocal::LensDistortion::fromCameraInfo(
-        "rational_polynomial", {0.52, -2.57, 0.0006, -0.0002, 1.46, 0.40, -2.41, 1.39}, "--lens");
-  } else if (lens == "equidistant") {
-    options.camera_lens = vocal::LensDistortion::fromCameraInfo("equidistant", {-0.013, 0.021, -0.011, 0.0021}, "--lens");
-  } else if (lens != "none") {
-    throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob, rational_polynomial or equidistant");
+  for (const auto& [name, rate] : {std::pair<const char*, double*>{"camera-rate", &options.camera_rate}, {"rgbd-rate", &options.rgbd_rate},
+                                   {"lidar-rate", &options.lidar_rate}, {"laser-rate", &options.laser_rate}}) {
+    *rate = args.number(name, 0.0);
+    if (args.has(name) && !(*rate > 0.0)) throw vocal::InputError(std::string("option --") + name + ": messages per second must be > 0");
+  }
+  options.still_seconds = args.number("still", options.still_seconds);
+  options.moving_seconds = args.number("moving", options.moving_seconds);
+  if (!(options.still_seconds > 0.0)) throw vocal::InputError("option --still: the seconds the target is held still must be > 0");
+  if (!(options.moving_seconds > 0.0)) throw vocal::InputError("option --moving: the seconds the target is carried must be > 0");
+  // Real magnitudes: a wide-angle lens and a fisheye as OpenCV calibrates them; one per camera.
+  std::stringstream lenses(args.text("lens", "none"));
+  for (std::string lens; std::getline(lenses, lens, ',');) {
+    if (lens == "plumb_bob") {
+      options.camera_lenses.push_back(vocal::LensDistortion::fromCameraInfo("plumb_bob", {-0.30, 0.09, 0.0012, -0.0008, -0.012}, "--lens"));
+    } else if (lens == "rational_polynomial") {
+      options.camera_lenses.push_back(vocal::LensDistortion::fromCameraInfo(
+          "rational_polynomial", {0.52, -2.57, 0.0006, -0.0002, 1.46, 0.40, -2.41, 1.39}, "--lens"));
+    } else if (lens == "equidistant") {
+      options.camera_lenses.push_back(vocal::LensDistortion::fromCameraInfo("equidistant", {-0.013, 0.021, -0.011, 0.0021}, "--lens"));
+    } else if (lens == "none") {
+      options.camera_lenses.emplace_back();
+    } else {
+      throw vocal::InputError("option --lens: '" + lens + "' is unknown: expected none, plumb_bob, rational_polynomial or equidistant");
+    }
   }
   const std::string room = args.text("room", "plain");
   if (room != "plain" && room != "furnished") throw vocal::InputError("option --room: '" + room + "' is unknown: expected plain or furnished");
@@ -85,6 +120,8 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn"},
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
+                         "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
+                         "board-height", "pattern-cols", "pattern-rows", "square"},
                         {"person", "mixed-pixels"}, 1);
 }

@@ -23,9 +23,12 @@ RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors,
 struct SimulatedSessionOptions {
   int target_poses = 12;
   double turn_range = -1.0;  // radians the target turns left / right at most (< 0: as far as it tilts)
-  int still_ticks = 6;    // messages per sensor while the target is held still
-  int moving_ticks = 4;   // ... while it is carried to the next pose
-  double rate = 10.0;     // Hz per sensor
+  double still_seconds = 0.6;   // the target held still at each pose
+  double moving_seconds = 0.4;  // ... then carried to the next
+  double rate = 10.0;           // Hz, every sensor's unless given below
+  // Hz per sensor type (0: rate): a rig's sensors rarely share one (a 30 Hz camera, a 10 Hz lidar, a
+  // triggered 3 Hz laser).
+  double camera_rate = 0.0, rgbd_rate = 0.0, lidar_rate = 0.0, laser_rate = 0.0;
   double range_noise = 0.001;  // metres, every range sensor's unless given below
   double image_noise = 2.0;  // grey levels
   // The room and what real range sensors add (simulated_room.h, simulated_sensor_data.h).
@@ -34,7 +37,9 @@ struct SimulatedSessionOptions {
   double lidar_noise = -1.0;  // metres; < 0: range_noise
   double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
   bool mixed_pixels = false;
-  LensDistortion camera_lens;  // cameras' lens: images rendered through it, camera_info carries it
+  // Camera i's lens is camera_lenses[i % size] (none when empty): images rendered through it,
+  // camera_info carries it.
+  std::vector<LensDistortion> camera_lenses;
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;
   std::uint32_t seed = 1;
@@ -45,7 +50,9 @@ struct SimulatedSessionSummary {
   std::vector<Eigen::Isometry3d> reference_from_target;  // the still poses
 };
 
-// Throws InputError naming the bag when it cannot be written.
+// Each sensor publishes at its own rate and phase, unsynchronised, while the target follows one
+// timeline (still, then carried, per pose). Throws InputError naming the bag when it cannot be written,
+// and for a rate or still time that is not positive.
 SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
                                                      const SimulatedSessionOptions& options, const std::string& bag_path);
 
