@@ -62,8 +62,11 @@ int run(const vocal::CommandLine& args) {
   }
   if ((target.pattern.cols + 1) * target.pattern.square_size > target.width ||
       (target.pattern.rows + 1) * target.pattern.square_size > target.height) {
-    throw vocal::InputError("options --pattern-cols, --pattern-rows, --square: the pattern's squares do not fit on the " +
-                            std::to_string(target.width) + " x " + std::to_string(target.height) + " m board (its columns run along the width)");
+    std::ostringstream message;
+    message << "options --pattern-cols, --pattern-rows, --square: the pattern's squares (" << (target.pattern.cols + 1) * target.pattern.square_size
+            << " x " << (target.pattern.rows + 1) * target.pattern.square_size << " m) do not fit on the " << target.width << " x "
+            << target.height << " m board (its columns run along the width)";
+    throw vocal::InputError(message.str());
   }
   vocal::SimulatedSessionOptions options;
   options.target_poses = args.integer("poses", 12);
