@@ -208,12 +208,9 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
   if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
-    // The board along the pattern's x and y: its side the pattern's row of squares fits along.
-    const TargetDescription& target = rig_.target;
-    const double pattern_x = (target.pattern.cols + 1) * target.pattern.square_size;
-    const bool turned = pattern_x > target.width && pattern_x <= target.height;
-    options.board_edges.width = turned ? target.height : target.width;
-    options.board_edges.height = turned ? target.width : target.height;
+    // The rig's board: its pattern's columns run along its width (checkTargetDescription).
+    options.board_edges.width = rig_.target.width;
+    options.board_edges.height = rig_.target.height;
   }
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);

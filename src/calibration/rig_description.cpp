@@ -48,6 +48,12 @@ TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
   target.pattern.square_size = required<double>(node, "square_size", where);
   target.width = required<double>(node, "width", where);
   target.height = required<double>(node, "height", where);
+  checkTargetDescription(target, where);
+  return target;
+}
+}  // namespace
+
+void checkTargetDescription(const TargetDescription& target, const std::string& where) {
   if (target.pattern.rows < 2 || target.pattern.cols < 2 || !(target.pattern.square_size > 0.0)) {
     throw InputError(where + ": rows and cols (inner corners) must be at least 2 and square_size positive");
   }
@@ -57,8 +63,9 @@ TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
                      " squares do not fit on the " + std::to_string(target.width) + " x " + std::to_string(target.height) +
                      " m board");
   }
-  return target;
 }
+
+namespace {
 
 Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
   std::vector<double> v;

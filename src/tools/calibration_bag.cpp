@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <map>
-#include <memory>
 #include <random>
 #include <sstream>
 
@@ -48,6 +47,20 @@ RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors,
 
 SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
                                                      const SimulatedSessionOptions& options, const std::string& bag_path) {
+  // Each sensor's rate and the timeline, checked before anything is written.
+  std::vector<double> rates;
+  for (const SimulatedSensor& sensor : sensors) {
+    const SensorType type = sensor.spec.type;
+    const double own = type == SensorType::kCamera ? options.camera_rate
+                       : type == SensorType::kRgbd ? options.rgbd_rate
+                       : type == SensorType::kLidar3d ? options.lidar_rate
+                                                      : options.laser_rate;
+    rates.push_back(own > 0.0 ? own : options.rate);
+    if (!(rates.back() > 0.0)) throw InputError("simulated session: sensor '" + sensor.spec.name + "' has no positive rate");
+  }
+  if (!(options.still_seconds > 0.0 && options.moving_seconds >= 0.0)) {
+    throw InputError("simulated session: the still time must be > 0 s and the moving time >= 0 s");
+  }
   rosbag::Bag bag;
   try {
     bag.open(bag_path, rosbag::bagmode::Write);
@@ -70,26 +83,14 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
     std::uniform_real_distribution<double> bias(-options.ring_bias, options.ring_bias);
     for (double& b : ring_bias) b = bias(rng);
   }
+  // The session's lenses, each undistorted once (most of a distorted render's cost), and camera i's.
   const PinholeCamera image_camera = defaultKinectCamera(640, 480);
-  std::vector<LensDistortion> lenses;      // per sensor (cameras')
-  std::vector<std::unique_ptr<CameraRays>> rays;  // each lens undistorted once
-  std::vector<double> rates;
-  for (std::size_t s = 0, camera = 0; s < sensors.size(); ++s) {
-    const SensorType type = sensors[s].spec.type;
-    const double own = type == SensorType::kCamera ? options.camera_rate
-                       : type == SensorType::kRgbd ? options.rgbd_rate
-                       : type == SensorType::kLidar3d ? options.lidar_rate
-                                                      : options.laser_rate;
-    rates.push_back(own > 0.0 ? own : options.rate);
-    if (!(rates.back() > 0.0)) throw InputError("simulated session: sensor '" + sensors[s].spec.name + "' has no positive rate");
-    lenses.push_back(type == SensorType::kCamera && !options.camera_lenses.empty()
-                         ? options.camera_lenses[camera++ % options.camera_lenses.size()]
-                         : LensDistortion{});
-    rays.push_back(type == SensorType::kCamera ? std::make_unique<CameraRays>(image_camera, lenses.back()) : nullptr);
-  }
-  if (!(options.still_seconds > 0.0 && options.moving_seconds >= 0.0)) {
-    throw InputError("simulated session: the still time must be > 0 s and the moving time >= 0 s");
-  }
+  const std::vector<LensDistortion> lenses = options.camera_lenses.empty() ? std::vector<LensDistortion>(1) : options.camera_lenses;
+  std::vector<CameraRays> rays;
+  for (const LensDistortion& lens : lenses) rays.emplace_back(image_camera, lens);
+  std::vector<std::size_t> lens_of(sensors.size(), 0);
+  for (std::size_t s = 0, camera = 0; s < sensors.size(); ++s)
+    if (sensors[s].spec.type == SensorType::kCamera) lens_of[s] = camera++ % lenses.size();
   const PinholeCamera depth_camera = defaultKinectCamera(options.depth_width, options.depth_height);
   // Every message in time order: sensor s publishes at 0.013 s * s + i / rate.
   const double pose_seconds = options.still_seconds + options.moving_seconds;
@@ -118,8 +119,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       const ros::Time stamp(1000.0 + time);
       switch (d.spec.type) {
         case SensorType::kCamera:
-          bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, lenses[s]));
-          bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, *rays[s], options.image_noise, &rng), d.spec.frame_id, stamp));
+          bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, lenses[lens_of[s]]));
+          bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, rays[lens_of[s]], options.image_noise, &rng), d.spec.frame_id, stamp));
           summary.messages += 2;
           break;
         case SensorType::kRgbd:

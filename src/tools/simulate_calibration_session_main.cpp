@@ -55,19 +55,7 @@ int run(const vocal::CommandLine& args) {
   target.pattern.cols = args.integer("pattern-cols", target.pattern.cols);
   target.pattern.rows = args.integer("pattern-rows", target.pattern.rows);
   target.pattern.square_size = args.number("square", target.pattern.square_size);
-  if (!(target.width > 0.0 && target.height > 0.0 && target.pattern.square_size > 0.0 && target.pattern.cols >= 3 &&
-        target.pattern.rows >= 3)) {
-    throw vocal::InputError("options --board-width, --board-height, --pattern-cols, --pattern-rows, --square: sizes must be > 0 and "
-                            "the pattern at least 3 x 3 inner corners");
-  }
-  if ((target.pattern.cols + 1) * target.pattern.square_size > target.width ||
-      (target.pattern.rows + 1) * target.pattern.square_size > target.height) {
-    std::ostringstream message;
-    message << "options --pattern-cols, --pattern-rows, --square: the pattern's squares (" << (target.pattern.cols + 1) * target.pattern.square_size
-            << " x " << (target.pattern.rows + 1) * target.pattern.square_size << " m) do not fit on the " << target.width << " x "
-            << target.height << " m board (its columns run along the width)";
-    throw vocal::InputError(message.str());
-  }
+  vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
   vocal::SimulatedSessionOptions options;
   options.target_poses = args.integer("poses", 12);
   options.turn_range = args.number("turn", -1.0);

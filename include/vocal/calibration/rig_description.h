@@ -47,6 +47,11 @@ struct RigDescription {
   std::vector<SensorSpec> specs() const;
 };
 
+// Throws InputError starting with `where` for a pattern under 2 x 2 inner corners, a square size or board
+// side that is not positive, or a pattern whose squares do not fit on the board (its columns run along
+// the width).
+void checkTargetDescription(const TargetDescription& target, const std::string& where);
+
 // Throws InputError naming the file and the key: unknown or missing keys, a sensor type without the
 // topics it needs (camera: image + camera_info; rgbd: depth + camera_info; lidar3d: cloud; laser2d:
 // scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target.
