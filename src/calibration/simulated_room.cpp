@@ -68,7 +68,7 @@ SimulatedRoom::SimulatedRoom(RoomLayout layout, const Eigen::Isometry3d& referen
       half_height_(0.5 * target.height) {
   if (layout_ == RoomLayout::kFurnished) {
     const auto furniture = [&](const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
-      boxes_.push_back({boxPose(0.5 * (low + high)), 0.5 * (high - low), SurfaceLabel::kFurniture});
+      addBox(boxPose(0.5 * (low + high)), 0.5 * (high - low), SurfaceLabel::kFurniture);
     };
     // A cabinet whose front faces the rig and is the target's size: only its stillness tells it apart.
     furniture({3.0, 1.3, 0.0}, {3.45, 1.3 + target.width, target.height + 0.05});
@@ -80,6 +80,11 @@ SimulatedRoom::SimulatedRoom(RoomLayout layout, const Eigen::Isometry3d& referen
     furniture({-2.2, 1.2, 0.0}, {-1.4, 3.0, 0.45});
     if (person_holds_target) addPerson();
   }
+}
+
+void SimulatedRoom::addBox(const Eigen::Isometry3d& reference_from_box, const Eigen::Vector3d& half,
+                           SurfaceLabel label) {
+  boxes_.push_back({reference_from_box.inverse(), reference_from_box.translation(), half, half.norm(), label});
 }
 
 void SimulatedRoom::addPerson() {
@@ -94,7 +99,7 @@ void SimulatedRoom::addPerson() {
   body << back, side, Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d feet = centre + 0.3 * back - Eigen::Vector3d(0, 0, centre.z());
   const auto part = [&](const Eigen::Vector3d& offset, const Eigen::Vector3d& half) {
-    boxes_.push_back({boxPose(feet + body * offset, body), half, SurfaceLabel::kPerson});
+    addBox(boxPose(feet + body * offset, body), half, SurfaceLabel::kPerson);
   };
   for (const double y : {-0.11, 0.11}) part({0.0, y, 0.43}, {0.08, 0.07, 0.43});
   part({0.0, 0.0, 1.16}, {0.12, 0.22, 0.30});
@@ -107,8 +112,8 @@ void SimulatedRoom::addPerson() {
     const Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitZ()).normalized();
     Eigen::Matrix3d arm;
     arm << along, across, along.cross(across);
-    boxes_.push_back({boxPose(0.5 * (grip + shoulder), arm), {0.5 * (grip - shoulder).norm(), 0.045, 0.045}, SurfaceLabel::kPerson});
-    boxes_.push_back({boxPose(centre + sign * half_width_ * R.col(0), R), {0.04, 0.06, 0.035}, SurfaceLabel::kPerson});
+    addBox(boxPose(0.5 * (grip + shoulder), arm), {0.5 * (grip - shoulder).norm(), 0.045, 0.045}, SurfaceLabel::kPerson);
+    addBox(boxPose(centre + sign * half_width_ * R.col(0), R), {0.04, 0.06, 0.035}, SurfaceLabel::kPerson);
   }
 }
 
@@ -129,7 +134,13 @@ RoomHit SimulatedRoom::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d
     }
   }
   for (const Box& box : boxes_) {
-    const Eigen::Vector3d o = box.pose.inverse() * origin, d = box.pose.linear().transpose() * direction;
+    const Eigen::Vector3d to_centre = box.centre - origin;
+    const double along = to_centre.dot(direction);
+    if (along + box.radius < kMinRange || along - box.radius > std::min(hit.range, max_range) ||
+        to_centre.squaredNorm() - along * along > box.radius * box.radius) {
+      continue;
+    }
+    const Eigen::Vector3d o = box.box_from_reference * origin, d = box.box_from_reference.linear() * direction;
     double entry, exit;
     if (slabs(o, d, -box.half, box.half, &entry, &exit, nullptr, nullptr)) consider(entry, box.label);
   }

@@ -37,11 +37,13 @@ class SimulatedRoom {
   RoomHit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double max_range = 8.0) const;
 
  private:
-  struct Box {  // an oriented box: pose of its centre, half extents along its axes
-    Eigen::Isometry3d pose;
-    Eigen::Vector3d half;
+  struct Box {  // an oriented box: its frame from the rig's (centre, axes), half extents along its axes
+    Eigen::Isometry3d box_from_reference;
+    Eigen::Vector3d centre, half;
+    double radius;  // of its bounding sphere: most rays miss it without a slab test
     SurfaceLabel label;
   };
+  void addBox(const Eigen::Isometry3d& reference_from_box, const Eigen::Vector3d& half, SurfaceLabel label);
   void addPerson();
 
   RoomLayout layout_;
