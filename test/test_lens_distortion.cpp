@@ -54,7 +54,7 @@ TEST(LensDistortion, ProjectsAsOpenCvDoesForEveryModel) {
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Eigen::Vector2d ideal(points[i].x / points[i].z, points[i].y / points[i].z);
       const Eigen::Vector2d distorted = distortion.distort(ideal);
-      const Eigen::Vector2d pixel(camera.fx * distorted.x() + camera.cx, camera.fy * distorted.y() + camera.cy);
+      const Eigen::Vector2d pixel = vocal::projectThroughLens(camera, distortion, {points[i].x, points[i].y, points[i].z});
       worst = std::max(worst, (pixel - Eigen::Vector2d(expected[i].x, expected[i].y)).norm());
       worst_inverse = std::max(worst_inverse, (distortion.undistort(distorted) - ideal).norm());
     }

@@ -73,9 +73,7 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   for (std::size_t i = 0; i < object.size(); ++i) {
     const cv::Vec3d p = R * cv::Vec3d(object[i].x(), object[i].y(), object[i].z()) + tvec;
     observation.points.emplace_back(p[0], p[1], p[2]);
-    const Eigen::Vector2d distorted = distortion.distort({p[0] / p[2], p[1] / p[2]});
-    const Eigen::Vector2d projected(camera.fx * distorted.x() + camera.cx, camera.fy * distorted.y() + camera.cy);
-    squared += (projected - image_corners[i]).squaredNorm();
+    squared += (projectThroughLens(camera, distortion, observation.points.back()) - image_corners[i]).squaredNorm();
   }
   observation.reprojection_rms_px = std::sqrt(squared / object.size());
   // Pose covariance sigma^2 (J^T J)^-1 with the pose perturbed as R exp([w]x), t + dt: a corner X moves

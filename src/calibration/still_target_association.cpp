@@ -172,6 +172,8 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       TargetObservation observation;
       observation.sensor = run.sensor;
       observation.target_pose = static_cast<int>(k);
+      observation.first_stamp = run.begin;
+      observation.last_stamp = run.end;
       // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
       for (const TimedObservation* member : run.members) {
         observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());

@@ -6,6 +6,7 @@
 #include <Eigen/LU>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
 
@@ -29,6 +30,11 @@ std::string distortionModelName(DistortionModel model) {
     case DistortionModel::kNone: return "";
   }
   return "";
+}
+
+Eigen::Vector2d projectThroughLens(const PinholeCamera& camera, const LensDistortion& lens, const Eigen::Vector3d& point) {
+  const Eigen::Vector2d distorted = lens.distort(point.head<2>() / point.z());
+  return {camera.fx * distorted.x() + camera.cx, camera.fy * distorted.y() + camera.cy};
 }
 
 LensDistortion LensDistortion::fromCameraInfo(const std::string& model, const std::vector<double>& d,

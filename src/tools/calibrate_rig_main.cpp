@@ -1,4 +1,4 @@
-// calibrate_rig RIG.yaml BAG [--output-dir DIR] [--no-filter]: MSG-Cal on a recorded session. Reads
+// calibrate_rig RIG.yaml BAG [--output-dir DIR] [--overlays] [--no-filter]: MSG-Cal on a recorded session. Reads
 // every message on the rig's topics, extracts the target per sensor, associates the still periods,
 // calibrates, prints each sensor's extrinsic with its standard deviation and residual, and writes the
 // result YAML, a URDF snippet and a static-transform launch file.
@@ -12,7 +12,10 @@
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
+#include "vocal/calibration/point_statistics.h"
+#include "vocal/core/errors.h"
 #include "vocal/tools/calibration_bag.h"
+#include "vocal/tools/calibration_overlays.h"
 #include "vocal/tools/command_line.h"
 
 namespace {
@@ -26,6 +29,9 @@ const char kUsage[] =
     "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
     "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
     "                      refused the most board-like segment), and per still pose each sensor's residual\n"
+    "  --overlays          with --output-dir: per still pose and camera, DIR/overlay_poseNN_CAMERA.png, the\n"
+    "                      camera's image with every other sensor's board points drawn where the result puts\n"
+    "                      them beside the board the camera found, and how many land on it\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
@@ -62,7 +68,31 @@ void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSessi
   }
 }
 
+// Per camera and other sensor, over the poses: the share of its points on the board the camera found
+// and their distance to its plane (median and worst pose), so a wrong extrinsic is seen without images.
+void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayReport& report) {
+  std::printf("overlays: %zu PNGs; per camera, each sensor's board points on the board the camera found "
+              "(median over poses, worst pose in brackets):\n", report.written.size());
+  for (const std::string& problem : report.problems) std::printf("  not drawn: %s\n", problem.c_str());
+  std::map<std::pair<int, int>, std::vector<const vocal::OverlayPoseAgreement*>> by_pair;
+  for (const vocal::OverlayPoseAgreement& a : report.agreement) by_pair[{a.camera, a.sensor}].push_back(&a);
+  for (auto& [pair, poses] : by_pair) {
+    std::vector<double> on_board, off_plane;
+    const vocal::OverlayPoseAgreement* worst = poses.front();
+    for (const vocal::OverlayPoseAgreement* a : poses) {
+      on_board.push_back(a->agreement.on_board);
+      off_plane.push_back(a->agreement.plane_rms);
+      if (a->agreement.on_board < worst->agreement.on_board) worst = a;
+    }
+    std::printf("  %-12s %-12s %5.1f %% on the board (pose %d: %.1f %%), %5.1f mm off its plane, %zu poses\n",
+                rig.sensors[pair.first].spec.name.c_str(), rig.sensors[pair.second].spec.name.c_str(),
+                100 * vocal::median(on_board), worst->target_pose, 100 * worst->agreement.on_board,
+                1000 * vocal::median(off_plane), poses.size());
+  }
+}
+
 int run(const vocal::CommandLine& args) {
+  if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
@@ -113,11 +143,12 @@ int run(const vocal::CommandLine& args) {
     vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result);
     vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+    if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
   return result.trusted ? 0 : 1;
 }
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report", "edges"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report", "edges", "overlays"}, 2);
 }

@@ -149,14 +149,38 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   return summary;
 }
 
-BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
-                                  const std::function<void(std::size_t)>& progress) {
-  rosbag::Bag bag;
+namespace {
+void openForReading(rosbag::Bag* bag, const std::string& bag_path) {
   try {
-    bag.open(bag_path, rosbag::bagmode::Read);
+    bag->open(bag_path, rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": cannot open bag (" + e.what() + ")");
   }
+}
+
+// The first camera_info on `topic` that converts; false when none does (each bad one is reported when
+// the main pass reaches it).
+bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCamera* camera, LensDistortion* lens) {
+  rosbag::View infos(bag, rosbag::TopicQuery(topic));
+  for (const rosbag::MessageInstance& m : infos) {
+    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+      try {
+        *camera = fromCameraInfo(*info, m.getTopic());
+        *lens = lensDistortionFromCameraInfo(*info, m.getTopic());
+        return true;
+      } catch (const InputError&) {
+        continue;
+      }
+    }
+  }
+  return false;
+}
+}  // namespace
+
+BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
+                                  const std::function<void(std::size_t)>& progress) {
+  rosbag::Bag bag;
+  openForReading(&bag, bag_path);
   const RigDescription& rig = session->rig();
   // Topic -> (sensor, what arrives there).
   enum class Kind { kImage, kInfo, kDepth, kCloud, kScan };
@@ -181,18 +205,9 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
     for (const auto& route : routes) {
       for (const auto& [sensor, kind] : route.second) {
         if (kind != Kind::kInfo || cameras.count(sensor)) continue;
-        rosbag::View infos(bag, rosbag::TopicQuery(route.first));
-        for (const rosbag::MessageInstance& m : infos) {
-          if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
-            try {
-              cameras[sensor] = fromCameraInfo(*info, m.getTopic());
-              lenses[sensor] = lensDistortionFromCameraInfo(*info, m.getTopic());
-              break;
-            } catch (const InputError&) {
-              continue;  // reported when the main pass reaches it
-            }
-          }
-        }
+        PinholeCamera camera;
+        LensDistortion lens;
+        if (firstUsableCameraInfo(bag, route.first, &camera, &lens)) cameras[sensor] = camera, lenses[sensor] = lens;
       }
     }
     rosbag::View view(bag, rosbag::TopicQuery(topics));
@@ -257,6 +272,50 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
     throw InputError(bag_path + ": read failed (" + e.what() + ")");
   }
   return summary;
+}
+
+std::vector<CameraImage> readCameraImagesNear(const std::string& bag_path, const RigDescription& rig,
+                                             const std::vector<CameraImageRequest>& requests) {
+  rosbag::Bag bag;
+  openForReading(&bag, bag_path);
+  std::vector<CameraImage> images(requests.size());
+  std::vector<sensor_msgs::Image::ConstPtr> nearest(requests.size());
+  try {
+    std::map<std::string, std::vector<std::size_t>> requests_on;  // image topic -> requests
+    std::map<int, CameraImage> info_of;  // per camera: its model and lens, found: its camera_info is usable
+    for (std::size_t r = 0; r < requests.size(); ++r) {
+      const int sensor = requests[r].sensor;
+      const RigSensorDescription& d = rig.sensors.at(sensor);
+      if (d.spec.type != SensorType::kCamera) throw InputError("sensor '" + d.spec.name + "' is not a camera");
+      if (!info_of.count(sensor)) {
+        CameraImage& info = info_of[sensor];
+        info.found = firstUsableCameraInfo(bag, d.camera_info_topic, &info.camera, &info.lens);
+      }
+      images[r] = info_of[sensor];
+      requests_on[d.image_topic].push_back(r);
+    }
+    std::vector<std::string> topics;
+    for (const auto& entry : requests_on) topics.push_back(entry.first);
+    rosbag::View view(bag, rosbag::TopicQuery(topics));
+    for (const rosbag::MessageInstance& m : view) {
+      const auto image = m.instantiate<sensor_msgs::Image>();
+      if (!image) continue;
+      const double stamp = image->header.stamp.toSec();
+      for (std::size_t r : requests_on.at(m.getTopic())) {
+        if (!nearest[r] || std::abs(stamp - requests[r].stamp) < std::abs(images[r].stamp - requests[r].stamp)) {
+          nearest[r] = image;
+          images[r].stamp = stamp;
+        }
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    throw InputError(bag_path + ": read failed (" + e.what() + ")");
+  }
+  for (std::size_t r = 0; r < requests.size(); ++r) {
+    images[r].found = images[r].found && nearest[r];
+    if (images[r].found) images[r].image = fromColorImage(*nearest[r], rig.sensors[requests[r].sensor].image_topic);
+  }
+  return images;
 }
 
 }  // namespace vocal

@@ -43,6 +43,9 @@ struct TargetObservation {
   // Range sensors: points on the board's edges (board_outline.h), sensor frame; used when the graph
   // holds the board's outline as well as its plane (CalibrationOptions::board_edges).
   std::vector<Eigen::Vector3d> outline;
+  // Seconds: the first and last message of the still run it pools (0 when not associated by time), so
+  // a pose can be found again in the recording (overlays) and compared across recordings.
+  double first_stamp = 0.0, last_stamp = 0.0;
 };
 
 }  // namespace vocal

@@ -69,4 +69,22 @@ struct BagReadSummary {
 BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
                                   const std::function<void(std::size_t)>& progress = nullptr);
 
+struct CameraImageRequest {
+  int sensor = 0;      // a camera of the rig
+  double stamp = 0.0;  // seconds
+};
+struct CameraImage {
+  bool found = false;  // false: no image on the camera's topic, or no usable camera_info
+  double stamp = 0.0;
+  ColorImage image;
+  PinholeCamera camera;  // from the camera's first usable camera_info
+  LensDistortion lens;
+};
+
+// Per request, the camera's image stamped nearest the request (the overlays read images again after
+// calibrating rather than keep a session's images). Throws InputError naming the bag when it cannot be
+// read, and for an image that does not convert.
+std::vector<CameraImage> readCameraImagesNear(const std::string& bag_path, const RigDescription& rig,
+                                             const std::vector<CameraImageRequest>& requests);
+
 }  // namespace vocal

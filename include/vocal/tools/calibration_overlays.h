@@ -1,0 +1,34 @@
+#pragma once
+// calibrate_rig --overlays: per still pose and camera, the camera's image from the recording with every
+// other sensor's board points drawn where the calibration puts them (calibration_overlay.h), written as
+// PNGs, and how well they land on the board the camera saw.
+
+#include <string>
+#include <vector>
+
+#include "vocal/calibration/calibration_overlay.h"
+#include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/rig_description.h"
+
+namespace vocal {
+
+struct OverlayPoseAgreement {
+  int target_pose = 0;
+  int camera = 0;  // the sensor whose image it is
+  int sensor = 0;  // the sensor whose points are drawn
+  OverlayAgreement agreement;
+};
+
+struct OverlayReport {
+  std::vector<std::string> written;            // PNG paths
+  std::vector<OverlayPoseAgreement> agreement;  // where the camera found the board again
+  std::vector<std::string> problems;            // per overlay not drawn (no image, no camera_info)
+};
+
+// One PNG per still pose and camera that saw it, DIR/overlay_pose<NN>_<camera>.png: the image nearest the
+// middle of the camera's still run, read again from the bag.
+OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDescription& rig,
+                                       const std::vector<TargetObservation>& associated,
+                                       const CalibrationResult& result, const std::string& dir);
+
+}  // namespace vocal
