@@ -10,10 +10,10 @@
 
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
-#include "vocal/core/folders.h"
-#include "vocal/core/se3.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/folders.h"
+#include "vocal/core/se3.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/calibration_overlays.h"
 #include "vocal/tools/command_line.h"

@@ -34,10 +34,10 @@ struct LensDistortion {
   Eigen::Matrix2d jacobian(const Eigen::Vector2d& ideal) const;
 };
 
-std::string distortionModelName(DistortionModel model);
+std::string distortionModelName(DistortionModel model);  // "", plumb_bob, rational_polynomial, equidistant
 
 // The pixel where a camera with this lens sees a point of its frame (z > 0): fx * x' + cx, fy * y' + cy
 // of the distorted normalised coordinates.
-Eigen::Vector2d projectThroughLens(const PinholeCamera& camera, const LensDistortion& lens, const Eigen::Vector3d& point);  // "", plumb_bob, rational_polynomial, equidistant
+Eigen::Vector2d projectThroughLens(const PinholeCamera& camera, const LensDistortion& lens, const Eigen::Vector3d& point);
 
 }  // namespace vocal
