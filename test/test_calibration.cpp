@@ -9,6 +9,8 @@
 
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -893,4 +895,34 @@ TEST(PatternObservation, DetectsARenderedBoardAndRecoversItsPlane) {
   vocal::ColorImage blank(camera.width, camera.height, vocal::Rgb8{128, 128, 128});
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::detectPattern(blank, pattern, "camera0"); }),
             "camera0: no 6x8 checkerboard (inner corners) found in the image");
+}
+
+// A board tilted only up and down: every 3-pose sample of near-parallel planes is refused by the
+// closed form, so plane consensus alone cannot vote, and a lidar's wrong segment (a static surface
+// 2.5 m from the board, taken while the board moved) passed into the graph. The board centres each
+// sensor saw still vote it out: distances between centres are the same in every sensor.
+TEST(Calibration, ConsensusFilterRejectsAWrongSegmentOfAWeakSpreadSession) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> tilt(-0.005, 0.005), across(-0.5, 0.5), ahead(1.5, 2.5);
+  const Eigen::Isometry3d world_from[3] = {
+      Eigen::Isometry3d::Identity(),
+      vocal::poseFromTranslationQuaternion({0.2, -0.3, 0.4}, Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))),
+      vocal::poseFromTranslationQuaternion({-0.1, 0.25, -0.2}, Eigen::Quaterniond(Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY())))};
+  const int sensors = 3, poses = 10, wrong_sensor = 1, wrong_pose = 4;
+  std::vector<std::map<int, vocal::Plane>> planes(sensors);
+  std::vector<std::map<int, Eigen::Vector3d>> centres(sensors);
+  for (int k = 0; k < poses; ++k) {
+    const Eigen::Vector3d normal = Eigen::Vector3d(tilt(rng), tilt(rng), -1.0).normalized();
+    const Eigen::Vector3d centre(across(rng), across(rng), ahead(rng));
+    for (int s = 0; s < sensors; ++s) {
+      Eigen::Vector3d seen_normal = normal, seen_centre = centre;
+      if (s == wrong_sensor && k == wrong_pose) seen_centre = centre + Eigen::Vector3d(1.0, 0.5, 2.2);  // a wall behind
+      const vocal::Plane in_world{seen_normal, -seen_normal.dot(seen_centre)};
+      planes[s][k] = vocal::transformPlane(world_from[s].inverse(), in_world);
+      centres[s][k] = world_from[s].inverse() * seen_centre;
+    }
+  }
+  EXPECT_TRUE(vocal::rejectInconsistentObservations(planes).empty()) << "plane samples fixed a transform after all";
+  const std::set<std::pair<int, int>> rejected = vocal::rejectInconsistentObservations(planes, {}, &centres);
+  EXPECT_EQ(rejected, (std::set<std::pair<int, int>>{{wrong_sensor, wrong_pose}}));
 }

@@ -9,8 +9,28 @@
 
 namespace vocal {
 
+namespace {
+// The shared poses whose centre keeps its distance to at least half of the other poses' centres from
+// one sensor to the other (distances are what a rigid transform keeps).
+std::vector<int> posesKeepingCentreDistances(const std::map<int, Eigen::Vector3d>& in_a, const std::map<int, Eigen::Vector3d>& in_b,
+                                             const std::vector<int>& shared, double tolerance) {
+  std::vector<int> kept;
+  for (int k : shared) {
+    int agreeing = 0;
+    for (int l : shared) {
+      if (l == k) continue;
+      const double difference = (in_a.at(k) - in_a.at(l)).norm() - (in_b.at(k) - in_b.at(l)).norm();
+      agreeing += std::abs(difference) < tolerance;
+    }
+    if (2 * agreeing >= static_cast<int>(shared.size()) - 1) kept.push_back(k);
+  }
+  return kept;
+}
+}  // namespace
+
 std::set<std::pair<int, int>> rejectInconsistentObservations(const std::vector<std::map<int, Plane>>& planes,
-                                                            const ConsensusOptions& options) {
+                                                            const ConsensusOptions& options,
+                                                            const std::vector<std::map<int, Eigen::Vector3d>>* centres) {
   std::mt19937 rng(options.seed);
   std::map<std::pair<int, int>, int> votes;
   const double min_cos = std::cos(options.max_angle);
@@ -45,6 +65,11 @@ std::set<std::pair<int, int>> rejectInconsistentObservations(const std::vector<s
         for (int k : shared)
           if (agrees(a_from_b, k)) inliers.push_back(k);
         if (inliers.size() > best.size()) best = inliers;
+      }
+      bool centres_known = centres != nullptr;
+      for (int k : shared) centres_known = centres_known && (*centres)[a].count(k) && (*centres)[b].count(k);
+      if (best.size() < 3 && centres_known) {
+        best = posesKeepingCentreDistances((*centres)[a], (*centres)[b], shared, options.max_centre_difference);
       }
       if (best.size() < 3) continue;  // no consensus: this pair casts no votes
       for (int k : shared) {

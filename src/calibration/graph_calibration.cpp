@@ -232,6 +232,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
+  std::vector<std::map<int, Eigen::Vector3d>> centres(sensor_count);  // the board's centre as each saw it
   std::vector<int> observation_count(sensor_count, 0);
   for (const TargetObservation& o : observations) {
     if (o.sensor < 0 || o.sensor >= sensor_count) {
@@ -241,6 +242,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     // A 2D laser sees a line of the target, not a plane: its points join the graph directly.
     if (sensors[o.sensor].type != SensorType::kLaser2d) {
       planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
+      centres[o.sensor][o.target_pose] = boardCentreSeen(o);
     }
     ++observation_count[o.sensor];
   }
@@ -248,7 +250,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
   std::set<std::pair<int, int>> rejected;
   if (options.consensus_filter) {
-    rejected = rejectInconsistentObservations(planes, options.consensus);
+    rejected = rejectInconsistentObservations(planes, options.consensus, &centres);
     for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
   for (int s = 0; s < sensor_count; ++s) {
