@@ -159,35 +159,54 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
     }
   }
 
-  std::vector<TargetObservation> associated;
-  std::vector<std::vector<double>> best_duration(periods.size(), std::vector<double>(sensors.size(), -1.0));
-  std::vector<std::vector<int>> slot(periods.size(), std::vector<int>(sensors.size(), -1));
+  // One run per sensor and period: its longest.
+  std::vector<std::vector<const StillRun*>> chosen(periods.size(), std::vector<const StillRun*>(sensors.size(), nullptr));
   for (const StillRun& run : runs) {
     const double middle = 0.5 * (run.begin + run.end);
     for (std::size_t k = 0; k < periods.size(); ++k) {
       if (middle < periods[k].first || middle > periods[k].second) continue;
-      // One observation per sensor and period: its longest still run, points pooled.
-      if (run.end - run.begin <= best_duration[k][run.sensor]) break;
-      best_duration[k][run.sensor] = run.end - run.begin;
+      const StillRun*& longest = chosen[k][run.sensor];
+      if (!longest || run.end - run.begin > longest->end - longest->begin) longest = &run;
+      break;
+    }
+  }
+  // A slow sensor's run can take in a message on either side where the target was nearly still (at
+  // 3 Hz the next message comes 0.33 s into the move): each run keeps the messages within half its own
+  // period of the span the other sensors' runs agree on (the medians of their first and last stamps).
+  const std::vector<double> message_periods = medianPeriods(sensors.size(), observations);
+  std::vector<TargetObservation> associated;
+  for (std::size_t k = 0; k < periods.size(); ++k) {
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      const StillRun* run = chosen[k][s];
+      if (!run) continue;
+      std::vector<double> begins, ends;
+      for (std::size_t other = 0; other < sensors.size(); ++other) {
+        if (other == s || !chosen[k][other]) continue;
+        begins.push_back(chosen[k][other]->begin);
+        ends.push_back(chosen[k][other]->end);
+      }
+      double from = run->begin, to = run->end;
+      if (begins.size() >= 2) {
+        from = std::max(from, median(begins) - 0.5 * message_periods[s]);
+        to = std::min(to, median(ends) + 0.5 * message_periods[s]);
+      }
+      std::vector<const TimedObservation*> members;
+      for (const TimedObservation* member : run->members)
+        if (member->stamp >= from && member->stamp <= to) members.push_back(member);
+      if (members.empty()) members = run->members;  // the others disagree with it entirely: keep it whole
       TargetObservation observation;
-      observation.sensor = run.sensor;
+      observation.sensor = static_cast<int>(s);
       observation.target_pose = static_cast<int>(k);
-      observation.first_stamp = run.begin;
-      observation.last_stamp = run.end;
+      observation.first_stamp = members.front()->stamp;
+      observation.last_stamp = members.back()->stamp;
       // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
-      for (const TimedObservation* member : run.members) {
+      for (const TimedObservation* member : members) {
         observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());
         observation.outline.insert(observation.outline.end(), member->outline.begin(), member->outline.end());
         observation.plane_measurements.insert(observation.plane_measurements.end(), member->plane_measurements.begin(),
                                               member->plane_measurements.end());
       }
-      if (slot[k][run.sensor] >= 0) {
-        associated[slot[k][run.sensor]] = std::move(observation);
-      } else {
-        slot[k][run.sensor] = static_cast<int>(associated.size());
-        associated.push_back(std::move(observation));
-      }
-      break;
+      associated.push_back(std::move(observation));
     }
   }
   return associated;
