@@ -84,9 +84,10 @@ void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayR
       off_plane.push_back(a->agreement.plane_rms);
       if (a->agreement.on_board < worst->agreement.on_board) worst = a;
     }
-    std::printf("  %-12s %-12s %5.1f %% on the board (pose %d: %.1f %%), %5.1f mm off its plane, %zu poses\n",
+    std::printf("  %-12s %-12s %5.1f %% on the board (pose %d: %.1f %%%s), %5.1f mm off its plane, %zu poses\n",
                 rig.sensors[pair.first].spec.name.c_str(), rig.sensors[pair.second].spec.name.c_str(),
                 100 * vocal::median(on_board), worst->target_pose, 100 * worst->agreement.on_board,
+                worst->rejected ? ", rejected" : "",
                 1000 * vocal::median(off_plane), poses.size());
   }
 }

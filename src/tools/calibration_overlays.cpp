@@ -65,15 +65,16 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
       std::vector<Eigen::Vector3d> points;
       points.reserve(o.points.size());
       for (const Eigen::Vector3d& p : o.points) points.push_back(camera_from_sensor * p);
+      const bool was_rejected = rejected(result, o.sensor, o.target_pose);
       if (board.width > 0.0) {
         const OverlayAgreement agreement = overlayAgreement(points, board.camera_from_board, width, height);
-        report.agreement.push_back({view.target_pose, view.sensor, o.sensor, agreement});
+        report.agreement.push_back({view.target_pose, view.sensor, o.sensor, was_rejected, agreement});
         char text[96];
         std::snprintf(text, sizeof(text), ": %.0f%% on the board, %.1f mm off its plane", 100 * agreement.on_board,
                       1000 * agreement.plane_rms);
         layer.label += text;
       }
-      if (rejected(result, o.sensor, o.target_pose)) layer.label += " (rejected)";
+      if (was_rejected) layer.label += " (rejected)";
       const std::size_t stride = 1 + points.size() / kMaxDrawnPoints;
       for (std::size_t i = 0; i < points.size(); i += stride) layer.points.push_back(points[i]);
       layers.push_back(std::move(layer));

@@ -16,6 +16,7 @@ struct OverlayPoseAgreement {
   int target_pose = 0;
   int camera = 0;  // the sensor whose image it is
   int sensor = 0;  // the sensor whose points are drawn
+  bool rejected = false;  // its observation was rejected by the consensus filter
   OverlayAgreement agreement;
 };
 
