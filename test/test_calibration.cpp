@@ -666,6 +666,50 @@ TEST(StillTargetAssociation, AJitterySlowSensorKeepsOnlyItsStillMessages) {
   }
 }
 
+// A lidar that misses the board in every other message and takes the torso of the person holding it
+// (a smaller plane 10 cm behind and 40 cm above the board's centre): its stillness bound, a multiple
+// of its jitter, lets both into one still run; the messages whose centre is far from the run's
+// fullest view are left out, so the pooled points are the board's.
+TEST(StillTargetAssociation, MessagesOfSomethingElseInAStillRunAreLeftOut) {
+  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
+                                                {"camera0", vocal::SensorType::kRgbd, "camera0"},
+                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  const int poses = 6;
+  std::vector<vocal::TimedObservation> recorded;
+  for (int s = 0; s < 3; ++s) {
+    int message = 0;
+    for (double t = 0.02 * s; t < kPoseSeconds * poses; t += 1.0 / 3.0, ++message) {
+      const int k = static_cast<int>(t / kPoseSeconds);
+      const double into = t - k * kPoseSeconds;
+      const double moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const double distance = 2.0 + 0.5 * (k + moved);
+      const bool torso = s == 2 && message % 2 == 1;
+      vocal::TimedObservation o;
+      o.sensor = s;
+      o.stamp = t;
+      for (double x = -0.4; x <= 0.4; x += 0.1)
+        for (double y = -0.3; y <= 0.3; y += 0.1) {
+          if (!torso) o.points.emplace_back(x, y, distance);
+          else if (std::abs(x) < 0.2 && y < 0.0) o.points.emplace_back(x, y - 0.4, distance + 0.1);
+        }
+      recorded.push_back(std::move(o));
+    }
+  }
+  const auto offPlane = [&](const std::vector<vocal::TargetObservation>& associated) {
+    double worst = 0.0;
+    for (const vocal::TargetObservation& o : associated)
+      for (const Eigen::Vector3d& p : o.points) worst = std::max(worst, std::abs(p.z() - (2.0 + 0.5 * o.target_pose)));
+    return worst;
+  };
+  vocal::StillnessOptions options;
+  options.max_centre_spread = 0.3;  // half the 0.6 m board's smaller side, as CalibrationSession sets it
+  const std::vector<vocal::TargetObservation> associated = vocal::associateStillTarget(specs, recorded, options);
+  EXPECT_EQ(posesPerSensor(associated, specs.size())[2].size(), static_cast<std::size_t>(poses));
+  EXPECT_LT(offPlane(associated), 0.021);  // a message 0.04 s into a move, within half a period of the others
+  options.max_centre_spread = 0.0;
+  EXPECT_GT(offPlane(vocal::associateStillTarget(specs, recorded, options)), 0.09) << "the torso never joined a run";
+}
+
 // Slow (a triggered camera, a 3 Hz laser) and fast sensors: the gap a still run may bridge follows each
 // sensor's own period, so at 3, 10 and 30 Hz, and mixed, every sensor is associated with the same poses
 // (all 8 for the range sensors; the camera only where the whole pattern is in view).

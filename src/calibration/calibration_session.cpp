@@ -31,7 +31,9 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
       stillness_(stillness),
       counts_(rig_.sensors.size()),
       backgrounds_(rig_.sensors.size()),
-      lidar_spacing_(rig_.sensors.size()) {}
+      lidar_spacing_(rig_.sensors.size()) {
+  stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
+}
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
   for (std::size_t i = 0; i < rig_.sensors.size(); ++i)

@@ -70,6 +70,20 @@ std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sens
   return bounds;
 }
 
+// The members whose centroid lies within `spread` of the centroid of the member with the most points
+// (the fullest view of the board: a torso taken where the board was missed has fewer).
+std::vector<const TimedObservation*> membersNearTheFullestView(const std::vector<const TimedObservation*>& members,
+                                                               double spread) {
+  const TimedObservation* fullest = *std::max_element(members.begin(), members.end(), [](const auto* a, const auto* b) {
+    return a->points.size() < b->points.size();
+  });
+  const Eigen::Vector3d centre = centroidOf(fullest->points);
+  std::vector<const TimedObservation*> near;
+  for (const TimedObservation* member : members)
+    if ((centroidOf(member->points) - centre).norm() <= spread) near.push_back(member);
+  return near;
+}
+
 struct StillRun {
   int sensor;
   double begin, end;
@@ -194,6 +208,7 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       for (const TimedObservation* member : run->members)
         if (member->stamp >= from && member->stamp <= to) members.push_back(member);
       if (members.empty()) members = run->members;  // the others disagree with it entirely: keep it whole
+      if (options.max_centre_spread > 0.0) members = membersNearTheFullestView(members, options.max_centre_spread);
       TargetObservation observation;
       observation.sensor = static_cast<int>(s);
       observation.target_pose = static_cast<int>(k);

@@ -27,6 +27,11 @@ struct StillnessOptions {
   double max_gap = 0.3;        // seconds between consecutive observations of a run, at least ...
   double gap_periods = 2.5;    // ... and up to this many of the sensor's median message periods
   double min_duration = 0.4;   // seconds a run must last to count as still
+  // Metres: a still run's messages whose board centre lies farther than this from the centre of its
+  // fullest view (most points) saw something else (a range sensor that missed the board and took the
+  // person's torso) and are left out; CalibrationSession sets it to half the board's smaller side.
+  // 0: none left out.
+  double max_centre_spread = 0.0;
 };
 
 // One TargetObservation per sensor and still period (the points of its still run pooled), target_pose
