@@ -34,9 +34,11 @@ struct StillnessOptions {
   double max_centre_spread = 0.0;
 };
 
-// One TargetObservation per sensor and still period (the points of its still run pooled), target_pose
-// numbered by time. Observations in motion are dropped. Throws InputError naming the sensor for an
-// observation with a sensor index out of range.
+// One TargetObservation per sensor and still period (the points of its longest still run pooled),
+// target_pose numbered by time. Observations in motion are dropped, and so are a run's messages more
+// than half the sensor's period outside the span the other sensors' runs agree on, and those whose
+// centre is farther than max_centre_spread from the run's fullest view. Throws InputError naming the
+// sensor for an observation with a sensor index out of range.
 std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
                                                     std::vector<TimedObservation> observations,
                                                     const StillnessOptions& options = {});
