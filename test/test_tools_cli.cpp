@@ -391,10 +391,17 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --report --output-dir " + output);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("8 still target poses"), std::string::npos) << r.output;
-  // The report: no range message went without the target, and a residual per pose and sensor.
+  // The report: no range message went without the target, and a residual per pose and sensor, with
+  // when the pose was held still: the simulator holds pose k still 0.6 s from 1000 + k s.
   EXPECT_NE(r.output.find("  lidar0       none\n  laser0       none\n"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("pose          rgbd0       lidar0       laser0\n"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("\n7     "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pose   still (s, bag stamps)        rgbd0       lidar0       laser0\n"), std::string::npos) << r.output;
+  const std::size_t row = r.output.find("\n7      ");
+  ASSERT_NE(row, std::string::npos) << r.output;
+  double still_from = 0.0, still_to = 0.0;
+  ASSERT_EQ(std::sscanf(r.output.c_str() + row, " 7 %lf-%lf", &still_from, &still_to), 2) << r.output.substr(row, 80);
+  EXPECT_GE(still_from, 1007.0);
+  EXPECT_LE(still_to, 1007.6);
+  EXPECT_GT(still_to - still_from, 0.4);  // a still run lasts at least 0.4 s
   EXPECT_NE(r.output.find("wrote " + output + "/calibration.yaml"), std::string::npos) << r.output;
   // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
   expectCalibrationMatchesTheTruth(output + "/calibration.yaml", folder + "/ground_truth.yaml", 0.005, 0.005);

@@ -28,7 +28,8 @@ const char kUsage[] =
     "  --edges             hold the board's outline as well as its plane (range sensors' scan-line ends on its\n"
     "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
     "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
-    "                      refused the most board-like segment), and per still pose each sensor's residual\n"
+    "                      refused the most board-like segment), and per still pose when it was held still\n"
+    "                      (bag stamps) and each sensor's residual\n"
     "  --overlays          with --output-dir: per still pose and camera, DIR/overlay_poseNN_CAMERA.png, the\n"
     "                      camera's image with every other sensor's board points drawn where the result puts\n"
     "                      them beside the board the camera found, and how many land on it\n"
@@ -36,8 +37,8 @@ const char kUsage[] =
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
 // still pose's observations fit the result.
-void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSession& session, const vocal::CalibrationResult& result,
-                 int poses) {
+void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSession& session,
+                 const std::vector<vocal::TargetObservation>& associated, const vocal::CalibrationResult& result, int poses) {
   std::vector<std::map<std::string, int>> refused(rig.sensors.size());
   for (const vocal::RangeMessage& m : session.rangeMessages())
     if (m.chosen < 0) ++refused[m.sensor][m.check];
@@ -49,11 +50,20 @@ void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSessi
     for (const auto& [check, count] : refused[s]) std::printf("  %s: %d", check.c_str(), count);
     std::printf("\n");
   }
-  std::printf("residual (mm, rms point to plane) per still pose; R: rejected by the consensus filter, -: not seen\n%-6s", "pose");
+  // When each pose was held still (its sensors' runs, first to last message): where to look in the recording.
+  std::vector<std::pair<double, double>> still(poses, {1e300, -1e300});
+  for (const vocal::TargetObservation& o : associated) {
+    still[o.target_pose].first = std::min(still[o.target_pose].first, o.first_stamp);
+    still[o.target_pose].second = std::max(still[o.target_pose].second, o.last_stamp);
+  }
+  std::printf("residual (mm, rms point to plane) per still pose; R: rejected by the consensus filter, -: not seen\n%-6s %-21s",
+              "pose", "still (s, bag stamps)");
   for (const vocal::RigSensorDescription& d : rig.sensors) std::printf(" %12s", d.spec.name.c_str());
   std::printf("\n");
   for (int pose = 0; pose < poses; ++pose) {
-    std::printf("%-6d", pose);
+    char span[64];
+    std::snprintf(span, sizeof(span), "%.2f-%.2f", still[pose].first, still[pose].second);
+    std::printf("%-6d %-21s", pose, span);
     for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
       std::string cell = "-";
       for (const vocal::ObservationResidual& o : result.observations) {
@@ -136,7 +146,7 @@ int run(const vocal::CommandLine& args) {
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
   for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
   if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
-  if (args.has("report")) printReport(rig, session, result, poses);
+  if (args.has("report")) printReport(rig, session, associated, result, poses);
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
     const std::vector<vocal::SensorSpec> specs = rig.specs();
