@@ -32,7 +32,8 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
       counts_(rig_.sensors.size()),
       backgrounds_(rig_.sensors.size()),
       lidar_spacing_(rig_.sensors.size()) {
-  stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
+  // Not given: half the rig's board's smaller side.
+  if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
 }
 
 int CalibrationSession::sensorIndex(const std::string& name) const {

@@ -70,24 +70,23 @@ std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sens
   return bounds;
 }
 
-// The members whose centroid lies within `spread` of the centroid of the member with the most points
-// (the fullest view of the board: a torso taken where the board was missed has fewer).
-std::vector<const TimedObservation*> membersNearTheFullestView(const std::vector<const TimedObservation*>& members,
-                                                               double spread) {
-  const TimedObservation* fullest = *std::max_element(members.begin(), members.end(), [](const auto* a, const auto* b) {
-    return a->points.size() < b->points.size();
+// The members (indices into sorted) whose centroid lies within `spread` of the centroid of the member
+// with the most points (the fullest view of the board: a torso taken where the board was missed has fewer).
+std::vector<std::size_t> membersNearTheFullestView(const std::vector<std::size_t>& members, const std::vector<TimedObservation>& sorted,
+                                                   const std::vector<Shape>& shapes, double spread) {
+  const std::size_t fullest = *std::max_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+    return sorted[a].points.size() < sorted[b].points.size();
   });
-  const Eigen::Vector3d centre = centroidOf(fullest->points);
-  std::vector<const TimedObservation*> near;
-  for (const TimedObservation* member : members)
-    if ((centroidOf(member->points) - centre).norm() <= spread) near.push_back(member);
+  std::vector<std::size_t> near;
+  for (std::size_t member : members)
+    if ((shapes[member].centroid - shapes[fullest].centroid).norm() <= spread) near.push_back(member);
   return near;
 }
 
 struct StillRun {
   int sensor;
   double begin, end;
-  std::vector<const TimedObservation*> members;
+  std::vector<std::size_t> members;  // indices into the sorted observations
 };
 
 void checkSensorIndices(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations) {
@@ -121,25 +120,40 @@ double allowedGap(double median_period, const StillnessOptions& options) {
   return std::max(options.max_gap, options.gap_periods * median_period);
 }
 
+// What cutting runs takes from sorted observations, computed once (a plane fit per observation): each
+// observation's shape, each sensor's median message period and stillness bound.
+struct RunInputs {
+  std::vector<Shape> shapes;
+  std::vector<double> periods;
+  std::vector<Eigen::Vector2d> bounds;
+};
+
+RunInputs runInputsOf(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
+                      const StillnessOptions& options) {
+  RunInputs inputs;
+  inputs.shapes = shapesOf(sensors, sorted);
+  inputs.periods = medianPeriods(sensors.size(), sorted);
+  inputs.bounds = stillnessBounds(sensors, sorted, inputs.shapes, options);
+  return inputs;
+}
+
 // Every run of consecutive unmoved observations per sensor (short ones too), from sorted observations.
 std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& sorted,
-                              const StillnessOptions& options) {
-  const std::vector<double> periods = medianPeriods(sensors.size(), sorted);
-  const std::vector<Shape> shapes = shapesOf(sensors, sorted);
-  const std::vector<Eigen::Vector2d> bounds = stillnessBounds(sensors, sorted, shapes, options);
+                              const RunInputs& inputs, const StillnessOptions& options) {
   std::vector<StillRun> runs;
   for (std::size_t i = 0; i < sorted.size();) {
     const int sensor = sorted[i].sensor;
     const SensorType type = sensors[sensor].type;
-    const double gap = allowedGap(periods[sensor], options);
-    StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {&sorted[i]}};
+    const double gap = allowedGap(inputs.periods[sensor], options);
+    const Eigen::Vector2d& bound = inputs.bounds[sensor];
+    StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {i}};
     std::size_t j = i + 1;
     for (; j < sorted.size() && sorted[j].sensor == sensor; ++j) {
-      const Eigen::Vector2d moved = shapeDifference(shapes[i], shapes[j], type);
-      const bool continues = sorted[j].stamp - run.end <= gap && moved[0] < bounds[sensor][0] && moved[1] < bounds[sensor][1];
+      const Eigen::Vector2d moved = shapeDifference(inputs.shapes[i], inputs.shapes[j], type);
+      const bool continues = sorted[j].stamp - run.end <= gap && moved[0] < bound[0] && moved[1] < bound[1];
       if (!continues) break;
       run.end = sorted[j].stamp;
-      run.members.push_back(&sorted[j]);
+      run.members.push_back(j);
     }
     runs.push_back(std::move(run));
     i = j;
@@ -154,7 +168,8 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
   checkSensorIndices(sensors, observations);
   sortBySensorAndTime(&observations);
   // Still runs per sensor: those that lasted.
-  std::vector<StillRun> runs = cutRuns(sensors, observations, options);
+  const RunInputs inputs = runInputsOf(sensors, observations, options);
+  std::vector<StillRun> runs = cutRuns(sensors, observations, inputs, options);
   runs.erase(std::remove_if(runs.begin(), runs.end(),
                             [&](const StillRun& run) { return run.end - run.begin < options.min_duration; }),
              runs.end());
@@ -187,7 +202,6 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
   // A slow sensor's run can take in a message on either side where the target was nearly still (at
   // 3 Hz the next message comes 0.33 s into the move): each run keeps the messages within half its own
   // period of the span the other sensors' runs agree on (the medians of their first and last stamps).
-  const std::vector<double> message_periods = medianPeriods(sensors.size(), observations);
   std::vector<TargetObservation> associated;
   for (std::size_t k = 0; k < periods.size(); ++k) {
     for (std::size_t s = 0; s < sensors.size(); ++s) {
@@ -201,25 +215,28 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       }
       double from = run->begin, to = run->end;
       if (begins.size() >= 2) {
-        from = std::max(from, median(begins) - 0.5 * message_periods[s]);
-        to = std::min(to, median(ends) + 0.5 * message_periods[s]);
+        from = std::max(from, median(begins) - 0.5 * inputs.periods[s]);
+        to = std::min(to, median(ends) + 0.5 * inputs.periods[s]);
       }
-      std::vector<const TimedObservation*> members;
-      for (const TimedObservation* member : run->members)
-        if (member->stamp >= from && member->stamp <= to) members.push_back(member);
+      std::vector<std::size_t> members;
+      for (std::size_t member : run->members)
+        if (observations[member].stamp >= from && observations[member].stamp <= to) members.push_back(member);
       if (members.empty()) members = run->members;  // the others disagree with it entirely: keep it whole
-      if (options.max_centre_spread > 0.0) members = membersNearTheFullestView(members, options.max_centre_spread);
+      if (options.max_centre_spread > 0.0) {
+        members = membersNearTheFullestView(members, observations, inputs.shapes, options.max_centre_spread);
+      }
       TargetObservation observation;
       observation.sensor = static_cast<int>(s);
       observation.target_pose = static_cast<int>(k);
-      observation.first_stamp = members.front()->stamp;
-      observation.last_stamp = members.back()->stamp;
+      observation.first_stamp = observations[members.front()].stamp;
+      observation.last_stamp = observations[members.back()].stamp;
       // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
-      for (const TimedObservation* member : members) {
-        observation.points.insert(observation.points.end(), member->points.begin(), member->points.end());
-        observation.outline.insert(observation.outline.end(), member->outline.begin(), member->outline.end());
-        observation.plane_measurements.insert(observation.plane_measurements.end(), member->plane_measurements.begin(),
-                                              member->plane_measurements.end());
+      for (std::size_t i : members) {
+        const TimedObservation& member = observations[i];
+        observation.points.insert(observation.points.end(), member.points.begin(), member.points.end());
+        observation.outline.insert(observation.outline.end(), member.outline.begin(), member.outline.end());
+        observation.plane_measurements.insert(observation.plane_measurements.end(), member.plane_measurements.begin(),
+                                              member.plane_measurements.end());
       }
       associated.push_back(std::move(observation));
     }
@@ -244,11 +261,12 @@ std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
   // Only now the runs again (plane fits per observation), for the sensor that has none.
   std::vector<TimedObservation> sorted = observations;
   sortBySensorAndTime(&sorted);
-  const double period = medianPeriods(sensors.size(), sorted)[missing];
-  const Eigen::Vector2d bound = stillnessBounds(sensors, sorted, shapesOf(sensors, sorted), options)[missing];  // jitter included
+  const RunInputs inputs = runInputsOf(sensors, sorted, options);
+  const double period = inputs.periods[missing];
+  const Eigen::Vector2d& bound = inputs.bounds[missing];  // jitter included
   int kept = 0;
   double longest = 0.0;
-  for (const StillRun& run : cutRuns(sensors, sorted, options)) {
+  for (const StillRun& run : cutRuns(sensors, sorted, inputs, options)) {
     if (run.sensor != static_cast<int>(missing)) continue;
     longest = std::max(longest, run.end - run.begin);
     kept += run.end - run.begin >= options.min_duration;

@@ -29,8 +29,8 @@ struct StillnessOptions {
   double min_duration = 0.4;   // seconds a run must last to count as still
   // Metres: a still run's messages whose board centre lies farther than this from the centre of its
   // fullest view (most points) saw something else (a range sensor that missed the board and took the
-  // person's torso) and are left out; CalibrationSession sets it to half the board's smaller side.
-  // 0: none left out.
+  // person's torso) and are left out. 0: none left out (CalibrationSession, given 0, takes half its
+  // rig's board's smaller side).
   double max_centre_spread = 0.0;
 };
 
