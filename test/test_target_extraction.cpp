@@ -52,6 +52,7 @@ vocal::RigDescription describe(const std::vector<vocal::SimulatedSensor>& sensor
 
 struct FurnishedSessionOptions {
   int poses = 12;
+  double turn_range = -1.0;  // radians the board is turned left / right (simulateRig's; < 0: as far as it is tilted)
   bool person = true;
   double lidar_noise = 0.02, depth_noise = 0.004, laser_noise = 0.01;
   double ring_bias = 0.02;  // metres, each ring's bias uniform in +-this
@@ -68,6 +69,7 @@ std::vector<ExtractionCount> countExtraction(const std::vector<vocal::SimulatedS
   pose_options.seed = options.seed;
   pose_options.target_width = target.width;
   pose_options.target_height = target.height;
+  pose_options.turn_range = options.turn_range;
   const std::vector<Eigen::Isometry3d> poses = vocal::simulateRig({}, pose_options).reference_from_target;
   std::mt19937 rng(options.seed);
   std::uniform_real_distribution<double> bias(-options.ring_bias, options.ring_bias);
@@ -179,7 +181,6 @@ TEST(TargetExtraction, TakesTheBoardInAFurnishedRoomWithAPersonHoldingIt) {
   const vocal::TargetDescription target;
   vocal::CalibrationSession session(describe(sensors, target));
   const std::vector<ExtractionCount> counts = countExtraction(sensors, target, {}, &session);
-  int background_ahead = 0;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     const ExtractionCount& c = counts[s];
     std::printf("%-8s board in view in %d messages: taken in %d, missed %d; something else taken %d; %.2f %% of the points taken "
@@ -190,9 +191,7 @@ TEST(TargetExtraction, TakesTheBoardInAFurnishedRoomWithAPersonHoldingIt) {
     EXPECT_EQ(c.took_other, 0) << sensors[s].spec.name;
     for (const auto& [what, n] : c.other) ADD_FAILURE() << sensors[s].spec.name << " took the " << what << " " << n << " times";
     EXPECT_LT(c.foreign_points, 0.08 * c.taken_points) << sensors[s].spec.name;  // hands over the board's edges
-    background_ahead += c.background_ahead;
   }
-  EXPECT_GT(background_ahead, 0) << "the session never needed the stillness check";
 
   const vocal::CalibrationResult result = session.calibrate();
   for (std::size_t s = 1; s < sensors.size(); ++s) {
@@ -206,6 +205,75 @@ TEST(TargetExtraction, TakesTheBoardInAFurnishedRoomWithAPersonHoldingIt) {
     EXPECT_LT(translation, 0.02) << sensors[s].spec.name;
     EXPECT_LT(rotation, 0.015) << sensors[s].spec.name;
   }
+}
+
+// The session: a 0.85 x 0.61 m board at 20 poses tilted only up and down (turned 0.03 rad at
+// most), so the board often comes back near an earlier pose's place, with the person's arms and chest
+// in its plane now and then and the shelf behind partly hidden by them. The board is taken in 95 % of
+// the messages where it is in view, never anything else.
+TEST(TargetExtraction, TakesTheBoardTiltedOnlyUpAndDown) {
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 0);
+  vocal::TargetDescription target;
+  target.width = 0.85, target.height = 0.61, target.pattern = {5, 7, 0.095};
+  vocal::CalibrationSession session(describe(sensors, target));
+  FurnishedSessionOptions options;
+  options.poses = 20;
+  options.turn_range = 0.03;
+  const std::vector<ExtractionCount> counts = countExtraction(sensors, target, options, &session);
+  int background_ahead = 0;
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    const ExtractionCount& c = counts[s];
+    std::printf("%-8s board in view in %d messages: taken in %d, missed %d; something else taken %d; %.2f %% of the points taken "
+                "not on the board; %d background segments ranked ahead of the board passed over\n",
+                sensors[s].spec.name.c_str(), c.visible, c.took_board, c.missed, c.took_other,
+                100.0 * c.foreign_points / std::max<std::size_t>(c.taken_points, 1), c.background_ahead);
+    EXPECT_GE(c.took_board, 0.95 * c.visible) << sensors[s].spec.name;
+    EXPECT_EQ(c.took_other, 0) << sensors[s].spec.name;
+    for (const auto& [what, n] : c.other) ADD_FAILURE() << sensors[s].spec.name << " took the " << what << " " << n << " times";
+    EXPECT_LT(c.foreign_points, 0.08 * c.taken_points) << sensors[s].spec.name;
+    background_ahead += c.background_ahead;
+  }
+  EXPECT_GT(background_ahead, 0) << "the session never needed the stillness check";
+}
+
+// A board-sized segment of a larger surface with the rest in the plane of the board - the arms and
+// chest of the person holding it - is the board: the board-sized rectangle holding most of the
+// segment's points, without the outline (not the board's edge where the chest joins it).
+TEST(TargetExtraction, TakesTheBoardOutOfTheChestHoldingItInItsPlane) {
+  constexpr double kWidth = 0.85, kHeight = 0.61, kRange = 1.5, kStep = 0.01;
+  const auto grid = [&](double x0, double x1, double y0, double y1, std::vector<Eigen::Vector3d>* cloud) {
+    for (double x = x0; x < x1 - 1e-9; x += kStep)
+      for (double y = y0; y < y1 - 1e-9; y += kStep) cloud->emplace_back(x + 0.5 * kStep, y + 0.5 * kStep, kRange);
+  };
+  std::vector<Eigen::Vector3d> board;
+  grid(-0.5 * kWidth, 0.5 * kWidth, -0.5 * kHeight, 0.5 * kHeight, &board);
+  std::vector<Eigen::Vector3d> held = board;
+  grid(-0.25, 0.25, 0.5 * kHeight, 0.5 * kHeight + 0.4, &held);  // the chest below the board (y down), in its plane
+  const vocal::ScanSpacing spacing{kStep / kRange, kStep / kRange, vocal::ScanPattern::kPinhole};
+
+  const vocal::TargetSearch alone = vocal::findTargetInCloud(board, kWidth, kHeight, spacing);
+  ASSERT_EQ(alone.candidates.size(), 1u);
+  EXPECT_FALSE(alone.candidates[0].outline.empty());
+
+  const vocal::TargetSearch search = vocal::findTargetInCloud(held, kWidth, kHeight, spacing);
+  ASSERT_EQ(search.candidates.size(), 1u) << search.rejection;
+  const vocal::TargetCandidate& taken = search.candidates[0];
+  int on_board = 0;
+  for (const Eigen::Vector3d& p : taken.points) on_board += std::abs(p.x()) <= 0.5 * kWidth && std::abs(p.y()) <= 0.5 * kHeight + 0.02;
+  EXPECT_EQ(on_board, static_cast<int>(taken.points.size()));
+  EXPECT_GT(taken.points.size(), 0.9 * alone.candidates[0].points.size());
+  EXPECT_TRUE(taken.outline.empty());
+  EXPECT_LT(taken.mismatch, 0.5);
+
+  // Longer than the board's diagonal (+ slack): a piece of furniture, not cropped to a board although
+  // a board-sized rectangle would hold 70 % of it; kept as a surface for the background model.
+  std::vector<Eigen::Vector3d> shelf;
+  grid(-0.605, 0.605, -0.5 * kHeight, 0.5 * kHeight, &shelf);
+  const vocal::TargetSearch long_piece = vocal::findTargetInCloud(shelf, kWidth, kHeight, spacing);
+  EXPECT_TRUE(long_piece.candidates.empty());
+  EXPECT_EQ(long_piece.check, "larger than the board");
+  ASSERT_EQ(long_piece.surfaces.size(), 1u);
+  EXPECT_NEAR(std::max(long_piece.surfaces[0].half_along, long_piece.surfaces[0].half_across), 0.605, 0.01);
 }
 
 // A segment seen in the same place throughout the session is background however intermittently it
@@ -231,4 +299,60 @@ TEST(StaticBackground, RecurrenceCountsTheTenthsOfTheSessionASegmentAppearsIn) {
   EXPECT_LE(background.recurrence(panel(1.5, -0.2)), 0.3);
   // The same plane seen 5 cm further away is another segment.
   EXPECT_DOUBLE_EQ(background.recurrence(panel(3.05, 0.0)), 0.0);
+}
+
+// A board-sized piece of a larger surface (the rest hidden by someone in front of it now) is
+// background when the surface is seen whole, covering it, through most of the session.
+TEST(StaticBackground, APieceOfASurfaceSeenWholeMostOfTheTimeIsBackground) {
+  vocal::SurfacePatch shelf;
+  shelf.normal = Eigen::Vector3d::UnitX();
+  shelf.centre = Eigen::Vector3d(4.0, 0.0, 0.0);
+  shelf.along = Eigen::Vector3d::UnitY();
+  shelf.half_along = 0.6, shelf.half_across = 0.95;
+  vocal::StaticBackground::Summary piece;  // its lower left part
+  piece.normal = Eigen::Vector3d::UnitX();
+  piece.centre = Eigen::Vector3d(4.01, -0.4, -0.6);
+  piece.along = Eigen::Vector3d::UnitY();
+  vocal::StaticBackground with_surfaces, segments_only;
+  for (int message = 0; message < 100; ++message) {
+    const bool hidden = message % 10 < 3;  // the person stands in front of it
+    with_surfaces.addMessage({}, hidden ? std::vector<vocal::SurfacePatch>{} : std::vector<vocal::SurfacePatch>{shelf});
+    segments_only.addMessage({});
+  }
+  EXPECT_DOUBLE_EQ(with_surfaces.recurrence(piece), 1.0);
+  EXPECT_DOUBLE_EQ(segments_only.recurrence(piece), 0.0);
+  // Beside the shelf or in front of it (5 cm nearer) is not on it.
+  vocal::StaticBackground::Summary beside = piece, in_front = piece;
+  beside.centre.y() = -0.8;
+  in_front.centre.x() = 3.95;
+  EXPECT_DOUBLE_EQ(with_surfaces.recurrence(beside), 0.0);
+  EXPECT_DOUBLE_EQ(with_surfaces.recurrence(in_front), 0.0);
+}
+
+// The board carried through a place is seen there in a message or a few of a tenth: not background,
+// unlike what is seen in a good share of every tenth's messages.
+TEST(StaticBackground, PassingThroughAPlaceNowAndThenIsNotBackground) {
+  vocal::StaticBackground::Summary place;
+  place.normal = Eigen::Vector3d::UnitX();
+  place.centre = Eigen::Vector3d(2.0, 0.0, 0.0);
+  vocal::StaticBackground background;
+  for (int message = 0; message < 500; ++message) {
+    std::vector<vocal::StaticBackground::Summary> segments;
+    if (message % 50 >= 7 && message % 50 < 10) segments.push_back(place);  // three messages in each tenth of 50
+    background.addMessage(segments);
+  }
+  EXPECT_DOUBLE_EQ(background.recurrence(place), 0.0);
+  vocal::StaticBackground::Options every_message;
+  every_message.part_share = 0.0;
+  vocal::StaticBackground counting_any(every_message);
+  for (int message = 0; message < 500; ++message) {
+    counting_any.addMessage(message % 50 == 7 ? std::vector<vocal::StaticBackground::Summary>{place} : std::vector<vocal::StaticBackground::Summary>{});
+  }
+  // In a short session (five messages a tenth) one message of each tenth is a share enough.
+  vocal::StaticBackground short_session;
+  for (int message = 0; message < 50; ++message) {
+    short_session.addMessage(message % 5 == 2 ? std::vector<vocal::StaticBackground::Summary>{place} : std::vector<vocal::StaticBackground::Summary>{});
+  }
+  EXPECT_DOUBLE_EQ(short_session.recurrence(place), 1.0);
+  EXPECT_DOUBLE_EQ(counting_any.recurrence(place), 1.0);
 }

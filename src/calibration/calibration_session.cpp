@@ -12,6 +12,8 @@ namespace vocal {
 namespace {
 // A segment is background when it recurs in this share of the session's tenths: the board held at one
 // pose stays in the one or two its pose lasted (four with three poses, the fewest that calibrate).
+// (Seen again after a tenth without it is not enough: a board tilted only up and down comes back to
+// within a few centimetres and degrees of an earlier pose's plane now and then.)
 constexpr double kBackgroundRecurrence = 0.5;
 
 // The median angle between neighbouring returns of a scan given in beam order.
@@ -78,7 +80,7 @@ bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch sear
   ++counts_[sensor].received;
   std::vector<StaticBackground::Summary> summaries;
   for (const TargetCandidate& c : search.candidates) summaries.push_back(StaticBackground::summarise(c.points));
-  backgrounds_[sensor].addMessage(summaries);
+  backgrounds_[sensor].addMessage(summaries, search.surfaces);
   candidate_summaries_.push_back(std::move(summaries));
   chosen_.clear();
   const bool found = !search.candidates.empty();

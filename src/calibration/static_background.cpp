@@ -16,7 +16,11 @@ StaticBackground::Summary StaticBackground::summarise(const std::vector<Eigen::V
   const bool line = std::all_of(points.begin(), points.end(), [](const Eigen::Vector3d& p) { return p.z() == 0.0; });
   const Eigen::Vector3d normal =
       line ? principal.axes.col(0).cross(Eigen::Vector3d::UnitZ()).normalized() : Eigen::Vector3d(principal.axes.col(2));
-  return {normal, principal.centroid};
+  Summary summary;
+  summary.normal = normal;
+  summary.centre = principal.centroid;
+  summary.along = normal.unitOrthogonal();
+  return summary;
 }
 
 std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
@@ -28,31 +32,46 @@ std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
   return key;
 }
 
-void StaticBackground::addMessage(const std::vector<Summary>& segments) {
+void StaticBackground::addMessage(const std::vector<Summary>& segments, const std::vector<SurfacePatch>& surfaces) {
   for (const Summary& segment : segments) cells_[cellOf(segment.centre)].push_back({segment, messages_});
+  for (const SurfacePatch& surface : surfaces) surfaces_.push_back({surface, messages_});
   ++messages_;
 }
 
-double StaticBackground::recurrence(const Summary& query) const {
-  if (messages_ == 0) return 0.0;
-  const double cos_angle = std::cos(options_.angle);
-  constexpr int kParts = 10;
-  std::unordered_set<int> parts;
+bool StaticBackground::covers(const SurfacePatch& seen, const Summary& query) const {
+  return std::abs(seen.normal.dot(query.normal)) >= std::cos(options_.angle) &&
+         std::abs(seen.normal.dot(query.centre - seen.centre)) <= options_.offset && seen.inPlaneDistanceTo(query.centre) <= options_.centre;
+}
+
+std::vector<bool> StaticBackground::partsWith(const Summary& query) const {
+  const int parts = std::min(10, messages_);
+  const auto part_of = [&](int message) { return message * parts / messages_; };
+  std::unordered_set<int> matching;  // messages with a segment matching the query
   const Eigen::Vector3d cell = (query.centre / options_.centre).array().floor();
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz) {
         const auto found = cells_.find(cellOf((cell + Eigen::Vector3d(dx + 0.5, dy + 0.5, dz + 0.5)) * options_.centre));
         if (found == cells_.end()) continue;
-        for (const Seen& seen : found->second) {
-          const Summary& s = seen.segment;
-          if (std::abs(s.normal.dot(query.normal)) >= cos_angle && std::abs(query.normal.dot(s.centre - query.centre)) <= options_.offset &&
-              (s.centre - query.centre).norm() <= options_.centre) {
-            parts.insert(seen.message * kParts / messages_);
-          }
-        }
+        for (const Seen& seen : found->second)
+          if (covers(seen.segment, query)) matching.insert(seen.message);
       }
-  return static_cast<double>(parts.size()) / std::min(kParts, messages_);
+  for (const Seen& seen : surfaces_)
+    if (covers(seen.segment, query)) matching.insert(seen.message);
+  std::vector<int> part_messages(parts, 0), part_matches(parts, 0);
+  for (int message = 0; message < messages_; ++message) ++part_messages[part_of(message)];
+  for (int message : matching) ++part_matches[part_of(message)];
+  std::vector<bool> seen(parts);
+  for (int p = 0; p < parts; ++p) {
+    seen[p] = part_matches[p] > 0 && part_matches[p] >= options_.part_share * part_messages[p];
+  }
+  return seen;
+}
+
+double StaticBackground::recurrence(const Summary& query) const {
+  if (messages_ == 0) return 0.0;
+  const std::vector<bool> parts = partsWith(query);
+  return static_cast<double>(std::count(parts.begin(), parts.end(), true)) / parts.size();
 }
 
 }  // namespace vocal

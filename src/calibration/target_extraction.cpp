@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -136,6 +137,7 @@ struct Shape {
   double area = 0.0, range = 0.0, facing = 1.0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), centre = Eigen::Vector3d::Zero();
   std::vector<double> inset;  // per point: its distance inside the minimum-area rectangle's nearest side
+  SurfacePatch patch;         // the plane and its minimum-area rectangle
 
   bool inPlaneOf(const Shape& other, double max_angle, double max_offset) const {
     return std::abs(normal.dot(other.normal)) >= std::cos(max_angle) && std::abs(other.normal.dot(centre - other.centre)) <= max_offset;
@@ -173,6 +175,11 @@ Shape shapeOf(const Cloud& cloud, const Indices& indices) {
   shape.facing = std::max(0.05, std::abs(eigen.eigenvectors().col(0).dot(mean.normalized())));
   shape.normal = eigen.eigenvectors().col(0);
   shape.centre = mean;
+  shape.patch.normal = shape.normal;
+  shape.patch.centre = mean + rectangle.center.x * eigen.eigenvectors().col(2) + rectangle.center.y * eigen.eigenvectors().col(1);
+  shape.patch.along = c * eigen.eigenvectors().col(2) + s * eigen.eigenvectors().col(1);
+  shape.patch.half_along = 0.5 * rectangle.size.width;
+  shape.patch.half_across = 0.5 * rectangle.size.height;
   return shape;
 }
 
@@ -210,6 +217,54 @@ TargetSearch finished(TargetSearch search, const char* nothing) {
     search.rejection = nothing, search.check = "no segment";
   }
   return search;
+}
+
+// The points of `piece` inside the width x height rectangle, at any angle and place in the piece's
+// plane, that holds the most of them (2 cm steps in place, 3 degrees in angle).
+Indices boardRectangleIn(const Cloud& cloud, const Indices& piece, const SurfacePatch& plane, double width, double height) {
+  const Eigen::Vector3d u = plane.along, v = plane.normal.cross(plane.along);
+  std::vector<Eigen::Vector2d> in_plane;
+  for (int i : piece) {
+    const Eigen::Vector3d d = cloud[i].getVector3fMap().cast<double>() - plane.centre;
+    in_plane.emplace_back(u.dot(d), v.dot(d));
+  }
+  constexpr double kCell = 0.02;
+  constexpr int kAngles = 60;
+  const int window_x = static_cast<int>(std::lround(width / kCell)), window_y = static_cast<int>(std::lround(height / kCell));
+  int best = -1;
+  double best_angle = 0.0;
+  Eigen::Vector2d best_corner = Eigen::Vector2d::Zero();
+  for (int step = 0; step < kAngles; ++step) {
+    const double angle = step * M_PI / kAngles;
+    const Eigen::Rotation2Dd rotation(-angle);
+    std::vector<Eigen::Vector2d> turned;
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    for (const Eigen::Vector2d& p : in_plane) turned.push_back(rotation * p), low = low.cwiseMin(turned.back());
+    // Points per cell, then per window from a summed-area table.
+    int cells_x = 1, cells_y = 1;
+    for (const Eigen::Vector2d& p : turned) {
+      cells_x = std::max(cells_x, static_cast<int>((p.x() - low.x()) / kCell) + 1);
+      cells_y = std::max(cells_y, static_cast<int>((p.y() - low.y()) / kCell) + 1);
+    }
+    std::vector<int> table((cells_x + 1) * (cells_y + 1), 0);
+    const auto at = [&](int x, int y) -> int& { return table[y * (cells_x + 1) + x]; };
+    for (const Eigen::Vector2d& p : turned) ++at(static_cast<int>((p.x() - low.x()) / kCell) + 1, static_cast<int>((p.y() - low.y()) / kCell) + 1);
+    for (int y = 1; y <= cells_y; ++y)
+      for (int x = 1; x <= cells_x; ++x) at(x, y) += at(x - 1, y) + at(x, y - 1) - at(x - 1, y - 1);
+    for (int y0 = 0; y0 <= std::max(0, cells_y - window_y); ++y0)
+      for (int x0 = 0; x0 <= std::max(0, cells_x - window_x); ++x0) {
+        const int x1 = std::min(cells_x, x0 + window_x), y1 = std::min(cells_y, y0 + window_y);
+        const int count = at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
+        if (count > best) best = count, best_angle = angle, best_corner = low + kCell * Eigen::Vector2d(x0, y0);
+      }
+  }
+  const Eigen::Rotation2Dd rotation(-best_angle);
+  Indices inside;
+  for (std::size_t k = 0; k < piece.size(); ++k) {
+    const Eigen::Vector2d p = rotation * in_plane[k] - best_corner;
+    if (p.x() >= 0.0 && p.x() <= width && p.y() >= 0.0 && p.y() <= height) inside.push_back(piece[k]);
+  }
+  return inside;
 }
 
 void keepBestRejection(double mismatch, const char* check, const std::string& why, double* best, TargetSearch* search) {
@@ -256,6 +311,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       if (!far_longer && shape.area <= 2.0 * board_area) continue;
       room.insert(room.end(), piece.begin(), piece.end());
       room_planes.push_back(shape);
+      search.surfaces.push_back(shape.patch);
     }
     unexplained = without(unexplained, inliers);
     if (!room.empty()) remaining = without(remaining, room);
@@ -263,6 +319,67 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
 
   // Objects left (the board with whoever holds it, furniture): planes in each, each plane's pieces checked.
   double best_rejected = std::numeric_limits<double>::infinity();
+  // One plane's piece checked against the board; a piece somewhat larger than the board but no longer
+  // than its diagonal (the board with the arms or chest holding it in its plane; not a long piece of
+  // furniture) is looked at again as the board-sized rectangle holding most of its points. Its outline
+  // is then not the board's all round, so it gives none.
+  const std::function<void(const Indices&, double, bool)> examine_piece = [&](const Indices& piece, double penalty, bool cropped) {
+    const Shape shape = shapeOf(*cloud, piece);
+    const double expected = expectedReturns(board_area, shape, spacing);
+    const double mismatch = penalty + std::abs(std::log(std::max(shape.area, 1e-6) / board_area)) +
+                            std::abs(std::log(std::max(shape.size[0], 1e-3) / longest)) +
+                            std::abs(std::log(std::max(shape.size[1], 1e-3) / shortest)) +
+                            std::abs(std::log(static_cast<double>(piece.size()) / std::max(expected, 1.0)));
+    const double expected_here = expectedReturns(shape.area, shape, spacing);
+    std::string why;
+    const char* check = "";
+    const auto room_plane = std::find_if(room_planes.begin(), room_planes.end(), [&](const Shape& room) {
+      return shape.inPlaneOf(room, 5.0 * M_PI / 180.0, options.room_threshold);
+    });
+    if (room_plane != room_planes.end()) {
+      check = "floor or wall";
+      why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0], shape.size[1],
+                   room_plane->size[0], room_plane->size[1]);
+    } else if (larger_than_board(shape) || shape.area > options.max_area_fraction * board_area) {
+      if (!cropped && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
+        const Indices board = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
+        if (board.size() >= options.min_held_share * piece.size() && static_cast<int>(board.size()) >= options.min_points) {
+          const std::size_t before = search.candidates.size();
+          examine_piece(board, std::log(static_cast<double>(piece.size()) / board.size()), true);
+          if (search.candidates.size() > before) return;
+        }
+      }
+      search.surfaces.push_back(shape.patch);
+      check = "larger than the board";
+      why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
+    } else if (shape.area < options.min_area_fraction * board_area) {
+      check = "smaller than the board";
+      why = format("a %.2f x %.2f m segment (%.3f m^2) is under %.2f of the board's area", shape.size[0], shape.size[1], shape.area,
+                   options.min_area_fraction);
+    } else if (piece.size() < options.min_density_fraction * expected_here) {
+      check = "too few points";
+      why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
+    } else if (piece.size() > options.max_count_fraction * expected) {
+      check = "too many points";
+      why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
+    }
+    if (!why.empty()) {
+      if (!cropped) keepBestRejection(mismatch, check, why, &best_rejected, &search);
+      return;
+    }
+    // The plane's points without a margin along the outline, where hands hold the board and a
+    // beam's footprint mixes it with what is behind.
+    std::vector<Eigen::Vector3d> whole;
+    for (int i : piece) whole.push_back(cloud->at(i).getVector3fMap().cast<double>());
+    TargetCandidate candidate;
+    for (std::size_t k = 0; k < piece.size(); ++k)
+      if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(whole[k]);
+    if (!cropped) candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
+    if (static_cast<int>(candidate.points.size()) < options.min_points) candidate.points = std::move(whole);
+    candidate.mismatch = mismatch;
+    search.candidates.push_back(std::move(candidate));
+  };
+  const auto examine = [&](const Indices& piece) { examine_piece(piece, 0.0, false); };
   for (const Indices& object : coarseClustersOf(cloud, remaining, room_gap, options.min_points)) {
     Indices left = object;
     for (int plane = 0; plane < options.max_planes_per_object && static_cast<int>(left.size()) >= options.min_points; ++plane) {
@@ -275,51 +392,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       const double gap = std::clamp(2.0 * widest_gap * farthest, 0.04, 0.3);
       for (const Indices& found : clustersOf(cloud, inliers, gap, options.min_points)) {
         const Indices piece = trimmedToPlane(*cloud, found, shapeOf(*cloud, found));
-        if (static_cast<int>(piece.size()) < options.min_points) continue;
-        const Shape shape = shapeOf(*cloud, piece);
-        const double mismatch = std::abs(std::log(std::max(shape.area, 1e-6) / board_area)) +
-                                std::abs(std::log(std::max(shape.size[0], 1e-3) / longest)) +
-                                std::abs(std::log(std::max(shape.size[1], 1e-3) / shortest));
-        const double expected = expectedReturns(board_area, shape, spacing);
-        const double expected_here = expectedReturns(shape.area, shape, spacing);
-        std::string why;
-        const char* check = "";
-        const auto room_plane = std::find_if(room_planes.begin(), room_planes.end(), [&](const Shape& room) {
-          return shape.inPlaneOf(room, 5.0 * M_PI / 180.0, options.room_threshold);
-        });
-        if (room_plane != room_planes.end()) {
-          check = "floor or wall";
-          why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0], shape.size[1],
-                       room_plane->size[0], room_plane->size[1]);
-        } else if (larger_than_board(shape) || shape.area > options.max_area_fraction * board_area) {
-          check = "larger than the board";
-          why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
-        } else if (shape.area < options.min_area_fraction * board_area) {
-          check = "smaller than the board";
-          why = format("a %.2f x %.2f m segment (%.3f m^2) is under %.2f of the board's area", shape.size[0], shape.size[1], shape.area,
-                       options.min_area_fraction);
-        } else if (piece.size() < options.min_density_fraction * expected_here) {
-          check = "too few points";
-          why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
-        } else if (piece.size() > options.max_count_fraction * expected) {
-          check = "too many points";
-          why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
-        }
-        if (!why.empty()) {
-          keepBestRejection(mismatch, check, why, &best_rejected, &search);
-          continue;
-        }
-        // The plane's points without a margin along the outline, where hands hold the board and a
-        // beam's footprint mixes it with what is behind.
-        std::vector<Eigen::Vector3d> whole;
-        for (int i : piece) whole.push_back(cloud->at(i).getVector3fMap().cast<double>());
-        TargetCandidate candidate;
-        for (std::size_t k = 0; k < piece.size(); ++k)
-          if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(whole[k]);
-        candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
-        if (static_cast<int>(candidate.points.size()) < options.min_points) candidate.points = std::move(whole);
-        candidate.mismatch = mismatch;
-        search.candidates.push_back(std::move(candidate));
+        if (static_cast<int>(piece.size()) >= options.min_points) examine(piece);
       }
     }
   }
@@ -374,8 +447,16 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
   // A run longer than the board is a wall's; shorter runs on its line are pieces of that wall between
   // things in front of it.
   std::vector<const Run*> walls;
-  for (const Run& run : runs)
-    if (run.length() > diagonal + options.size_slack) walls.push_back(&run);
+  for (const Run& run : runs) {
+    if (run.length() <= diagonal + options.size_slack) continue;
+    walls.push_back(&run);
+    SurfacePatch wall;
+    wall.along = (run.last - run.first).normalized();
+    wall.normal = Eigen::Vector3d(-wall.along.y(), wall.along.x(), 0.0);
+    wall.centre = 0.5 * (run.first + run.last);
+    wall.half_along = 0.5 * run.length();
+    search.surfaces.push_back(wall);
+  }
   const auto on_wall = [&](const Run& run) {
     return std::any_of(walls.begin(), walls.end(), [&](const Run* wall) {
       const Eigen::Vector3d along = (wall->last - wall->first).normalized();

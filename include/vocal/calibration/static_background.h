@@ -4,7 +4,9 @@
 // message's board-shaped segments are kept as planes with a centre; a segment whose plane and centre
 // recur throughout the session (in most tenths of the sensor's messages, however intermittently: a
 // person walks in front of it, its outline changes) is background, while the board at one pose stays
-// within the tenths its pose lasted. (Occupied voxels do not tell them apart: the board's poses
+// within the tenths its pose lasted. A board-sized part of a larger surface (a shelf's front, the
+// rest hidden by the person standing in front of it) is background too when that surface, seen whole
+// as it is most of the time, covers it. (Occupied voxels do not tell them apart: the board's poses
 // overlap in space, so its voxels are occupied about as often as a cabinet's.)
 
 #include <cstdint>
@@ -12,6 +14,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "vocal/calibration/surface_patch.h"
 
 namespace vocal {
 
@@ -21,34 +25,42 @@ class StaticBackground {
     double angle = 3.0 * M_PI / 180.0;  // normals this close ...
     double offset = 0.03;               // ... planes this close along the normal ...
     double centre = 0.15;               // ... and centres this close are the same segment
+    // A tenth counts when the segment is in this share of its messages (and one at least): the board
+    // passes through a place in a message or a few while it is carried, whereas background is seen
+    // whenever nothing stands in front of it.
+    double part_share = 0.1;
   };
   StaticBackground() = default;
   explicit StaticBackground(const Options& options) : options_(options) {}
 
-  // Where a segment lies: its plane's normal and its centre (a 2D scan's segment, in its plane z = 0:
-  // the in-plane perpendicular of its line).
-  struct Summary {
-    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), centre = Eigen::Vector3d::Zero();
-  };
+  // Where a board-shaped segment lies: its plane's normal and its centre (a 2D scan's segment, in its
+  // plane z = 0: the in-plane perpendicular of its line), no extent.
+  using Summary = SurfacePatch;
   static Summary summarise(const std::vector<Eigen::Vector3d>& points);
 
-  // One message's board-shaped segments (sensor frame).
-  void addMessage(const std::vector<Summary>& segments);
-  // The share of the session's tenths (by message count so far) with a segment matching this one
-  // (0 before any message).
+  // One message's board-shaped segments and the surfaces larger than the board it saw (sensor frame).
+  void addMessage(const std::vector<Summary>& segments, const std::vector<SurfacePatch>& surfaces = {});
+  // The share of the session's tenths (by message count so far; each message its own part in a
+  // session of fewer than ten) with a segment matching this one, or a surface covering it, in
+  // part_share of their messages (0 before any message).
   double recurrence(const Summary& segment) const;
   int messages() const { return messages_; }
 
  private:
   struct Seen {
-    Summary segment;
+    SurfacePatch segment;
     int message;
   };
   std::uint64_t cellOf(const Eigen::Vector3d& centre) const;
+  // Whether `query`'s centre lies on `seen`: its plane, within its rectangle (+ options_.centre).
+  bool covers(const SurfacePatch& seen, const Summary& query) const;
+  // Per tenth of the session: whether `query` was seen in part_share of its messages.
+  std::vector<bool> partsWith(const Summary& query) const;
 
   Options options_;
   int messages_ = 0;
-  std::unordered_map<std::uint64_t, std::vector<Seen>> cells_;  // by centre, cells of options_.centre
+  std::unordered_map<std::uint64_t, std::vector<Seen>> cells_;  // segments by centre, cells of options_.centre
+  std::vector<Seen> surfaces_;  // few per message, each reaching over many cells
 };
 
 }  // namespace vocal

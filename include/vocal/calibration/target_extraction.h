@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "vocal/calibration/surface_patch.h"
+
 namespace vocal {
 
 // An axis-aligned box in the sensor's frame: only points inside are searched (the rig YAML's
@@ -43,6 +45,11 @@ struct TargetExtractionOptions {
   double size_slack = 0.15;         // metres a segment's sides may exceed the board's by
   double min_area_fraction = 0.25;  // of the board's area: a partly seen board still counts
   double max_area_fraction = 1.35;
+  // A segment up to this much of the board's area (and no longer than its diagonal + size_slack) may be
+  // the board with the arms or chest that hold it in its plane: the board-sized rectangle holding the
+  // most of its points is the board when it holds this share of them.
+  double max_held_area_fraction = 2.0;
+  double min_held_share = 0.7;
   double min_density_fraction = 0.35;  // of the points the spacing predicts on the segment's own area
   double max_count_fraction = 2.5;     // of the points it predicts on the whole board
   double edge_margin = 0.04;  // metres along the segment's outline left out of the points it gives (hands, mixed pixels)
@@ -61,6 +68,9 @@ struct TargetSearch {
   std::string rejection;  // when there are none: why the most board-like segment was not taken
   std::string check;      // ... which check refused it: crop box, no segment, floor or wall, larger than the board,
                           // smaller than the board, too few points, too many points
+  // Planes larger than the board (floor, walls, large furniture; a 2D scan's long runs): most of the
+  // time they cover what becomes a board-sized segment once someone stands in front of them.
+  std::vector<SurfacePatch> surfaces;
 };
 
 // The board's candidates in a 3D cloud (lidar or depth, sensor frame): points outside the crop box
