@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 #include <Eigen/Geometry>
 
@@ -34,7 +33,22 @@ std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
 
 void StaticBackground::addMessage(const std::vector<Summary>& segments, const std::vector<SurfacePatch>& surfaces) {
   for (const Summary& segment : segments) cells_[cellOf(segment.centre)].push_back({segment, messages_});
-  for (const SurfacePatch& surface : surfaces) surfaces_.push_back({surface, messages_});
+  for (const SurfacePatch& surface : surfaces) {
+    // The same rectangle (its longer side's direction and length, its shorter side, its centre and
+    // plane) as one seen before: another message of that surface.
+    const auto longer = [](const SurfacePatch& p) { return p.half_along >= p.half_across ? p.along : Eigen::Vector3d(p.normal.cross(p.along)); };
+    const auto sides = [](const SurfacePatch& p) { return Eigen::Vector2d(std::max(p.half_along, p.half_across), std::min(p.half_along, p.half_across)); };
+    const auto same = std::find_if(surfaces_.begin(), surfaces_.end(), [&](const SeenSurface& seen) {
+      return covers(seen.patch, surface) && (seen.patch.centre - surface.centre).norm() <= 0.5 * options_.centre &&
+             (sides(seen.patch) - sides(surface)).cwiseAbs().maxCoeff() <= 0.5 * options_.centre &&
+             std::abs(longer(seen.patch).dot(longer(surface))) >= std::cos(options_.angle);
+    });
+    if (same == surfaces_.end()) {
+      surfaces_.push_back({surface, {messages_}});
+    } else if (same->messages.back() != messages_) {
+      same->messages.push_back(messages_);
+    }
+  }
   ++messages_;
 }
 
@@ -46,7 +60,13 @@ bool StaticBackground::covers(const SurfacePatch& seen, const Summary& query) co
 std::vector<bool> StaticBackground::partsWith(const Summary& query) const {
   const int parts = std::min(10, messages_);
   const auto part_of = [&](int message) { return message * parts / messages_; };
-  std::unordered_set<int> matching;  // messages with a segment matching the query
+  // Messages m of part p: m * parts / messages_ == p, i.e. from ceil(p * messages_ / parts) on.
+  const auto first_of = [&](int part) { return (part * messages_ + parts - 1) / parts; };
+  std::vector<char> counted(messages_, 0);
+  std::vector<int> part_matches(parts, 0);
+  const auto count = [&](int message) {
+    if (!counted[message]) counted[message] = 1, ++part_matches[part_of(message)];
+  };
   const Eigen::Vector3d cell = (query.centre / options_.centre).array().floor();
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
@@ -54,16 +74,14 @@ std::vector<bool> StaticBackground::partsWith(const Summary& query) const {
         const auto found = cells_.find(cellOf((cell + Eigen::Vector3d(dx + 0.5, dy + 0.5, dz + 0.5)) * options_.centre));
         if (found == cells_.end()) continue;
         for (const Seen& seen : found->second)
-          if (covers(seen.segment, query)) matching.insert(seen.message);
+          if (covers(seen.segment, query)) count(seen.message);
       }
-  for (const Seen& seen : surfaces_)
-    if (covers(seen.segment, query)) matching.insert(seen.message);
-  std::vector<int> part_messages(parts, 0), part_matches(parts, 0);
-  for (int message = 0; message < messages_; ++message) ++part_messages[part_of(message)];
-  for (int message : matching) ++part_matches[part_of(message)];
+  for (const SeenSurface& surface : surfaces_)
+    if (covers(surface.patch, query))
+      for (int message : surface.messages) count(message);
   std::vector<bool> seen(parts);
   for (int p = 0; p < parts; ++p) {
-    seen[p] = part_matches[p] > 0 && part_matches[p] >= options_.part_share * part_messages[p];
+    seen[p] = part_matches[p] > 0 && part_matches[p] >= options_.part_share * (first_of(p + 1) - first_of(p));
   }
   return seen;
 }

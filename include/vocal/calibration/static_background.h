@@ -51,6 +51,12 @@ class StaticBackground {
     SurfacePatch segment;
     int message;
   };
+  // A surface larger than the board and the messages it was seen in: a wall seen in every message is
+  // kept once, so a query looks at each surface once however long the session.
+  struct SeenSurface {
+    SurfacePatch patch;
+    std::vector<int> messages;
+  };
   std::uint64_t cellOf(const Eigen::Vector3d& centre) const;
   // Whether `query`'s centre lies on `seen`: its plane, within its rectangle (+ options_.centre).
   bool covers(const SurfacePatch& seen, const Summary& query) const;
@@ -60,7 +66,7 @@ class StaticBackground {
   Options options_;
   int messages_ = 0;
   std::unordered_map<std::uint64_t, std::vector<Seen>> cells_;  // segments by centre, cells of options_.centre
-  std::vector<Seen> surfaces_;  // few per message, each reaching over many cells
+  std::vector<SeenSurface> surfaces_;  // each reaching over many cells
 };
 
 }  // namespace vocal
