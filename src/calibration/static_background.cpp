@@ -33,11 +33,11 @@ std::uint64_t StaticBackground::cellOf(const Eigen::Vector3d& centre) const {
 
 void StaticBackground::addMessage(const std::vector<Summary>& segments, const std::vector<SurfacePatch>& surfaces) {
   for (const Summary& segment : segments) cells_[cellOf(segment.centre)].push_back({segment, messages_});
+  // The same rectangle (its longer side's direction and length, its shorter side, its centre and plane)
+  // as one seen before: another message of that surface.
+  const auto longer = [](const SurfacePatch& p) { return p.half_along >= p.half_across ? p.along : Eigen::Vector3d(p.normal.cross(p.along)); };
+  const auto sides = [](const SurfacePatch& p) { return Eigen::Vector2d(std::max(p.half_along, p.half_across), std::min(p.half_along, p.half_across)); };
   for (const SurfacePatch& surface : surfaces) {
-    // The same rectangle (its longer side's direction and length, its shorter side, its centre and
-    // plane) as one seen before: another message of that surface.
-    const auto longer = [](const SurfacePatch& p) { return p.half_along >= p.half_across ? p.along : Eigen::Vector3d(p.normal.cross(p.along)); };
-    const auto sides = [](const SurfacePatch& p) { return Eigen::Vector2d(std::max(p.half_along, p.half_across), std::min(p.half_along, p.half_across)); };
     const auto same = std::find_if(surfaces_.begin(), surfaces_.end(), [&](const SeenSurface& seen) {
       return covers(seen.patch, surface) && (seen.patch.centre - surface.centre).norm() <= 0.5 * options_.centre &&
              (sides(seen.patch) - sides(surface)).cwiseAbs().maxCoeff() <= 0.5 * options_.centre &&

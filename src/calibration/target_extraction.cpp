@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -319,67 +318,81 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
 
   // Objects left (the board with whoever holds it, furniture): planes in each, each plane's pieces checked.
   double best_rejected = std::numeric_limits<double>::infinity();
-  // One plane's piece checked against the board; a piece somewhat larger than the board but no longer
-  // than its diagonal (the board with the arms or chest holding it in its plane; not a long piece of
-  // furniture) is looked at again as the board-sized rectangle holding most of its points. Its outline
-  // is then not the board's all round, so it gives none.
-  const std::function<void(const Indices&, double, bool)> examine_piece = [&](const Indices& piece, double penalty, bool cropped) {
-    const Shape shape = shapeOf(*cloud, piece);
-    const double expected = expectedReturns(board_area, shape, spacing);
-    const double mismatch = penalty + std::abs(std::log(std::max(shape.area, 1e-6) / board_area)) +
-                            std::abs(std::log(std::max(shape.size[0], 1e-3) / longest)) +
-                            std::abs(std::log(std::max(shape.size[1], 1e-3) / shortest)) +
-                            std::abs(std::log(static_cast<double>(piece.size()) / std::max(expected, 1.0)));
-    const double expected_here = expectedReturns(shape.area, shape, spacing);
+  // A plane's piece judged against the board: its shape, how unlike the board it is, and why it is
+  // refused (nothing: a candidate).
+  struct Judged {
+    Shape shape;
+    double mismatch = 0.0;
     std::string why;
     const char* check = "";
+    bool larger = false;  // refused as larger than the board
+  };
+  const auto judge = [&](const Indices& piece, double penalty) {
+    Judged judged;
+    judged.shape = shapeOf(*cloud, piece);
+    const Shape& shape = judged.shape;
+    const double expected = expectedReturns(board_area, shape, spacing);
+    judged.mismatch = penalty + std::abs(std::log(std::max(shape.area, 1e-6) / board_area)) +
+                      std::abs(std::log(std::max(shape.size[0], 1e-3) / longest)) +
+                      std::abs(std::log(std::max(shape.size[1], 1e-3) / shortest)) +
+                      std::abs(std::log(static_cast<double>(piece.size()) / std::max(expected, 1.0)));
+    const double expected_here = expectedReturns(shape.area, shape, spacing);
     const auto room_plane = std::find_if(room_planes.begin(), room_planes.end(), [&](const Shape& room) {
       return shape.inPlaneOf(room, 5.0 * M_PI / 180.0, options.room_threshold);
     });
     if (room_plane != room_planes.end()) {
-      check = "floor or wall";
-      why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0], shape.size[1],
-                   room_plane->size[0], room_plane->size[1]);
+      judged.check = "floor or wall";
+      judged.why = format("a %.2f x %.2f m segment lies in the plane of a %.1f x %.1f m surface (floor or wall)", shape.size[0],
+                          shape.size[1], room_plane->size[0], room_plane->size[1]);
     } else if (larger_than_board(shape) || shape.area > options.max_area_fraction * board_area) {
-      if (!cropped && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
-        const Indices board = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
-        if (board.size() >= options.min_held_share * piece.size() && static_cast<int>(board.size()) >= options.min_points) {
-          const std::size_t before = search.candidates.size();
-          examine_piece(board, std::log(static_cast<double>(piece.size()) / board.size()), true);
-          if (search.candidates.size() > before) return;
-        }
-      }
-      search.surfaces.push_back(shape.patch);
-      check = "larger than the board";
-      why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
+      judged.larger = true;
+      judged.check = "larger than the board";
+      judged.why = format("a %.2f x %.2f m segment is larger than the %.2f x %.2f m board", shape.size[0], shape.size[1], longest, shortest);
     } else if (shape.area < options.min_area_fraction * board_area) {
-      check = "smaller than the board";
-      why = format("a %.2f x %.2f m segment (%.3f m^2) is under %.2f of the board's area", shape.size[0], shape.size[1], shape.area,
-                   options.min_area_fraction);
+      judged.check = "smaller than the board";
+      judged.why = format("a %.2f x %.2f m segment (%.3f m^2) is under %.2f of the board's area", shape.size[0], shape.size[1],
+                          shape.area, options.min_area_fraction);
     } else if (piece.size() < options.min_density_fraction * expected_here) {
-      check = "too few points";
-      why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
+      judged.check = "too few points";
+      judged.why = format("a board-sized segment has %.0f points where the sensor's spacing predicts %.0f", piece.size(), expected_here);
     } else if (piece.size() > options.max_count_fraction * expected) {
-      check = "too many points";
-      why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
+      judged.check = "too many points";
+      judged.why = format("a board-sized segment has %.0f points, more than the %.0f the whole board would give", piece.size(), expected);
     }
-    if (!why.empty()) {
-      if (!cropped) keepBestRejection(mismatch, check, why, &best_rejected, &search);
-      return;
-    }
-    // The plane's points without a margin along the outline, where hands hold the board and a
-    // beam's footprint mixes it with what is behind.
+    return judged;
+  };
+  // A candidate: the piece's points without a margin along the outline, where hands hold the board
+  // and a beam's footprint mixes it with what is behind.
+  const auto take = [&](const Indices& piece, const Judged& judged, bool with_outline) {
+    const Shape& shape = judged.shape;
     std::vector<Eigen::Vector3d> whole;
     for (int i : piece) whole.push_back(cloud->at(i).getVector3fMap().cast<double>());
     TargetCandidate candidate;
     for (std::size_t k = 0; k < piece.size(); ++k)
       if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(whole[k]);
-    if (!cropped) candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
+    if (with_outline) candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
     if (static_cast<int>(candidate.points.size()) < options.min_points) candidate.points = std::move(whole);
-    candidate.mismatch = mismatch;
+    candidate.mismatch = judged.mismatch;
     search.candidates.push_back(std::move(candidate));
   };
-  const auto examine = [&](const Indices& piece) { examine_piece(piece, 0.0, false); };
+  // A piece somewhat larger than the board but no longer than its diagonal (the board with the arms or
+  // chest holding it in its plane; not a long piece of furniture) is looked at again as the board-sized
+  // rectangle holding most of its points. Its outline is then not the board's all round, so it gives
+  // none. A piece refused as larger is a surface for the background model.
+  const auto examine = [&](const Indices& piece) {
+    const Judged judged = judge(piece, 0.0);
+    if (judged.why.empty()) return take(piece, judged, true);
+    const Shape& shape = judged.shape;
+    if (judged.larger && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
+      const Indices board = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
+      if (board.size() >= options.min_held_share * piece.size() && static_cast<int>(board.size()) >= options.min_points) {
+        const Judged cut = judge(board, std::log(static_cast<double>(piece.size()) / board.size()));
+        if (cut.why.empty()) return take(board, cut, false);
+      }
+    }
+    if (judged.larger) search.surfaces.push_back(shape.patch);
+    keepBestRejection(judged.mismatch, judged.check, judged.why, &best_rejected, &search);
+  };
   for (const Indices& object : coarseClustersOf(cloud, remaining, room_gap, options.min_points)) {
     Indices left = object;
     for (int plane = 0; plane < options.max_planes_per_object && static_cast<int>(left.size()) >= options.min_points; ++plane) {
