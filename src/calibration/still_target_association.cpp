@@ -147,16 +147,24 @@ std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std:
     const double gap = allowedGap(inputs.periods[sensor], options);
     const Eigen::Vector2d& bound = inputs.bounds[sensor];
     StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {i}};
-    std::size_t j = i + 1;
-    for (; j < sorted.size() && sorted[j].sensor == sensor; ++j) {
+    const auto continues = [&](std::size_t j) {
       const Eigen::Vector2d moved = shapeDifference(inputs.shapes[i], inputs.shapes[j], type);
-      const bool continues = sorted[j].stamp - run.end <= gap && moved[0] < bound[0] && moved[1] < bound[1];
-      if (!continues) break;
+      return sorted[j].stamp - run.end <= gap && moved[0] < bound[0] && moved[1] < bound[1];
+    };
+    // A message unlike the run between ones like it (an arm across the board, the person's chest
+    // taken with it) is passed over, not the run's end: the run goes on at the next message within
+    // the gap that continues it.
+    std::size_t next = i + 1;
+    while (true) {
+      std::size_t j = next;
+      while (j < sorted.size() && sorted[j].sensor == sensor && sorted[j].stamp - run.end <= gap && !continues(j)) ++j;
+      if (j >= sorted.size() || sorted[j].sensor != sensor || !continues(j)) break;
       run.end = sorted[j].stamp;
       run.members.push_back(j);
+      next = j + 1;
     }
     runs.push_back(std::move(run));
-    i = j;
+    i = next;
   }
   return runs;
 }
@@ -199,11 +207,17 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       break;
     }
   }
+  // A period only one sensor held still for relates no sensor to another: a sensor whose noise makes its
+  // stillness bound wide can take a slow move for a still run.
+  const auto seen_by_one = [](const std::vector<const StillRun*>& by_sensor) {
+    return std::count_if(by_sensor.begin(), by_sensor.end(), [](const StillRun* run) { return run != nullptr; }) < 2;
+  };
+  chosen.erase(std::remove_if(chosen.begin(), chosen.end(), seen_by_one), chosen.end());
   // A slow sensor's run can take in a message on either side where the target was nearly still (at
   // 3 Hz the next message comes 0.33 s into the move): each run keeps the messages within half its own
   // period of the span the other sensors' runs agree on (the medians of their first and last stamps).
   std::vector<TargetObservation> associated;
-  for (std::size_t k = 0; k < periods.size(); ++k) {
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
     for (std::size_t s = 0; s < sensors.size(); ++s) {
       const StillRun* run = chosen[k][s];
       if (!run) continue;

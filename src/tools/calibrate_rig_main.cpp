@@ -8,6 +8,8 @@
 #include <map>
 #include <string>
 
+#include <unistd.h>
+
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/point_statistics.h"
@@ -109,10 +111,14 @@ int run(const vocal::CommandLine& args) {
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   vocal::CalibrationSession session(rig);
   const bool quiet = args.has("quiet");
+  // On a terminal one line counts up; in a log, a line per thousand messages.
+  const bool terminal = isatty(fileno(stderr));
   const vocal::BagReadSummary read = vocal::readCalibrationBag(bag, &session, [&](std::size_t n) {
-    if (!quiet && n % 50 == 0) std::fprintf(stderr, "\rreading message %zu", n);
+    if (quiet) return;
+    if (terminal && n % 50 == 0) std::fprintf(stderr, "\rreading message %zu", n);
+    if (!terminal && n % 1000 == 0) std::fprintf(stderr, "read %zu messages\n", n);
   });
-  if (!quiet) std::fprintf(stderr, "\r");
+  if (!quiet && terminal) std::fprintf(stderr, "\r");
   std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
   for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
   const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
