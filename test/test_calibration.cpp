@@ -202,6 +202,15 @@ TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
   EXPECT_LT(e.translation, 1e-6);
   EXPECT_LT(e.rotation, 1e-6);
   EXPECT_EQ(lidar["translation_stddev"].as<std::vector<double>>().size(), 3u);
+  EXPECT_FALSE(lidar["translation_spread"]) << "no jackknife was given";
+
+  // With the jackknife over poses, each sensor's spread beside its standard deviations.
+  vocal::PoseJackknife spread;
+  spread.standard_deviation = {vocal::Vector6d::Zero(), (vocal::Vector6d() << 0.001, 0.002, 0.003, 0.004, 0.005, 0.006).finished()};
+  vocal::writeCalibrationYaml(folder + "/spread.yaml", "base_link", specs(rig), result, &spread);
+  const YAML::Node with_spread = YAML::LoadFile(folder + "/spread.yaml")["sensors"][1];
+  EXPECT_EQ(with_spread["translation_spread"].as<std::vector<double>>(), (std::vector<double>{0.001, 0.002, 0.003}));
+  EXPECT_EQ(with_spread["rotation_spread"].as<std::vector<double>>(), (std::vector<double>{0.004, 0.005, 0.006}));
 
   // The URDF's rpy reproduces the rotation.
   std::ifstream urdf(folder + "/rig.urdf");

@@ -403,6 +403,10 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   EXPECT_LE(still_to, 1007.6);
   EXPECT_GT(still_to - still_from, 0.4);  // a still run lasts at least 0.4 s
   EXPECT_NE(r.output.find("wrote " + output + "/calibration.yaml"), std::string::npos) << r.output;
+  // The spread across the 8 still poses, each left out once, printed and in the result YAML.
+  EXPECT_NE(r.output.find("spread across still poses (jackknife: 8 of 8 re-solves, each without one pose)"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(YAML::LoadFile(output + "/calibration.yaml")["sensors"][1]["translation_spread"].size(), 3u);
   // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
   expectCalibrationMatchesTheTruth(output + "/calibration.yaml", folder + "/ground_truth.yaml", 0.005, 0.005);
   // A rig whose topics the bag does not hold.

@@ -28,7 +28,7 @@ void checkSizes(const std::vector<SensorSpec>& sensors, const CalibrationResult&
 }  // namespace
 
 void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
-                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result) {
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result, const PoseJackknife* spread) {
   checkSizes(sensors, result);
   std::ofstream file = openOutput(path);
   file << "# vocal MSG-Cal result: pose of each sensor frame in " << reference_frame << "\n"
@@ -47,7 +47,13 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
          << "    translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
          << "    rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
          << "    translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]\n"
-         << "    rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n"
+         << "    rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n";
+    if (spread && s < spread->standard_deviation.size()) {
+      const Vector6d& jk = spread->standard_deviation[s];
+      file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"
+           << "    rotation_spread: [" << jk[3] << ", " << jk[4] << ", " << jk[5] << "]  # rad, jackknife over still poses\n";
+    }
+    file
          << "    rms_m: " << c.rms << "\n"
          << "    observations: " << c.observations << "\n";
   }

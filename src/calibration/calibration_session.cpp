@@ -208,8 +208,7 @@ CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) cons
   return calibrate(associatedObservations(), options);
 }
 
-CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservation>& associated,
-                                                CalibrationOptions options) const {
+CalibrationOptions CalibrationSession::completed(CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
   if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
@@ -217,10 +216,20 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
     options.board_edges.width = rig_.target.width;
     options.board_edges.height = rig_.target.height;
   }
+  return options;
+}
+
+CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservation>& associated,
+                                                CalibrationOptions options) const {
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
   if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
-  return calibrateRig(rig_.specs(), associated, options);
+  return calibrateRig(rig_.specs(), associated, completed(options));
+}
+
+PoseJackknife CalibrationSession::jackknife(const std::vector<TargetObservation>& associated, const CalibrationResult& full,
+                                            CalibrationOptions options) const {
+  return jackknifeOverPoses(rig_.specs(), associated, completed(options), full);
 }
 
 }  // namespace vocal

@@ -1,11 +1,13 @@
 // calibrate_rig RIG.yaml BAG [--output-dir DIR] [--overlays] [--no-filter]: MSG-Cal on a recorded session. Reads
 // every message on the rig's topics, extracts the target per sensor, associates the still periods,
-// calibrates, prints each sensor's extrinsic with its standard deviation and residual, and writes the
-// result YAML, a URDF snippet and a static-transform launch file.
+// calibrates, prints each sensor's extrinsic with its standard deviation (the solver's, and the spread across
+// still poses) and residual, and writes the result YAML, a URDF snippet and a static-transform launch file.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 
 #include <unistd.h>
@@ -104,6 +106,24 @@ void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayR
   }
 }
 
+// The spread between still poses (the jackknife) beside the solver's sigma, and where it is far larger:
+// the solver takes every point's error as independent, the spread sees errors a pose's points share.
+void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife& jackknife, const vocal::CalibrationResult& result) {
+  std::printf("spread across still poses (jackknife: %d of %d re-solves, each without one pose), beside the solver's sigma:\n",
+              jackknife.solved, jackknife.poses);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (static_cast<int>(s) == rig.reference_sensor) continue;
+    const double t = jackknife.standard_deviation[s].head<3>().norm(), r = jackknife.standard_deviation[s].tail<3>().norm();
+    const double solver_t = result.sensors[s].standard_deviation.head<3>().norm();
+    const double solver_r = result.sensors[s].standard_deviation.tail<3>().norm();
+    std::printf("  %-12s %6.2f mm (solver %.2f), %6.2f mrad (solver %.2f)", rig.sensors[s].spec.name.c_str(), 1000 * t,
+                1000 * solver_t, 1000 * r, 1000 * solver_r);
+    const double ratio = std::max(t / std::max(solver_t, 1e-9), r / std::max(solver_r, 1e-9));
+    if (ratio > 3.0) std::printf("  %.0fx the solver's: errors its points share within a pose (ring biases, hands, lens model)", ratio);
+    std::printf("\n");
+  }
+}
+
 int run(const vocal::CommandLine& args) {
   if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
@@ -150,13 +170,21 @@ int run(const vocal::CommandLine& args) {
                 c.observations, c.rejected_observations);
   }
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
+  // The result re-solved once without each still pose: how far each sensor moves (a second or so).
+  std::optional<vocal::PoseJackknife> spread;
+  try {
+    spread = session.jackknife(associated, result, options);
+    printJackknife(rig, *spread, result);
+  } catch (const vocal::InputError& e) {
+    std::printf("spread across still poses: not computed (%s)\n", e.what());
+  }
   for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
   if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
   if (args.has("report")) printReport(rig, session, associated, result, poses);
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
     const std::vector<vocal::SensorSpec> specs = rig.specs();
-    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result);
+    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr);
     vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result);
     vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());

@@ -8,12 +8,15 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/pose_jackknife.h"
 
 namespace vocal {
 
-// Each throws InputError naming the file when it cannot be written.
+// Each throws InputError naming the file when it cannot be written. With `spread`, the YAML also gives
+// each sensor's jackknife standard deviations over the still poses (translation_spread, rotation_spread).
 void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
-                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result);
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
+                          const PoseJackknife* spread = nullptr);
 void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
                       const CalibrationResult& result);
 void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,

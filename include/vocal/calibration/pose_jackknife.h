@@ -1,0 +1,28 @@
+#pragma once
+// How far each sensor's solution moves when one target pose is left out: the jackknife over target
+// poses. The solver's covariance takes every point's error as independent; a lidar's ring biases, a
+// hand on the board or a lens's residual distortion make a pose's points wrong together, differently
+// from pose to pose, and only the spread between poses shows it.
+
+#include <vector>
+
+#include "vocal/calibration/graph_calibration.h"
+
+namespace vocal {
+
+struct PoseJackknife {
+  // Per sensor: translation (m) along and rotation (rad) about the rig frame's axes, as
+  // SensorCalibration::standard_deviation; zero for the reference.
+  std::vector<Vector6d> standard_deviation;
+  int poses = 0;   // target poses, each left out once
+  int solved = 0;  // of those, the re-solves that were trusted and counted (a pose that a sensor cannot
+                   // do without leaves it unconstrained: that re-solve is skipped)
+};
+
+// Re-solves `observations` without each target pose in turn (calibrateRig with `options`) and returns
+// the jackknife standard deviation of every sensor's pose around `full`, the solution from all poses.
+// Throws InputError when fewer than 3 re-solves succeed.
+PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                                 const CalibrationOptions& options, const CalibrationResult& full);
+
+}  // namespace vocal
