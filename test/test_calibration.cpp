@@ -602,6 +602,19 @@ TEST(StillTargetAssociation, RecordedSessionCalibratesLikeHandAssociatedData) {
 namespace {
 constexpr double kPoseSeconds = 3.0, kStillSeconds = 2.0;
 
+// Where the session is at `t`: at pose k, still, then carried towards pose k + 1 (moved 0 to 1).
+struct SessionMoment {
+  int pose = 0;
+  double moved = 0.0;
+};
+SessionMoment momentAt(double t) {
+  SessionMoment at;
+  at.pose = static_cast<int>(t / kPoseSeconds);
+  const double into = t - at.pose * kPoseSeconds;
+  at.moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+  return at;
+}
+
 // A recorded session with each sensor at its own rate: the target still for 2 s at each pose, carried
 // for 1 s to the next; sensors unsynchronised.
 std::vector<vocal::TimedObservation> recordAtRates(const std::vector<vocal::SimulatedSensor>& sensors,
@@ -611,9 +624,7 @@ std::vector<vocal::TimedObservation> recordAtRates(const std::vector<vocal::Simu
   std::vector<vocal::TimedObservation> recorded;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     for (double t = 0.01 * s; t < kPoseSeconds * options.target_poses; t += 1.0 / rates[s]) {
-      const int k = static_cast<int>(t / kPoseSeconds);
-      const double into = t - k * kPoseSeconds;
-      const double alpha = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const auto [k, alpha] = momentAt(t);
       const Eigen::Isometry3d target = vocal::interpolatePose(
           poses.reference_from_target[k], poses.reference_from_target[(k + 1) % options.target_poses], alpha);
       vocal::TargetObservation seen = vocal::observeTarget(sensors[s], target, 0.45, 0.35, options, &rng);
@@ -626,6 +637,22 @@ std::vector<vocal::TimedObservation> recordAtRates(const std::vector<vocal::Simu
     }
   }
   return recorded;
+}
+
+// Two precise plane sensors and a lidar.
+std::vector<vocal::SensorSpec> twoPreciseSensorsAndALidar() {
+  return {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
+          {"camera0", vocal::SensorType::kRgbd, "camera0"},
+          {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+}
+
+// A board facing the sensors, 0.8 x 0.6 m on a 10 cm grid, `distance` away and turned `tilt` radians
+// about the x axis.
+std::vector<Eigen::Vector3d> boardGrid(double distance, double tilt) {
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -0.4; x <= 0.4; x += 0.1)
+    for (double y = -0.3; y <= 0.3; y += 0.1) points.emplace_back(x, y * std::cos(tilt), distance + y * std::sin(tilt));
+  return points;
 }
 
 // Which target poses each sensor was associated with.
@@ -641,9 +668,7 @@ std::vector<std::set<int>> posesPerSensor(const std::vector<vocal::TargetObserva
 // into a slow move join its still runs; two precise 10 Hz sensors agree on when the board was still,
 // and the slow sensor keeps only its messages within half its period of that span.
 TEST(StillTargetAssociation, AJitterySlowSensorKeepsOnlyItsStillMessages) {
-  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
-                                                {"camera0", vocal::SensorType::kRgbd, "camera0"},
-                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  const std::vector<vocal::SensorSpec> specs = twoPreciseSensorsAndALidar();
   const double rates[] = {10.0, 10.0, 3.0}, jitter[] = {0.001, 0.001, 0.02};
   const int poses = 8;
   std::mt19937 rng(4);
@@ -651,9 +676,7 @@ TEST(StillTargetAssociation, AJitterySlowSensorKeepsOnlyItsStillMessages) {
   for (int s = 0; s < 3; ++s) {
     std::uniform_real_distribution<double> offset_noise(-jitter[s], jitter[s]);
     for (double t = 0.02 * s; t < kPoseSeconds * poses; t += 1.0 / rates[s]) {
-      const int k = static_cast<int>(t / kPoseSeconds);
-      const double into = t - k * kPoseSeconds;
-      const double moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const auto [k, moved] = momentAt(t);
       // A board facing the sensors 2 m away, 8 cm farther at each pose, tilted a little differently.
       const double distance = 2.0 + 0.08 * (k + moved) + offset_noise(rng);
       const double tilt = 0.02 * ((k % 3) + moved);
@@ -680,17 +703,13 @@ TEST(StillTargetAssociation, AJitterySlowSensorKeepsOnlyItsStillMessages) {
 // of its jitter, lets both into one still run; the messages whose centre is far from the run's
 // fullest view are left out, so the pooled points are the board's.
 TEST(StillTargetAssociation, MessagesOfSomethingElseInAStillRunAreLeftOut) {
-  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
-                                                {"camera0", vocal::SensorType::kRgbd, "camera0"},
-                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  const std::vector<vocal::SensorSpec> specs = twoPreciseSensorsAndALidar();
   const int poses = 6;
   std::vector<vocal::TimedObservation> recorded;
   for (int s = 0; s < 3; ++s) {
     int message = 0;
     for (double t = 0.02 * s; t < kPoseSeconds * poses; t += 1.0 / 3.0, ++message) {
-      const int k = static_cast<int>(t / kPoseSeconds);
-      const double into = t - k * kPoseSeconds;
-      const double moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const auto [k, moved] = momentAt(t);
       const double distance = 2.0 + 0.5 * (k + moved);
       const bool torso = s == 2 && message % 2 == 1;
       vocal::TimedObservation o;
@@ -719,32 +738,17 @@ TEST(StillTargetAssociation, MessagesOfSomethingElseInAStillRunAreLeftOut) {
   EXPECT_GT(offPlane(vocal::associateStillTarget(specs, recorded, options)), 0.09) << "the torso never joined a run";
 }
 
-namespace {
-// A board facing the sensors, 0.8 x 0.6 m on a 10 cm grid, `distance` away and turned `tilt` radians
-// about the x axis.
-std::vector<Eigen::Vector3d> boardGrid(double distance, double tilt) {
-  std::vector<Eigen::Vector3d> points;
-  for (double x = -0.4; x <= 0.4; x += 0.1)
-    for (double y = -0.3; y <= 0.3; y += 0.1) points.emplace_back(x, y * std::cos(tilt), distance + y * std::sin(tilt));
-  return points;
-}
-}  // namespace
-
 // A lidar whose extraction now and then takes the board together with the chest behind it (the
 // plane through both leans 0.15 rad), one message in five or so, two in a row now and then: such messages are passed
 // over, not the end of a still run, so it keeps every pose, and its pooled points are the board's.
 TEST(StillTargetAssociation, AMessageUnlikeItsNeighboursDoesNotEndAStillRun) {
-  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
-                                                {"camera0", vocal::SensorType::kRgbd, "camera0"},
-                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  const std::vector<vocal::SensorSpec> specs = twoPreciseSensorsAndALidar();
   const int poses = 6;
   std::vector<vocal::TimedObservation> recorded;
   for (int s = 0; s < 3; ++s) {
     int message = 0;
     for (double t = 0.02 * s; t < kPoseSeconds * poses; t += 0.1, ++message) {
-      const int k = static_cast<int>(t / kPoseSeconds);
-      const double into = t - k * kPoseSeconds;
-      const double moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const auto [k, moved] = momentAt(t);
       const bool leaning = s == 2 && (message % 6 == 1 || message % 17 == 2);
       vocal::TimedObservation o;
       o.sensor = s;
@@ -773,9 +777,7 @@ TEST(StillTargetAssociation, APeriodOnlyOneSensorHeldStillIsNoPose) {
   for (int s = 0; s < 2; ++s) {
     const double end = kPoseSeconds * poses + (s == 1 ? 2.0 : 0.0);  // the lidar alone sees the last 2 s
     for (double t = 0.02 * s; t < end; t += 0.1) {
-      const int k = static_cast<int>(t / kPoseSeconds);
-      const double into = t - k * kPoseSeconds;
-      const double moved = into < kStillSeconds ? 0.0 : (into - kStillSeconds) / (kPoseSeconds - kStillSeconds);
+      const auto [k, moved] = momentAt(t);
       vocal::TimedObservation o;
       o.sensor = s;
       o.stamp = t;
