@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <iterator>
 #include <mutex>
 
 #include <nodelet/loader.h>
@@ -72,6 +73,12 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   std::cout << calibrate.response.message << "\n";
   EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
   EXPECT_EQ(calibrate.response.message.rfind("calibrated 4 sensors, rms ", 0), 0u) << calibrate.response.message;
+  // The spread across still poses beside the solver's sigma, in the reply and the result YAML.
+  EXPECT_NE(calibrate.response.message.find("; spread across poses (jackknife), solver's sigma in brackets: "), std::string::npos)
+      << calibrate.response.message;
+  std::ifstream result_yaml(folder + "/calibration.yaml");
+  const std::string result_text((std::istreambuf_iterator<char>(result_yaml)), std::istreambuf_iterator<char>());
+  EXPECT_NE(result_text.find("    translation_spread: ["), std::string::npos) << result_text;
 
   for (std::size_t s = 1; s < sensors.size(); ++s) {
     geometry_msgs::TransformStamped t;

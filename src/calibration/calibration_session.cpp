@@ -208,7 +208,7 @@ CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) cons
   return calibrate(associatedObservations(), options);
 }
 
-CalibrationOptions CalibrationSession::completed(CalibrationOptions options) const {
+CalibrationOptions CalibrationSession::calibrationOptions(CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
   if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
@@ -224,12 +224,8 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
   if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
-  return calibrateRig(rig_.specs(), associated, completed(options));
+  return calibrateRig(rig_.specs(), associated, calibrationOptions(options));
 }
 
-PoseJackknife CalibrationSession::jackknife(const std::vector<TargetObservation>& associated, const CalibrationResult& full,
-                                            CalibrationOptions options) const {
-  return jackknifeOverPoses(rig_.specs(), associated, completed(options), full);
-}
 
 }  // namespace vocal

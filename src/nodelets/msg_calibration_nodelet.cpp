@@ -4,9 +4,11 @@
 // on /tf_static and the target points of every sensor in the reference frame (`fused_cloud`).
 // A thin adapter over CalibrationSession, which calibrate_rig uses on bags.
 
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -24,6 +26,7 @@
 
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/nodelets/message_conversions.h"
@@ -148,7 +151,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   }
 
   bool calibrate(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
     if (!setup_error_.empty()) {
       response.success = false;
       response.message = setup_error_;
@@ -160,14 +163,37 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       options.board_edges.enabled = board_edges_;
       const std::vector<TargetObservation> associated = session_->associatedObservations();
       const CalibrationResult result = session_->calibrate(associated, options);
-      const RigDescription& rig = session_->rig();
+      const RigDescription rig = session_->rig();  // a copy: ~reset may replace the session meanwhile
       const std::vector<SensorSpec> specs = rig.specs();
+      // The spread across still poses re-solves once per pose (seconds): messages are taken meanwhile.
+      const CalibrationOptions solved_with = session_->calibrationOptions(options);
+      lock.unlock();
+      std::optional<PoseJackknife> spread;
+      try {
+        spread = jackknifeOverPoses(specs, associated, solved_with, result);
+      } catch (const InputError& e) {
+        NODELET_INFO_STREAM("MsgCalibration: no spread across poses: " << e.what());
+      }
+      lock.lock();
       std::ostringstream summary;
       summary << (result.trusted ? "calibrated " : "NOT TRUSTED (" + result.failure + ") ") << rig.sensors.size()
               << " sensors, rms " << result.rms * 1000 << " mm";
+      if (spread) {
+        summary << "; spread across poses (jackknife), solver's sigma in brackets:";
+        const char* separator = " ";
+        for (std::size_t s = 0; s < specs.size(); ++s) {
+          if (static_cast<int>(s) == rig.reference_sensor) continue;
+          char line[160];
+          std::snprintf(line, sizeof(line), "%s%s %.2f mm (%.2f) / %.2f mrad (%.2f)", separator, specs[s].name.c_str(),
+                        1000 * spread->standard_deviation[s].head<3>().norm(), 1000 * result.sensors[s].standard_deviation.head<3>().norm(),
+                        1000 * spread->standard_deviation[s].tail<3>().norm(), 1000 * result.sensors[s].standard_deviation.tail<3>().norm());
+          summary << line;
+          separator = ", ";
+        }
+      }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       if (!output_dir_.empty()) {
-        writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result);
+        writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr);
         writeUrdfSnippet(output_dir_ + "/calibration.urdf", rig.reference_frame, specs, result);
         writeStaticTransformLaunch(output_dir_ + "/calibration.launch", rig.reference_frame, specs, result);
         summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";

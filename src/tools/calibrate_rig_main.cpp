@@ -15,6 +15,7 @@
 #include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
@@ -173,7 +174,7 @@ int run(const vocal::CommandLine& args) {
   // The result re-solved once without each still pose: how far each sensor moves (a second or so).
   std::optional<vocal::PoseJackknife> spread;
   try {
-    spread = session.jackknife(associated, result, options);
+    spread = vocal::jackknifeOverPoses(rig.specs(), associated, session.calibrationOptions(options), result);
     printJackknife(rig, *spread, result);
   } catch (const vocal::InputError& e) {
     std::printf("spread across still poses: not computed (%s)\n", e.what());

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/pose_jackknife.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/static_background.h"
 #include "vocal/calibration/still_target_association.h"
@@ -55,10 +54,9 @@ class CalibrationSession {
   std::vector<TargetObservation> associatedObservations() const;
   // The same on observations already associated (callers that also show or count them).
   CalibrationResult calibrate(const std::vector<TargetObservation>& associated, CalibrationOptions options = {}) const;
-  // How far each sensor's result moves with one still pose left out (pose_jackknife.h), re-solved with
-  // the options `full` was calibrated with.
-  PoseJackknife jackknife(const std::vector<TargetObservation>& associated, const CalibrationResult& full,
-                          CalibrationOptions options = {}) const;
+  // The options calibrate() solves with: the rig's reference sensor and pose, its board's size for
+  // edges (what jackknifeOverPoses, pose_jackknife.h, re-solves with).
+  CalibrationOptions calibrationOptions(CalibrationOptions options) const;
 
   const RigDescription& rig() const { return rig_; }
   std::vector<SensorDataCounts> counts() const;
@@ -67,8 +65,6 @@ class CalibrationSession {
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
 
  private:
-  // The options with the rig's reference sensor and pose, and its board's size for edges.
-  CalibrationOptions completed(CalibrationOptions options) const;
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
   bool recordRange(int sensor, double stamp, TargetSearch search);
