@@ -172,9 +172,8 @@ std::vector<ExtractionCount> countExtraction(const std::vector<vocal::SimulatedS
   return counts;
 }
 // The board taken in 95 % of the messages where it is in view, nothing else ever, few points off it
-// (hands over its edges); returns the background segments ranked ahead of the board and passed over.
-int expectTheBoardTaken(const std::vector<vocal::SimulatedSensor>& sensors, const std::vector<ExtractionCount>& counts) {
-  int background_ahead = 0;
+// (hands over its edges).
+void expectTheBoardTaken(const std::vector<vocal::SimulatedSensor>& sensors, const std::vector<ExtractionCount>& counts) {
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     const ExtractionCount& c = counts[s];
     std::printf("%-8s board in view in %d messages: taken in %d, missed %d; something else taken %d; %.2f %% of the points taken "
@@ -185,9 +184,7 @@ int expectTheBoardTaken(const std::vector<vocal::SimulatedSensor>& sensors, cons
     EXPECT_EQ(c.took_other, 0) << sensors[s].spec.name;
     for (const auto& [what, n] : c.other) ADD_FAILURE() << sensors[s].spec.name << " took the " << what << " " << n << " times";
     EXPECT_LT(c.foreign_points, 0.08 * c.taken_points) << sensors[s].spec.name;
-    background_ahead += c.background_ahead;
   }
-  return background_ahead;
 }
 }  // namespace
 
@@ -228,7 +225,7 @@ TEST(TargetExtraction, TakesTheBoardTiltedOnlyUpAndDown) {
   options.poses = 20;
   options.turn_range = 0.03;
   const std::vector<ExtractionCount> counts = countExtraction(sensors, target, options, &session);
-  EXPECT_GT(expectTheBoardTaken(sensors, counts), 0) << "the session never needed the stillness check";
+  expectTheBoardTaken(sensors, counts);
 }
 
 // A board-sized segment of a larger surface with the rest in the plane of the board - the arms and
@@ -269,6 +266,40 @@ TEST(TargetExtraction, TakesTheBoardOutOfTheChestHoldingItInItsPlane) {
   EXPECT_EQ(long_piece.check, "larger than the board");
   ASSERT_EQ(long_piece.surfaces.size(), 1u);
   EXPECT_NEAR(std::max(long_piece.surfaces[0].half_along, long_piece.surfaces[0].half_across), 0.605, 0.01);
+}
+
+// The chest of the person holding the board showing 25 cm beyond its edge, in one plane with it (a
+// lidar's 2 cm noise lets RANSAC join a chest a hand's width behind): a piece within the board-sized
+// checks, but larger and squarer than the board. The board cut out of it is taken, without the outline.
+TEST(TargetExtraction, TakesTheBoardOutOfABoardSizedPieceWithTheChest) {
+  constexpr double kWidth = 0.85, kHeight = 0.61, kRange = 1.5, kStep = 0.01;
+  const auto grid = [&](double x0, double x1, double y0, double y1, double range, std::vector<Eigen::Vector3d>* cloud) {
+    for (double x = x0; x < x1 - 1e-9; x += kStep)
+      for (double y = y0; y < y1 - 1e-9; y += kStep) cloud->emplace_back(x + 0.5 * kStep, y + 0.5 * kStep, range);
+  };
+  std::vector<Eigen::Vector3d> cloud;
+  grid(-0.5 * kWidth, 0.5 * kWidth, -0.5 * kHeight, 0.5 * kHeight, kRange, &cloud);
+  grid(-0.25, 0.25, 0.5 * kHeight, 0.5 * kHeight + 0.25, kRange, &cloud);  // the chest
+  const vocal::ScanSpacing spacing{kStep / kRange, kStep / kRange, vocal::ScanPattern::kPinhole};
+  const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, kWidth, kHeight, spacing);
+  ASSERT_FALSE(search.candidates.empty()) << search.rejection;
+  const vocal::TargetCandidate& taken = search.candidates[0];
+  int on_chest = 0;
+  for (const Eigen::Vector3d& p : taken.points) on_chest += p.y() > 0.5 * kHeight;
+  EXPECT_EQ(on_chest, 0);
+  // All of the board but the margin along its outline.
+  const double inner = (kWidth - 0.08) * (kHeight - 0.08) / (kStep * kStep);
+  EXPECT_GT(taken.points.size(), 0.9 * inner);
+  EXPECT_TRUE(taken.outline.empty());
+
+  // Without the cut (the whole piece is taken at any size), the chest's points come with it.
+  vocal::TargetExtractionOptions whole;
+  whole.max_whole_area_fraction = 10.0;
+  const vocal::TargetSearch uncut = vocal::findTargetInCloud(cloud, kWidth, kHeight, spacing, whole);
+  ASSERT_FALSE(uncut.candidates.empty());
+  int uncut_on_chest = 0;
+  for (const Eigen::Vector3d& p : uncut.candidates[0].points) uncut_on_chest += p.y() > 0.5 * kHeight;
+  EXPECT_GT(uncut_on_chest, 500);
 }
 
 // A segment seen in the same place throughout the session is background however intermittently it

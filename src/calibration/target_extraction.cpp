@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
@@ -266,6 +267,12 @@ Indices boardRectangleIn(const Cloud& cloud, const Indices& piece, const Surface
   return inside;
 }
 
+// The points of `piece` in its dominant plane, trimmed to it.
+Indices flatPartOf(const Cloud& points, const Cloud::Ptr& cloud, const Indices& piece, const TargetExtractionOptions& options) {
+  const Indices inliers = fitModel(cloud, piece, pcl::SACMODEL_PLANE, options.plane_threshold, options.object_iterations);
+  return inliers.size() < 3 ? inliers : trimmedToPlane(points, inliers, shapeOf(points, inliers));
+}
+
 void keepBestRejection(double mismatch, const char* check, const std::string& why, double* best, TargetSearch* search) {
   if (mismatch < *best) *best = mismatch, search->rejection = why, search->check = check;
 }
@@ -375,20 +382,34 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
     candidate.mismatch = judged.mismatch;
     search.candidates.push_back(std::move(candidate));
   };
-  // A piece somewhat larger than the board but no longer than its diagonal (the board with the arms or
-  // chest holding it in its plane; not a long piece of furniture) is looked at again as the board-sized
-  // rectangle holding most of its points. Its outline is then not the board's all round, so it gives
-  // none. A piece refused as larger is a surface for the background model.
+  // The board-sized rectangle holding most of a piece's points, on its own plane (the piece's leans
+  // towards what joined the board in it: a chest a hand's width behind), judged with the share of the
+  // piece it leaves out as a penalty; nothing when it holds under min_held_share of the piece or is
+  // refused. Its outline is not the board's all round (where the chest joined), so it gives none.
+  const auto cutOut = [&](const Indices& piece, const Shape& shape) -> std::optional<std::pair<Indices, Judged>> {
+    const Indices window = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
+    const Indices board = window.size() >= 3 ? flatPartOf(*cloud, cloud, window, options) : window;
+    if (board.size() < options.min_held_share * piece.size() || static_cast<int>(board.size()) < options.min_points) return std::nullopt;
+    Judged cut = judge(board, std::log(static_cast<double>(piece.size()) / board.size()));
+    if (!cut.why.empty()) return std::nullopt;
+    return std::make_pair(board, std::move(cut));
+  };
+  // A board-sized piece larger and squarer than the board (the board with the chest behind it) gives
+  // the board cut out of it when that is more board-like. A piece larger than the board but no longer
+  // than its diagonal (the board with the arms or chest in its plane; not a long piece of furniture)
+  // gives the cut-out if there is one. A piece refused as larger is a surface for the background model.
   const auto examine = [&](const Indices& piece) {
     const Judged judged = judge(piece, 0.0);
-    if (judged.why.empty()) return take(piece, judged, true);
     const Shape& shape = judged.shape;
-    if (judged.larger && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
-      const Indices board = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
-      if (board.size() >= options.min_held_share * piece.size() && static_cast<int>(board.size()) >= options.min_points) {
-        const Judged cut = judge(board, std::log(static_cast<double>(piece.size()) / board.size()));
-        if (cut.why.empty()) return take(board, cut, false);
+    if (judged.why.empty()) {
+      if (shape.area > options.max_whole_area_fraction * board_area && shape.size[1] > shortest + 0.5 * options.size_slack) {
+        const auto cut = cutOut(piece, shape);
+        if (cut && cut->second.mismatch < judged.mismatch) return take(cut->first, cut->second, false);
       }
+      return take(piece, judged, true);
+    }
+    if (judged.larger && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
+      if (const auto cut = cutOut(piece, shape)) return take(cut->first, cut->second, false);
     }
     if (judged.larger) search.surfaces.push_back(shape.patch);
     keepBestRejection(judged.mismatch, judged.check, judged.why, &best_rejected, &search);

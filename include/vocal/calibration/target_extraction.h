@@ -50,6 +50,10 @@ struct TargetExtractionOptions {
   // most of its points is the board when it holds this share of them.
   double max_held_area_fraction = 2.0;
   double min_held_share = 0.7;
+  // A board-sized segment over this much of the board's area and wider across than its shorter side
+  // (+ half the slack) may be the board with the chest behind it: the board cut out of it as above is
+  // taken when more board-like.
+  double max_whole_area_fraction = 1.2;
   double min_density_fraction = 0.35;  // of the points the spacing predicts on the segment's own area
   double max_count_fraction = 2.5;     // of the points it predicts on the whole board
   double edge_margin = 0.04;  // metres along the segment's outline left out of the points it gives (hands, mixed pixels)
