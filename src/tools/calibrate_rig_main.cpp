@@ -171,7 +171,7 @@ int run(const vocal::CommandLine& args) {
                 c.observations, c.rejected_observations);
   }
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
-  // The result re-solved once without each still pose: how far each sensor moves (a second or so).
+  // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
   std::optional<vocal::PoseJackknife> spread;
   try {
     spread = vocal::jackknifeOverPoses(rig.specs(), associated, session.calibrationOptions(options), result);

@@ -2,8 +2,9 @@
 // Association by time: observations of different sensors taken while the target was held still are
 // of one plane. Each sensor's stream is cut into still runs (consecutive observations whose plane, or
 // a 2D laser's line, does not move; a message or two unlike the run between ones like it are passed
-// over); runs of two or more sensors that overlap in time form one target pose. The gap a run may bridge follows each sensor's own message period, so slow (triggered, 3 Hz)
-// and fast sensors associate alike.
+// over); runs of two or more sensors that overlap in time form one target pose. The gap a run may
+// bridge follows each sensor's own message period, so slow (triggered, 3 Hz) and fast sensors
+// associate alike.
 
 #include <string>
 #include <vector>
