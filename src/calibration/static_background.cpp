@@ -57,8 +57,8 @@ bool StaticBackground::covers(const SurfacePatch& seen, const Summary& query) co
          std::abs(seen.normal.dot(query.centre - seen.centre)) <= options_.offset && seen.inPlaneDistanceTo(query.centre) <= options_.centre;
 }
 
-std::vector<bool> StaticBackground::partsWith(const Summary& query) const {
-  const int parts = std::min(10, messages_);
+int StaticBackground::partsWith(const Summary& query) const {
+  const int parts = partsOfTheSession();
   const auto part_of = [&](int message) { return message * parts / messages_; };
   // Messages m of part p: m * parts / messages_ == p, i.e. from ceil(p * messages_ / parts) on.
   const auto first_of = [&](int part) { return (part * messages_ + parts - 1) / parts; };
@@ -79,17 +79,14 @@ std::vector<bool> StaticBackground::partsWith(const Summary& query) const {
   for (const SeenSurface& surface : surfaces_)
     if (covers(surface.patch, query))
       for (int message : surface.messages) count(message);
-  std::vector<bool> seen(parts);
-  for (int p = 0; p < parts; ++p) {
-    seen[p] = part_matches[p] > 0 && part_matches[p] >= options_.part_share * (first_of(p + 1) - first_of(p));
-  }
+  int seen = 0;
+  for (int p = 0; p < parts; ++p) seen += part_matches[p] > 0 && part_matches[p] >= options_.part_share * (first_of(p + 1) - first_of(p));
   return seen;
 }
 
 double StaticBackground::recurrence(const Summary& query) const {
   if (messages_ == 0) return 0.0;
-  const std::vector<bool> parts = partsWith(query);
-  return static_cast<double>(std::count(parts.begin(), parts.end(), true)) / parts.size();
+  return static_cast<double>(partsWith(query)) / partsOfTheSession();
 }
 
 }  // namespace vocal

@@ -147,18 +147,13 @@ std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std:
     const double gap = allowedGap(inputs.periods[sensor], options);
     const Eigen::Vector2d& bound = inputs.bounds[sensor];
     StillRun run{sensor, sorted[i].stamp, sorted[i].stamp, {i}};
-    const auto continues = [&](std::size_t j) {
-      const Eigen::Vector2d moved = shapeDifference(inputs.shapes[i], inputs.shapes[j], type);
-      return sorted[j].stamp - run.end <= gap && moved[0] < bound[0] && moved[1] < bound[1];
-    };
     // A message unlike the run between ones like it (an arm across the board, the person's chest
-    // taken with it) is passed over, not the run's end: the run goes on at the next message within
-    // the gap that continues it.
+    // taken with it) is passed over, not the run's end: the run goes on while a message like it comes
+    // within the gap. The next run starts after its last member.
     std::size_t next = i + 1;
-    while (true) {
-      std::size_t j = next;
-      while (j < sorted.size() && sorted[j].sensor == sensor && sorted[j].stamp - run.end <= gap && !continues(j)) ++j;
-      if (j >= sorted.size() || sorted[j].sensor != sensor || !continues(j)) break;
+    for (std::size_t j = i + 1; j < sorted.size() && sorted[j].sensor == sensor && sorted[j].stamp - run.end <= gap; ++j) {
+      const Eigen::Vector2d moved = shapeDifference(inputs.shapes[i], inputs.shapes[j], type);
+      if (moved[0] >= bound[0] || moved[1] >= bound[1]) continue;
       run.end = sorted[j].stamp;
       run.members.push_back(j);
       next = j + 1;

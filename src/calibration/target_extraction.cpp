@@ -135,12 +135,14 @@ Indices without(const Indices& all, Indices removed) {
 struct Shape {
   Eigen::Vector2d size = Eigen::Vector2d::Zero();
   double area = 0.0, range = 0.0, facing = 1.0;
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(), centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the points' mean (the patch's is its rectangle's)
   std::vector<double> inset;  // per point: its distance inside the minimum-area rectangle's nearest side
   SurfacePatch patch;         // the plane and its minimum-area rectangle
 
+  const Eigen::Vector3d& normal() const { return patch.normal; }
   bool inPlaneOf(const Shape& other, double max_angle, double max_offset) const {
-    return std::abs(normal.dot(other.normal)) >= std::cos(max_angle) && std::abs(other.normal.dot(centre - other.centre)) <= max_offset;
+    return std::abs(normal().dot(other.normal())) >= std::cos(max_angle) &&
+           std::abs(other.normal().dot(centre - other.centre)) <= max_offset;
   }
 };
 
@@ -173,9 +175,8 @@ Shape shapeOf(const Cloud& cloud, const Indices& indices) {
   shape.area = cv::contourArea(hull);
   shape.range = mean.norm();
   shape.facing = std::max(0.05, std::abs(eigen.eigenvectors().col(0).dot(mean.normalized())));
-  shape.normal = eigen.eigenvectors().col(0);
   shape.centre = mean;
-  shape.patch.normal = shape.normal;
+  shape.patch.normal = eigen.eigenvectors().col(0);
   shape.patch.centre = mean + rectangle.center.x * eigen.eigenvectors().col(2) + rectangle.center.y * eigen.eigenvectors().col(1);
   shape.patch.along = c * eigen.eigenvectors().col(2) + s * eigen.eigenvectors().col(1);
   shape.patch.half_along = 0.5 * rectangle.size.width;
@@ -187,7 +188,7 @@ Shape shapeOf(const Cloud& cloud, const Indices& indices) {
 // front of it, beyond three robust standard deviations of a depth sensor's noise (not of a lidar's).
 Indices trimmedToPlane(const Cloud& cloud, const Indices& piece, const Shape& shape) {
   std::vector<double> distances;
-  for (int i : piece) distances.push_back(std::abs(shape.normal.dot(cloud[i].getVector3fMap().cast<double>() - shape.centre)));
+  for (int i : piece) distances.push_back(std::abs(shape.normal().dot(cloud[i].getVector3fMap().cast<double>() - shape.centre)));
   const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
   Indices kept;
   for (std::size_t k = 0; k < piece.size(); ++k)
@@ -267,10 +268,10 @@ Indices boardRectangleIn(const Cloud& cloud, const Indices& piece, const Surface
   return inside;
 }
 
-// The points of `piece` in its dominant plane, trimmed to it.
-Indices flatPartOf(const Cloud& points, const Cloud::Ptr& cloud, const Indices& piece, const TargetExtractionOptions& options) {
+// The points of `piece` in its dominant plane, trimmed to it (none when it has no plane).
+Indices flatPartOf(const Cloud::Ptr& cloud, const Indices& piece, const TargetExtractionOptions& options) {
   const Indices inliers = fitModel(cloud, piece, pcl::SACMODEL_PLANE, options.plane_threshold, options.object_iterations);
-  return inliers.size() < 3 ? inliers : trimmedToPlane(points, inliers, shapeOf(points, inliers));
+  return inliers.size() < 3 ? inliers : trimmedToPlane(*cloud, inliers, shapeOf(*cloud, inliers));
 }
 
 void keepBestRejection(double mismatch, const char* check, const std::string& why, double* best, TargetSearch* search) {
@@ -377,7 +378,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
     TargetCandidate candidate;
     for (std::size_t k = 0; k < piece.size(); ++k)
       if (shape.inset[k] >= options.edge_margin) candidate.points.push_back(whole[k]);
-    if (with_outline) candidate.outline = boardOutlinePoints(whole, Plane{shape.normal, -shape.normal.dot(shape.centre)}, spacing);
+    if (with_outline) candidate.outline = boardOutlinePoints(whole, Plane{shape.normal(), -shape.normal().dot(shape.centre)}, spacing);
     if (static_cast<int>(candidate.points.size()) < options.min_points) candidate.points = std::move(whole);
     candidate.mismatch = judged.mismatch;
     search.candidates.push_back(std::move(candidate));
@@ -388,7 +389,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   // refused. Its outline is not the board's all round (where the chest joined), so it gives none.
   const auto cutOut = [&](const Indices& piece, const Shape& shape) -> std::optional<std::pair<Indices, Judged>> {
     const Indices window = boardRectangleIn(*cloud, piece, shape.patch, longest, shortest);
-    const Indices board = window.size() >= 3 ? flatPartOf(*cloud, cloud, window, options) : window;
+    const Indices board = flatPartOf(cloud, window, options);
     if (board.size() < options.min_held_share * piece.size() || static_cast<int>(board.size()) < options.min_points) return std::nullopt;
     Judged cut = judge(board, std::log(static_cast<double>(piece.size()) / board.size()));
     if (!cut.why.empty()) return std::nullopt;
@@ -480,23 +481,22 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
   }
   // A run longer than the board is a wall's; shorter runs on its line are pieces of that wall between
   // things in front of it.
-  std::vector<const Run*> walls;
+  std::vector<std::pair<const Run*, SurfacePatch>> walls;
   for (const Run& run : runs) {
     if (run.length() <= diagonal + options.size_slack) continue;
-    walls.push_back(&run);
     SurfacePatch wall;
     wall.along = (run.last - run.first).normalized();
     wall.normal = Eigen::Vector3d(-wall.along.y(), wall.along.x(), 0.0);
     wall.centre = 0.5 * (run.first + run.last);
     wall.half_along = 0.5 * run.length();
+    walls.emplace_back(&run, wall);
     search.surfaces.push_back(wall);
   }
   const auto on_wall = [&](const Run& run) {
-    return std::any_of(walls.begin(), walls.end(), [&](const Run* wall) {
-      const Eigen::Vector3d along = (wall->last - wall->first).normalized();
-      const Eigen::Vector3d normal(-along.y(), along.x(), 0.0);
-      return wall != &run && std::abs(normal.dot(run.first - wall->first)) < options.plane_threshold &&
-             std::abs(normal.dot(run.last - wall->first)) < options.plane_threshold;
+    return std::any_of(walls.begin(), walls.end(), [&](const std::pair<const Run*, SurfacePatch>& wall) {
+      const SurfacePatch& line = wall.second;
+      return wall.first != &run && std::abs(line.normal.dot(run.first - line.centre)) < options.plane_threshold &&
+             std::abs(line.normal.dot(run.last - line.centre)) < options.plane_threshold;
     });
   };
   double best_rejected = std::numeric_limits<double>::infinity();

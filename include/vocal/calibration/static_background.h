@@ -9,6 +9,7 @@
 // as it is most of the time, covers it. (Occupied voxels do not tell them apart: the board's poses
 // overlap in space, so its voxels are occupied about as often as a cabinet's.)
 
+#include <algorithm>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -60,8 +61,10 @@ class StaticBackground {
   std::uint64_t cellOf(const Eigen::Vector3d& centre) const;
   // Whether `query`'s centre lies on `seen`: its plane, within its rectangle (+ options_.centre).
   bool covers(const SurfacePatch& seen, const Summary& query) const;
-  // Per tenth of the session: whether `query` was seen in part_share of its messages.
-  std::vector<bool> partsWith(const Summary& query) const;
+  // Tenths of the session (each message its own part in a session of fewer than ten).
+  int partsOfTheSession() const { return std::min(10, messages_); }
+  // The tenths of the session in whose messages `query` was seen in part_share of them.
+  int partsWith(const Summary& query) const;
 
   Options options_;
   int messages_ = 0;
