@@ -83,3 +83,25 @@ TEST(CalibrationOverlay, DrawsPointsWhereTheLensProjectsThem) {
   // Behind the camera, the image centre (where z = -1 would wrap to) stays as it was.
   EXPECT_EQ(drawn(320, 240), grey(320, 240));
 }
+
+// Each overlay scaled to the thumbnail width with its label strip under it, placed left to right in rows.
+TEST(CalibrationOverlay, ContactSheetPlacesEveryThumbnailInItsCell) {
+  const vocal::Rgb8 red{255, 0, 0}, blue{0, 0, 255}, grey{40, 40, 40};
+  const vocal::ColorImage wide_red(640, 480, red), tall_blue(300, 400, blue);
+  const vocal::ColorImage red_thumbnail = vocal::labelledThumbnail(wide_red, 160, "pose 0, camera0");
+  EXPECT_EQ(red_thumbnail.width(), 160);
+  EXPECT_EQ(red_thumbnail.height(), 120 + 18);  // the aspect kept, an 18-pixel label strip
+  EXPECT_EQ(red_thumbnail(80, 60), red);
+  const vocal::ColorImage blue_thumbnail = vocal::labelledThumbnail(tall_blue, 160, "pose 0, camera1");
+  EXPECT_EQ(blue_thumbnail.height(), 213 + 18);
+  const vocal::ColorImage sheet = vocal::contactSheet({red_thumbnail, blue_thumbnail, {}, red_thumbnail}, 2);
+  // Two columns, two rows of the largest cell (160 x 231).
+  ASSERT_EQ(sheet.width(), 320);
+  ASSERT_EQ(sheet.height(), 2 * 231);
+  EXPECT_EQ(sheet(80, 60), red);                 // first row, first column
+  EXPECT_EQ(sheet(160 + 80, 100), blue);         // first row, second column
+  EXPECT_EQ(sheet(80, 231 + 60), grey);          // an empty image: its cell stays empty
+  EXPECT_EQ(sheet(160 + 80, 231 + 60), red);     // second row, second column
+  EXPECT_EQ(sheet(80, 200), grey);               // below the shorter thumbnail in its cell
+  EXPECT_TRUE(vocal::contactSheet({}, 3).empty());
+}

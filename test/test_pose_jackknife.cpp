@@ -65,6 +65,12 @@ TEST(PoseJackknife, SeesErrorsThatDifferFromPoseToPose) {
   EXPECT_GT(error, 3.0 * solver);   // the solver's sigma does not cover the error
   EXPECT_LT(error, 3.0 * spread);   // the jackknife's does
   EXPECT_EQ(jackknife.standard_deviation[0], vocal::Vector6d::Zero());  // the reference stays fixed
+  // Over the default 1 cm / 10 mrad: the lidar (and only it) is reported uncertain.
+  const std::vector<std::string> uncertain = vocal::spreadOverTolerance(jackknife, rig.specs, vocal::SpreadTolerance());
+  ASSERT_EQ(uncertain.size(), 1u);
+  EXPECT_EQ(uncertain[0].rfind("sensor '" + rig.specs[1].name + "' moves ", 0), 0u) << uncertain[0];
+  // Within a tolerance wider than its spread, nothing.
+  EXPECT_TRUE(vocal::spreadOverTolerance(jackknife, rig.specs, {1.0, 2.0 * spread}).empty());
 }
 
 // Only independent noise on every point: the spread between poses is what the covariance says.
@@ -79,6 +85,33 @@ TEST(PoseJackknife, AgreesWithTheSolverWhenPointsAreIndependent) {
     EXPECT_GT(spread, solver / 3.0) << name;
     EXPECT_LT(spread, solver * 3.0) << name;
   }
+  EXPECT_TRUE(vocal::spreadOverTolerance(jackknife, rig.specs, vocal::SpreadTolerance()).empty());
+}
+
+// The line a user reads: the spread, the tolerance, the axes it is largest along and about, and the
+// likely cause or the poses that would pin this type of sensor down.
+TEST(PoseJackknife, NamesTheUncertainSensorItsAxesAndTheLikelyCause) {
+  vocal::PoseJackknife jackknife;
+  jackknife.standard_deviation = {vocal::Vector6d::Zero(), (vocal::Vector6d() << 0.003, 0.004, 0.012, 0.001, 0.008, 0.002).finished(),
+                                  vocal::Vector6d::Constant(0.001)};
+  std::vector<vocal::SensorSpec> specs(3);
+  specs[0].name = "camera";
+  specs[1].name = "velodyne";
+  specs[1].type = vocal::SensorType::kLidar3d;
+  specs[2].name = "laser";
+  specs[2].type = vocal::SensorType::kLaser2d;
+  const std::vector<std::string> uncertain = vocal::spreadOverTolerance(jackknife, specs, vocal::SpreadTolerance());
+  ASSERT_EQ(uncertain.size(), 1u);
+  EXPECT_EQ(uncertain[0],
+            "sensor 'velodyne' moves 13.0 mm / 8.3 mrad between re-solves without one pose (tolerance 10.0 mm / 10.0 mrad), "
+            "most along the rig's z and about its y: its result may be off by as much; a 3D lidar's per-ring range biases "
+            "(its intrinsic calibration, the driver's calibration file) tilt every plane it sees alike, which moves its height "
+            "and pitch together and no choice of poses undoes");
+  // A tighter rotation tolerance takes the laser in too, with its own advice.
+  const std::vector<std::string> tight = vocal::spreadOverTolerance(jackknife, specs, {0.01, 0.0015});
+  ASSERT_EQ(tight.size(), 2u);
+  EXPECT_NE(tight[1].find("sensor 'laser' moves 1.7 mm / 1.7 mrad"), std::string::npos) << tight[1];
+  EXPECT_NE(tight[1].find("where its one line crosses tilted targets"), std::string::npos) << tight[1];
 }
 
 TEST(PoseJackknife, NeedsThreeReSolves) {

@@ -341,6 +341,10 @@ TEST(ToolsCli, CalibrateRigWithCamerasBehindEachLensModel) {
     }
     EXPECT_GE(pngs, 7);
     EXPECT_NE(r.output.find("overlays: " + std::to_string(pngs) + " PNGs"), std::string::npos) << r.output;
+    // All of them in one contact sheet: one camera, so six poses per row, each 320 x 240 over its label.
+    const vocal::ColorImage sheet = vocal::readColorPng(folder + "/overlays_contact_sheet.png");
+    EXPECT_TRUE(sheet.sameSize(6 * 320, (pngs + 5) / 6 * (240 + 18))) << sheet.width() << " x " << sheet.height();
+    EXPECT_NE(r.output.find("  all of them as thumbnails: " + folder + "/overlays_contact_sheet.png\n"), std::string::npos) << r.output;
     const std::size_t line = r.output.find("  camera0      rgbd0 ");
     ASSERT_NE(line, std::string::npos) << r.output;
     double on_board = 0.0, worst = 0.0, off_plane = 0.0;
@@ -354,6 +358,9 @@ TEST(ToolsCli, CalibrateRigWithCamerasBehindEachLensModel) {
   const RunResult no_folder = runTool("calibrate_rig rig.yaml session.bag --overlays");
   EXPECT_EQ(no_folder.exit_code, 1);
   EXPECT_EQ(no_folder.output, "calibrate_rig: error: --overlays needs --output-dir (where the PNGs go)\n");
+  const RunResult no_tolerance = runTool("calibrate_rig rig.yaml session.bag --tolerance-mrad 0");
+  EXPECT_EQ(no_tolerance.exit_code, 1);
+  EXPECT_EQ(no_tolerance.output, "calibrate_rig: error: option --tolerance-mrad: must be > 0 (got 0)\n");
   const RunResult r = runTool("simulate_calibration_session " + vocal_test::makeTempFolder("cli_lens") + " --lens kannala");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --lens: 'kannala' is unknown: expected none, plumb_bob, "
@@ -368,9 +375,12 @@ TEST(ToolsCli, CalibrateRigFromASessionRecordedAtThreeHertz) {
   RunResult r = runTool("simulate_calibration_session " + folder +
                         " --rgbd 1 --lidar 1 --laser 1 --camera 1 --poses 6 --rate 3 --still 2 --moving 1.3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet");
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --tolerance-mm 0.001");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("6 still target poses"), std::string::npos) << r.output;
+  // Under a tolerance of a micrometre every sensor but the reference is reported uncertain.
+  EXPECT_NE(r.output.find("(tolerance 0.0 mm / 10.0 mrad)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\nuncertain: sensor '"), std::string::npos) << r.output;
   r = runTool("simulate_calibration_session " + folder + " --rate 0");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --rate: messages per second must be > 0\n");
@@ -407,6 +417,7 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   EXPECT_NE(r.output.find("spread across still poses (jackknife: 8 of 8 re-solves, each without one pose)"), std::string::npos)
       << r.output;
   EXPECT_EQ(YAML::LoadFile(output + "/calibration.yaml")["sensors"][1]["translation_spread"].size(), 3u);
+  EXPECT_EQ(r.output.find("uncertain:"), std::string::npos) << "within the default 1 cm / 10 mrad: " << r.output;
   // The calibrated poses against the true ones: both files in the rig's own YAML conventions.
   expectCalibrationMatchesTheTruth(output + "/calibration.yaml", folder + "/ground_truth.yaml", 0.005, 0.005);
   // A rig whose topics the bag does not hold.

@@ -86,4 +86,34 @@ ColorImage drawCalibrationOverlay(const ColorImage& image, const PinholeCamera& 
   return out;
 }
 
+ColorImage labelledThumbnail(const ColorImage& image, int width, const std::string& label) {
+  constexpr int kStrip = 18;  // pixels: one line of text
+  const int height = std::max(1, static_cast<int>(std::lround(static_cast<double>(image.height()) * width / image.width())));
+  ColorImage out(width, height + kStrip);
+  const cv::Mat source(image.height(), image.width(), CV_8UC3, const_cast<Rgb8*>(image.data()));
+  cv::Mat canvas(out.height(), out.width(), CV_8UC3, out.data());
+  cv::resize(source, canvas(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0.0, 0.0, cv::INTER_AREA);
+  cv::putText(canvas, label, cv::Point(3, height + kStrip - 5), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(255, 255, 255), 1,
+              cv::LINE_AA);
+  return out;
+}
+
+ColorImage contactSheet(const std::vector<ColorImage>& thumbnails, int columns) {
+  if (thumbnails.empty() || columns < 1) return ColorImage();
+  int cell_width = 0, cell_height = 0;
+  for (const ColorImage& t : thumbnails) {  // an empty one has size 0 x 0
+    cell_width = std::max(cell_width, t.width());
+    cell_height = std::max(cell_height, t.height());
+  }
+  columns = std::min<int>(columns, thumbnails.size());
+  const int rows = (static_cast<int>(thumbnails.size()) + columns - 1) / columns;
+  ColorImage sheet(columns * cell_width, rows * cell_height, Rgb8{40, 40, 40});
+  for (std::size_t i = 0; i < thumbnails.size(); ++i) {
+    const int x0 = static_cast<int>(i % columns) * cell_width, y0 = static_cast<int>(i / columns) * cell_height;
+    for (int y = 0; y < thumbnails[i].height(); ++y)
+      for (int x = 0; x < thumbnails[i].width(); ++x) sheet(x0 + x, y0 + y) = thumbnails[i](x, y);
+  }
+  return sheet;
+}
+
 }  // namespace vocal

@@ -1,5 +1,6 @@
 #include "vocal/calibration/pose_jackknife.h"
 
+#include <cstdio>
 #include <set>
 #include <string>
 
@@ -51,6 +52,44 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
     jackknife.standard_deviation.push_back(((m - 1.0) / m * variance).cwiseSqrt());
   }
   return jackknife;
+}
+
+namespace {
+// What couples a sensor's uncertain directions, and what pins them down where poses can.
+const char* posesThatHelp(SensorType type) {
+  switch (type) {
+    case SensorType::kLidar3d:
+      return "a 3D lidar's per-ring range biases (its intrinsic calibration, the driver's calibration file) tilt "
+             "every plane it sees alike, which moves its height and pitch together and no choice of poses undoes";
+    case SensorType::kLaser2d:
+      return "tilt the target further and at more heights: a 2D laser's height, pitch and roll come only from where "
+             "its one line crosses tilted targets";
+    default:
+      return "hold the target at more poses, tilts and distances";
+  }
+}
+}  // namespace
+
+std::vector<std::string> spreadOverTolerance(const PoseJackknife& jackknife, const std::vector<SensorSpec>& sensors,
+                                             const SpreadTolerance& tolerance) {
+  static const char* const kAxis[] = {"x", "y", "z"};
+  std::vector<std::string> lines;
+  for (std::size_t s = 0; s < sensors.size() && s < jackknife.standard_deviation.size(); ++s) {
+    const Vector6d& spread = jackknife.standard_deviation[s];
+    const double translation = spread.head<3>().norm(), rotation = spread.tail<3>().norm();
+    if (translation <= tolerance.translation && rotation <= tolerance.rotation) continue;
+    Eigen::Index along = 0, about = 0;
+    spread.head<3>().maxCoeff(&along);
+    spread.tail<3>().maxCoeff(&about);
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "sensor '%s' moves %.1f mm / %.1f mrad between re-solves without one pose (tolerance %.1f mm / %.1f mrad), "
+                  "most along the rig's %s and about its %s: its result may be off by as much; ",
+                  sensors[s].name.c_str(), 1000 * translation, 1000 * rotation, 1000 * tolerance.translation,
+                  1000 * tolerance.rotation, kAxis[along], kAxis[about]);
+    lines.push_back(line + std::string(posesThatHelp(sensors[s].type)));
+  }
+  return lines;
 }
 
 }  // namespace vocal

@@ -50,6 +50,11 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     consensus_filter_ = pnh.param("consensus_filter", true);
     board_edges_ = pnh.param("board_edges", false);
+    for (auto [name, value] : {std::pair<const char*, double*>{"tolerance_translation", &tolerance_.translation}, {"tolerance_rotation", &tolerance_.rotation}}) {
+      const double given = pnh.param(name, *value);
+      if (given > 0.0) *value = given;
+      else NODELET_WARN_STREAM("MsgCalibration: ~" << name << " must be > 0 (got " << given << "): keeping " << *value);
+    }
     const int queue_size = std::max(1, pnh.param("queue_size", 50));
     calibrate_service_ = pnh.advertiseService("calibrate", &MsgCalibrationNodelet::calibrate, this);
     reset_service_ = pnh.advertiseService("reset", &MsgCalibrationNodelet::reset, this);
@@ -190,6 +195,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
           summary << line;
           separator = ", ";
         }
+        for (const std::string& uncertain : spreadOverTolerance(*spread, specs, tolerance_)) summary << "; uncertain: " << uncertain;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       if (!output_dir_.empty()) {
@@ -261,6 +267,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
+  SpreadTolerance tolerance_;  // beyond it a sensor's spread across poses is reported as uncertain
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;
   std::map<int, PinholeCamera> cameras_;

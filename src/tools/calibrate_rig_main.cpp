@@ -1,4 +1,4 @@
-// calibrate_rig RIG.yaml BAG [--output-dir DIR] [--overlays] [--no-filter]: MSG-Cal on a recorded session. Reads
+// calibrate_rig RIG.yaml BAG [options, see kUsage]: MSG-Cal on a recorded session. Reads
 // every message on the rig's topics, extracts the target per sensor, associates the still periods,
 // calibrates, prints each sensor's extrinsic with its standard deviation (the solver's, and the spread across
 // still poses) and residual, and writes the result YAML, a URDF snippet and a static-transform launch file.
@@ -37,7 +37,10 @@ const char kUsage[] =
     "                      (bag stamps) and each sensor's residual\n"
     "  --overlays          with --output-dir: per still pose and camera, DIR/overlay_poseNN_CAMERA.png, the\n"
     "                      camera's image with every other sensor's board points drawn where the result puts\n"
-    "                      them beside the board the camera found, and how many land on it\n"
+    "                      them beside the board the camera found, and how many land on it; all of them as\n"
+    "                      thumbnails in DIR/overlays_contact_sheet.png\n"
+    "  --tolerance-mm T    a sensor that moves more than T mm (default 10) or R mrad (default 10) when one still\n"
+    "  --tolerance-mrad R  pose is left out is called uncertain, with the axis and the likely cause\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
@@ -88,6 +91,7 @@ void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSessi
 void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayReport& report) {
   std::printf("overlays: %zu PNGs; per camera, each sensor's board points on the board the camera found "
               "(median over poses, worst pose in brackets):\n", report.written.size());
+  if (!report.contact_sheet.empty()) std::printf("  all of them as thumbnails: %s\n", report.contact_sheet.c_str());
   for (const std::string& problem : report.problems) std::printf("  not drawn: %s\n", problem.c_str());
   std::map<std::pair<int, int>, std::vector<const vocal::OverlayPoseAgreement*>> by_pair;
   for (const vocal::OverlayPoseAgreement& a : report.agreement) by_pair[{a.camera, a.sensor}].push_back(&a);
@@ -125,8 +129,15 @@ void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife
   }
 }
 
+double positiveOption(const vocal::CommandLine& args, const char* name, double fallback) {
+  const double value = args.number(name, fallback);
+  if (!(value > 0.0)) throw vocal::InputError(std::string("option --") + name + ": must be > 0 (got " + args.text(name, "") + ")");
+  return value;
+}
+
 int run(const vocal::CommandLine& args) {
   if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
+  const vocal::SpreadTolerance tolerance{positiveOption(args, "tolerance-mm", 10.0) / 1000, positiveOption(args, "tolerance-mrad", 10.0) / 1000};
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
@@ -176,6 +187,7 @@ int run(const vocal::CommandLine& args) {
   try {
     spread = vocal::jackknifeOverPoses(rig.specs(), associated, session.calibrationOptions(options), result);
     printJackknife(rig, *spread, result);
+    for (const std::string& line : vocal::spreadOverTolerance(*spread, rig.specs(), tolerance)) std::printf("uncertain: %s\n", line.c_str());
   } catch (const vocal::InputError& e) {
     std::printf("spread across still poses: not computed (%s)\n", e.what());
   }
@@ -196,5 +208,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir"}, {"no-filter", "quiet", "report", "edges", "overlays"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays"}, 2);
 }

@@ -1,6 +1,9 @@
 #include "vocal/tools/calibration_overlays.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
+#include <optional>
 
 #include "vocal/calibration/pattern_observation.h"
 #include "vocal/core/errors.h"
@@ -15,6 +18,20 @@ constexpr std::size_t kMaxDrawnPoints = 4000;  // per layer: a depth sensor's po
 Rgb8 layerColour(int sensor) {
   static const Rgb8 palette[] = {{255, 60, 60}, {255, 220, 0}, {0, 200, 255}, {255, 0, 255}, {255, 140, 0}, {120, 120, 255}};
   return palette[sensor % (sizeof(palette) / sizeof(palette[0]))];
+}
+
+constexpr int kThumbnailWidth = 320;  // pixels: six across a 1920-pixel screen
+
+// What a thumbnail still says when its overlay's legend is too small to read: the least share of a
+// sensor's points on the board the camera found (none when it found no board or drew no sensor).
+std::string thumbnailLabel(int pose, const std::string& camera, const std::optional<double>& worst_on_board) {
+  char text[96];
+  if (!worst_on_board) {
+    std::snprintf(text, sizeof(text), "pose %d, %s", pose, camera.c_str());
+  } else {
+    std::snprintf(text, sizeof(text), "pose %d, %s: %.0f%% or more on board", pose, camera.c_str(), 100 * *worst_on_board);
+  }
+  return text;
 }
 
 bool rejected(const CalibrationResult& result, int sensor, int pose) {
@@ -37,6 +54,7 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
   const std::vector<CameraImage> images = readCameraImagesNear(bag_path, rig, requests);
 
   OverlayReport report;
+  std::map<std::pair<int, int>, ColorImage> thumbnails;  // by (pose, camera); full-size overlays are megabytes each
   const double width = rig.target.width, height = rig.target.height;
   for (std::size_t v = 0; v < views.size(); ++v) {
     const TargetObservation& view = *views[v];
@@ -58,6 +76,7 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
     }
     const Eigen::Isometry3d camera_from_reference = result.sensors[view.sensor].reference_from_sensor.inverse();
     std::vector<OverlayLayer> layers;
+    std::optional<double> worst_on_board;  // of the layers, on the board the camera found
     for (const TargetObservation& o : associated) {
       if (o.target_pose != view.target_pose || o.sensor == view.sensor) continue;
       const Eigen::Isometry3d camera_from_sensor = camera_from_reference * result.sensors[o.sensor].reference_from_sensor;
@@ -69,6 +88,7 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
       if (board.width > 0.0) {
         const OverlayAgreement agreement = overlayAgreement(points, board.camera_from_board, width, height);
         report.agreement.push_back({view.target_pose, view.sensor, o.sensor, was_rejected, agreement});
+        worst_on_board = std::min(worst_on_board.value_or(1.0), agreement.on_board);
         char text[96];
         std::snprintf(text, sizeof(text), ": %.0f%% on the board, %.1f mm off its plane", 100 * agreement.on_board,
                       1000 * agreement.plane_rms);
@@ -85,8 +105,30 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
     char name[64];
     std::snprintf(name, sizeof(name), "/overlay_pose%02d_", view.target_pose);
     const std::string path = dir + name + camera_name + ".png";
-    writeColorPng(path, drawCalibrationOverlay(image.image, image.camera, image.lens, board, layers, title));
+    const ColorImage overlay = drawCalibrationOverlay(image.image, image.camera, image.lens, board, layers, title);
+    writeColorPng(path, overlay);
     report.written.push_back(path);
+    thumbnails[{view.target_pose, view.sensor}] =
+        labelledThumbnail(overlay, kThumbnailWidth, thumbnailLabel(view.target_pose, camera_name, worst_on_board));
+  }
+  if (!thumbnails.empty()) {
+    // A column per camera, whole poses per row (about six thumbnails across), a gap where a camera
+    // missed a pose.
+    std::vector<int> cameras;
+    int poses = 0;
+    for (const TargetObservation* view : views) {
+      if (std::find(cameras.begin(), cameras.end(), view->sensor) == cameras.end()) cameras.push_back(view->sensor);
+      poses = std::max(poses, view->target_pose + 1);
+    }
+    std::sort(cameras.begin(), cameras.end());
+    std::vector<ColorImage> cells(static_cast<std::size_t>(poses) * cameras.size());
+    for (auto& [key, thumbnail] : thumbnails) {
+      const auto column = std::find(cameras.begin(), cameras.end(), key.second) - cameras.begin();
+      cells[key.first * cameras.size() + column] = std::move(thumbnail);
+    }
+    const int per_pose = static_cast<int>(cameras.size());
+    report.contact_sheet = dir + "/overlays_contact_sheet.png";
+    writeColorPng(report.contact_sheet, contactSheet(cells, per_pose * std::max(1, 6 / per_pose)));
   }
   return report;
 }

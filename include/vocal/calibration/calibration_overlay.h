@@ -46,4 +46,12 @@ ColorImage drawCalibrationOverlay(const ColorImage& image, const PinholeCamera& 
                                   const OverlayBoard& board, const std::vector<OverlayLayer>& layers,
                                   const std::string& title);
 
+// An overlay scaled down to `width` pixels across (its aspect kept) over a strip holding `label` - what
+// is still readable at that size.
+ColorImage labelledThumbnail(const ColorImage& image, int width, const std::string& label);
+
+// The thumbnails in rows of `columns`, left to right, each in a cell as large as the largest, on dark
+// grey (an empty image leaves its cell empty): every pose and camera in one image.
+ColorImage contactSheet(const std::vector<ColorImage>& thumbnails, int columns);
+
 }  // namespace vocal

@@ -4,6 +4,7 @@
 // hand on the board or a lens's residual distortion make a pose's points wrong together, differently
 // from pose to pose, and only the spread between poses shows it.
 
+#include <string>
 #include <vector>
 
 #include "vocal/calibration/graph_calibration.h"
@@ -24,5 +25,17 @@ struct PoseJackknife {
 // Throws InputError when fewer than 3 re-solves succeed.
 PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                  const CalibrationOptions& options, const CalibrationResult& full);
+
+// How far a sensor may move between the jackknife's re-solves before its result is called uncertain.
+struct SpreadTolerance {
+  double translation = 0.01;  // metres, the norm over the rig frame's axes
+  double rotation = 0.01;     // radians
+};
+
+// One line per sensor whose spread is over `tolerance`: its name, the spread, the rig axis it moves most
+// along and about, and (by sensor type) the likely cause or the poses that would pin it down. Empty when
+// every sensor is within.
+std::vector<std::string> spreadOverTolerance(const PoseJackknife& jackknife, const std::vector<SensorSpec>& sensors,
+                                             const SpreadTolerance& tolerance);
 
 }  // namespace vocal

@@ -24,10 +24,12 @@ struct OverlayReport {
   std::vector<std::string> written;            // PNG paths
   std::vector<OverlayPoseAgreement> agreement;  // where the camera found the board again
   std::vector<std::string> problems;            // per overlay not drawn (no image, no camera_info)
+  std::string contact_sheet;                    // every overlay's thumbnail in one PNG (empty: none drawn)
 };
 
 // One PNG per still pose and camera that saw it, DIR/overlay_pose<NN>_<camera>.png: the image nearest the
-// middle of the camera's still run, read again from the bag.
+// middle of the camera's still run, read again from the bag; and DIR/overlays_contact_sheet.png, all of
+// them as thumbnails, a pose's cameras side by side.
 OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDescription& rig,
                                        const std::vector<TargetObservation>& associated,
                                        const CalibrationResult& result, const std::string& dir);
