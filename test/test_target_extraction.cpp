@@ -382,3 +382,35 @@ TEST(StaticBackground, PassingThroughAPlaceNowAndThenIsNotBackground) {
   EXPECT_DOUBLE_EQ(short_session.recurrence(place), 1.0);
   EXPECT_DOUBLE_EQ(counting_any.recurrence(place), 1.0);
 }
+
+// A 2D laser's scan across the board held by a hand round one end (five beams 3 cm behind the board's
+// line, past its edge) and with a mixed pixel at the other (one beam between the board and the wall):
+// the line is the board's, the end at the hand is dropped (the hand hides the edge) and the other is
+// kept on the edge.
+TEST(TargetExtraction, DropsTheScanEndAHandHides) {
+  constexpr double kStep = 0.25 * M_PI / 180.0, kBoard = 2.0, kHalfWidth = 0.45;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::vector<Eigen::Vector3d> scan;
+  bool mixed_done = false;
+  for (double azimuth = -0.6; azimuth <= 0.6; azimuth += kStep) {
+    const Eigen::Vector3d ray(std::cos(azimuth), std::sin(azimuth), 0.0);
+    const double y_on_board = kBoard * std::tan(azimuth);
+    double range = 4.0 / ray.x();  // the wall
+    if (std::abs(y_on_board) <= kHalfWidth) {
+      range = kBoard / ray.x();
+    } else if (y_on_board > kHalfWidth && y_on_board <= kHalfWidth + 0.045) {
+      range = (kBoard + 0.03) / ray.x();  // the hand, behind the board's line
+    } else if (y_on_board < -kHalfWidth && !mixed_done && y_on_board > -kHalfWidth - 0.01) {
+      range = 3.0 / ray.x(), mixed_done = true;  // a mixed pixel between the board and the wall
+    }
+    scan.push_back((range + noise(rng)) * ray);
+  }
+  ASSERT_TRUE(mixed_done);
+  const vocal::TargetSearch search = vocal::findTargetInScan(scan, 0.9, 0.7, kStep);
+  ASSERT_EQ(search.candidates.size(), 1u) << search.rejection;
+  const vocal::TargetCandidate& taken = search.candidates[0];
+  ASSERT_EQ(taken.outline.size(), 1u) << "only the end without the hand";
+  EXPECT_NEAR(taken.outline[0].y(), -kHalfWidth, kBoard * kStep) << taken.outline[0].transpose();
+  EXPECT_NEAR(taken.outline[0].x(), kBoard, 0.005);
+}

@@ -525,10 +525,20 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
       keepBestRejection(mismatch, check, why, &best_rejected, &search);
       continue;
     }
-    // As in 3D: without points far off the run's line (hands over the board's ends, mixed pixels).
-    const Eigen::Vector3d across(-along.y(), along.x(), 0.0);
+    // As in 3D: without points far off the run's line (hands over the board's ends, mixed pixels). The
+    // line is the run's middle's: a hand at an end would tilt the line through the run's end points
+    // towards itself and pass as on it.
+    std::vector<Eigen::Vector3d> middle_points;
+    for (int i : run.points)
+      if (std::min(along.dot(point(i) - run.first), along.dot(run.last - point(i))) >= options.edge_margin) middle_points.push_back(point(i));
+    Eigen::Vector3d across(-along.y(), along.x(), 0.0), on_middle = run.first;
+    if (middle_points.size() >= 2) {
+      const PrincipalAxes line = principalAxesOf(middle_points);
+      across = Eigen::Vector3d(-line.axes(1, 0), line.axes(0, 0), 0.0).normalized();
+      on_middle = line.centroid;
+    }
     std::vector<double> distances;
-    for (int i : run.points) distances.push_back(std::abs(across.dot(point(i) - run.first)));
+    for (int i : run.points) distances.push_back(std::abs(across.dot(point(i) - on_middle)));
     const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
     TargetCandidate candidate;
     for (std::size_t k = 0; k < run.points.size(); ++k) {
@@ -542,13 +552,21 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
     for (std::size_t k = 0; k < run.points.size(); ++k)
       if (distances[k] <= limit) on_line.push_back(point(run.points[k]));
     const std::vector<Eigen::Vector3d> ends =
-        boardOutlinePoints(on_line, Plane{across, -across.dot(run.first)}, ScanSpacing{beam_spacing, 0.0, ScanPattern::kSpinning});
+        boardOutlinePoints(on_line, Plane{across, -across.dot(on_middle)}, ScanSpacing{beam_spacing, 0.0, ScanPattern::kSpinning});
     const auto hidden = [&](int end, int beyond) {
       return beyond >= 0 && beyond < static_cast<int>(cloud->size()) && point(beyond).norm() < point(end).norm() - options.plane_threshold;
     };
+    // A run that goes on past the board's end off its line for two beams or more (a hand round the
+    // edge; a mixed pixel is one) hides where the edge is.
+    const auto offLineAtEnd = [&](bool front) {
+      int count = 0;
+      for (std::size_t k = 0; k < run.points.size() && distances[front ? k : run.points.size() - 1 - k] > limit; ++k) ++count;
+      return count >= 2;
+    };
     if (ends.size() == 2) {
-      if (!hidden(run.points.front(), run.points.front() - 1)) candidate.outline.push_back(ends[0]);
-      if (!hidden(run.points.back(), run.points.back() + 1)) candidate.outline.push_back(ends[1]);
+      const int front = run.points.front(), back = run.points.back();
+      if (!hidden(front, front - 1) && !offLineAtEnd(true)) candidate.outline.push_back(ends[0]);
+      if (!hidden(back, back + 1) && !offLineAtEnd(false)) candidate.outline.push_back(ends[1]);
     }
     candidate.mismatch = mismatch;
     search.candidates.push_back(std::move(candidate));
