@@ -55,8 +55,8 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
 }
 
 namespace {
-// What couples a sensor's uncertain directions, and what pins them down where poses can.
-const char* posesThatHelp(SensorType type) {
+// Why a sensor of this type moves between re-solves, or which poses would pin it down.
+const char* adviceFor(SensorType type) {
   switch (type) {
     case SensorType::kLidar3d:
       return "a 3D lidar's per-ring range biases (its intrinsic calibration, the driver's calibration file) tilt "
@@ -87,7 +87,7 @@ std::vector<std::string> spreadOverTolerance(const PoseJackknife& jackknife, con
                   "most along the rig's %s and about its %s: its result may be off by as much; ",
                   sensors[s].name.c_str(), 1000 * translation, 1000 * rotation, 1000 * tolerance.translation,
                   1000 * tolerance.rotation, kAxis[along], kAxis[about]);
-    lines.push_back(line + std::string(posesThatHelp(sensors[s].type)));
+    lines.push_back(line + std::string(adviceFor(sensors[s].type)));
   }
   return lines;
 }
