@@ -53,8 +53,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"
            << "    rotation_spread: [" << jk[3] << ", " << jk[4] << ", " << jk[5] << "]  # rad, jackknife over still poses\n";
     }
-    file
-         << "    rms_m: " << c.rms << "\n"
+    file << "    rms_m: " << c.rms << "\n"
          << "    observations: " << c.observations << "\n";
   }
   finish(file, path);

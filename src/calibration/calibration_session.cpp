@@ -227,5 +227,4 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   return calibrateRig(rig_.specs(), associated, calibrationOptions(options));
 }
 
-
 }  // namespace vocal

@@ -528,9 +528,10 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
     // As in 3D: without points far off the run's line (hands over the board's ends, mixed pixels). The
     // line is the run's middle's: a hand at an end would tilt the line through the run's end points
     // towards itself and pass as on it.
+    const auto fromEnds = [&](int i) { return std::min(along.dot(point(i) - run.first), along.dot(run.last - point(i))); };
     std::vector<Eigen::Vector3d> middle_points;
     for (int i : run.points)
-      if (std::min(along.dot(point(i) - run.first), along.dot(run.last - point(i))) >= options.edge_margin) middle_points.push_back(point(i));
+      if (fromEnds(i) >= options.edge_margin) middle_points.push_back(point(i));
     Eigen::Vector3d across(-along.y(), along.x(), 0.0), on_middle = run.first;
     if (middle_points.size() >= 2) {
       const PrincipalAxes line = principalAxesOf(middle_points);
@@ -541,10 +542,8 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
     for (int i : run.points) distances.push_back(std::abs(across.dot(point(i) - on_middle)));
     const double limit = std::max(0.005, 3.0 * 1.4826 * median(distances));
     TargetCandidate candidate;
-    for (std::size_t k = 0; k < run.points.size(); ++k) {
-      const double from_ends = std::min(along.dot(point(run.points[k]) - run.first), along.dot(run.last - point(run.points[k])));
-      if (distances[k] <= limit && from_ends >= options.edge_margin) candidate.points.push_back(point(run.points[k]));
-    }
+    for (std::size_t k = 0; k < run.points.size(); ++k)
+      if (distances[k] <= limit && fromEnds(run.points[k]) >= options.edge_margin) candidate.points.push_back(point(run.points[k]));
     if (static_cast<int>(candidate.points.size()) < kMinSegmentPoints) continue;
     // The run's ends on the board's edges, unless the beam beyond an end hit something nearer (a hand
     // over the edge hides where it is).
