@@ -27,13 +27,16 @@ double beamSpacingOf(const std::vector<Eigen::Vector3d>& scan) {
 }
 }  // namespace
 
-CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptions extraction, StillnessOptions stillness)
+CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptions extraction, StillnessOptions stillness,
+                                       RingOffsetOptions ring_offsets)
     : rig_(std::move(rig)),
       extraction_(extraction),
       stillness_(stillness),
       counts_(rig_.sensors.size()),
       backgrounds_(rig_.sensors.size()),
-      lidar_spacing_(rig_.sensors.size()) {
+      lidar_spacing_(rig_.sensors.size()),
+      ring_offset_options_(ring_offsets),
+      ring_offsets_(rig_.sensors.size()) {
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
 }
@@ -100,7 +103,23 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
     throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
                      " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more)");
   }
-  return recordRange(sensor, stamp, findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor)));
+  TargetSearch search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
+  std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
+  if (ring_offset_options_.enabled && !offsets && spacing.pattern == ScanPattern::kSpinning) {
+    // The rings of the first full cloud (a stray return's elevation is no ring).
+    std::vector<double> elevations;
+    for (const LidarRing& ring : lidarRingsOf(cloud))
+      if (ring.returns >= 20) elevations.push_back(ring.elevation);
+    if (elevations.size() >= 2 && elevations.size() <= 128) offsets.emplace(std::move(elevations), ring_offset_options_);
+  }
+  if (offsets) offsets->addPlanes(search.room_points);
+  search.room_points.clear();  // tens of thousands of returns per cloud: not kept
+  return recordRange(sensor, stamp, std::move(search));
+}
+
+std::optional<RingOffsets> CalibrationSession::ringOffsets(int sensor) const {
+  if (sensor < 0 || sensor >= static_cast<int>(ring_offsets_.size()) || !ring_offsets_[sensor]) return std::nullopt;
+  return ring_offsets_[sensor]->solve();
 }
 
 bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
@@ -177,6 +196,8 @@ std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
 
 std::vector<TimedObservation> CalibrationSession::timedObservations() const {
   const std::vector<int>& chosen = chosenCandidates();
+  std::vector<std::optional<RingOffsets>> offsets(rig_.sensors.size());
+  for (std::size_t s = 0; s < offsets.size(); ++s) offsets[s] = ringOffsets(static_cast<int>(s));
   std::vector<TimedObservation> observations = observations_;
   for (std::size_t i = 0; i < range_messages_.size(); ++i) {
     if (chosen[i] < 0) continue;
@@ -185,6 +206,10 @@ std::vector<TimedObservation> CalibrationSession::timedObservations() const {
     observation.stamp = range_messages_[i].stamp;
     observation.points = range_messages_[i].search.candidates[chosen[i]].points;
     observation.outline = range_messages_[i].search.candidates[chosen[i]].outline;
+    if (const std::optional<RingOffsets>& rings = offsets[observation.sensor]) {
+      for (Eigen::Vector3d& p : observation.points) p = rings->corrected(p);
+      for (Eigen::Vector3d& p : observation.outline) p = rings->corrected(p);
+    }
     observations.push_back(std::move(observation));
   }
   return observations;

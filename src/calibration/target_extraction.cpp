@@ -21,6 +21,7 @@
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include "vocal/calibration/board_outline.h"
+#include "vocal/calibration/lidar_ring_offsets.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
@@ -321,7 +322,12 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       search.surfaces.push_back(shape.patch);
     }
     unexplained = without(unexplained, inliers);
-    if (!room.empty()) remaining = without(remaining, room);
+    if (room.empty()) continue;
+    remaining = without(remaining, room);
+    if (spacing.pattern == ScanPattern::kSpinning) {
+      search.room_points.emplace_back();
+      for (int i : room) search.room_points.back().push_back(cloud->at(i).getVector3fMap().cast<double>());
+    }
   }
 
   // Objects left (the board with whoever holds it, furniture): planes in each, each plane's pieces checked.
@@ -577,23 +583,13 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
   ScanSpacing spacing;
   if (cloud.size() < 10) return spacing;
   // A spinning lidar: elevations fall into a few rings.
-  std::vector<double> elevations;
-  for (const Eigen::Vector3d& p : cloud) elevations.push_back(std::atan2(p.z(), p.head<2>().norm()));
-  std::sort(elevations.begin(), elevations.end());
-  std::vector<std::pair<double, std::size_t>> rings;  // mean elevation, count
-  for (std::size_t i = 0; i < elevations.size();) {
-    std::size_t j = i;
-    double sum = 0.0;
-    while (j < elevations.size() && elevations[j] - elevations[i] < 0.2 * M_PI / 180.0) sum += elevations[j++];
-    rings.emplace_back(sum / (j - i), j - i);
-    i = j;
-  }
+  const std::vector<LidarRing> rings = lidarRingsOf(cloud);
   if (rings.size() <= 128 && rings.size() >= 2 && cloud.size() / rings.size() >= 50) {
     std::vector<double> gaps, steps;
-    for (std::size_t r = 1; r < rings.size(); ++r) gaps.push_back(rings[r].first - rings[r - 1].first);
+    for (std::size_t r = 1; r < rings.size(); ++r) gaps.push_back(rings[r].elevation - rings[r - 1].elevation);
     spacing.vertical = median(gaps);
     // Azimuth steps within the ring with the most points.
-    const double ring = std::max_element(rings.begin(), rings.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
+    const double ring = std::max_element(rings.begin(), rings.end(), [](const LidarRing& a, const LidarRing& b) { return a.returns < b.returns; })->elevation;
     std::vector<double> azimuths;
     for (const Eigen::Vector3d& p : cloud)
       if (std::abs(std::atan2(p.z(), p.head<2>().norm()) - ring) < 0.1 * M_PI / 180.0) azimuths.push_back(std::atan2(p.y(), p.x()));

@@ -50,6 +50,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     consensus_filter_ = pnh.param("consensus_filter", true);
     board_edges_ = pnh.param("board_edges", false);
+    ring_offsets_.enabled = pnh.param("ring_offsets", true);
     for (auto [name, value] : {std::pair<const char*, double*>{"tolerance_translation", &tolerance_.translation}, {"tolerance_rotation", &tolerance_.rotation}}) {
       const double given = pnh.param(name, *value);
       if (given > 0.0) *value = given;
@@ -71,7 +72,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       return;
     }
     try {
-      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path));
+      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path), TargetExtractionOptions{}, StillnessOptions{},
+                                                      ring_offsets_);
     } catch (const InputError& e) {
       setup_error_ = e.what();
       NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");
@@ -234,7 +236,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
 
   bool reset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (session_) session_ = std::make_unique<CalibrationSession>(session_->rig());
+    if (session_) session_ = std::make_unique<CalibrationSession>(session_->rig(), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_);
     dropped_.assign(dropped_.size(), 0);
     last_problem_.clear();
     last_result_.clear();
@@ -267,6 +269,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
+  RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
   SpreadTolerance tolerance_;  // beyond it a sensor's spread across poses is reported as uncertain
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;

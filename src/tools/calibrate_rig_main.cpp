@@ -41,6 +41,8 @@ const char kUsage[] =
     "                      thumbnails in DIR/overlays_contact_sheet.png\n"
     "  --tolerance-mm T    a sensor that moves more than T mm (default 10) or R mrad (default 10) when one still\n"
     "  --tolerance-mrad R  pose is left out is called uncertain, with the axis and the likely cause\n"
+    "  --no-ring-offsets   take a 3D lidar's ranges as they are (by default each ring's range offset is\n"
+    "                      estimated from the room's planes, floor and walls, and its board returns corrected)\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
@@ -129,6 +131,21 @@ void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife
   }
 }
 
+// Each 3D lidar's ring offsets, which its board returns were corrected by: a ring far off, or a sigma
+// near the prior's, says what the room gave.
+void printRingOffsets(const vocal::RigDescription& rig, const vocal::CalibrationSession& session) {
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const std::optional<vocal::RingOffsets> rings = session.ringOffsets(static_cast<int>(s));
+    if (!rings) continue;
+    std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected):\n",
+                rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms);
+    for (std::size_t r = 0; r < rings->elevations.size(); ++r) {
+      std::printf("  %+6.1f deg %+6.1f +- %.1f%s", rings->elevations[r] * 180.0 / M_PI, 1000 * rings->offsets[r], 1000 * rings->sigmas[r],
+                  r % 4 == 3 || r + 1 == rings->elevations.size() ? "\n" : "");
+    }
+  }
+}
+
 double positiveOption(const vocal::CommandLine& args, const char* name, double fallback) {
   const double value = args.number(name, fallback);
   if (!(value > 0.0)) throw vocal::InputError(std::string("option --") + name + ": must be > 0 (got " + args.text(name, "") + ")");
@@ -141,7 +158,9 @@ int run(const vocal::CommandLine& args) {
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
-  vocal::CalibrationSession session(rig);
+  vocal::RingOffsetOptions ring_offsets;
+  ring_offsets.enabled = !args.has("no-ring-offsets");
+  vocal::CalibrationSession session(rig, {}, {}, ring_offsets);
   const bool quiet = args.has("quiet");
   // On a terminal one line counts up; in a log, a line per thousand messages.
   const bool terminal = isatty(fileno(stderr));
@@ -165,6 +184,7 @@ int run(const vocal::CommandLine& args) {
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
     std::printf("\n");
   }
+  printRingOffsets(rig, session);
 
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
@@ -208,5 +228,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets"}, 2);
 }

@@ -3,10 +3,12 @@
 // images) in, the target extracted from each, the still periods associated, the rig calibrated. What
 // the calibrate_rig tool (from a bag) and the MsgCalibration nodelet (live) share.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/lidar_ring_offsets.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/static_background.h"
 #include "vocal/calibration/still_target_association.h"
@@ -36,7 +38,8 @@ struct RangeMessage {
 
 class CalibrationSession {
  public:
-  explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {});
+  explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {},
+                              RingOffsetOptions ring_offsets = {});
 
   // Each returns whether the target was found (range sensors: a board-shaped segment; whether it is
   // static background is settled over the whole session). Throws InputError naming the sensor when it
@@ -63,6 +66,9 @@ class CalibrationSession {
   // Every range sensor's message in arrival order, with the candidate taken and why none was.
   std::vector<RangeMessage> rangeMessages() const;
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
+  // A 3D lidar's ring offsets estimated from the room planes of its clouds so far (its board points
+  // are corrected by them); none for other sensors, with ring offsets off, or before a cloud.
+  std::optional<RingOffsets> ringOffsets(int sensor) const;
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
@@ -85,6 +91,8 @@ class CalibrationSession {
   mutable std::vector<int> chosen_;  // chosenCandidates(), valid while its size matches range_messages_
   std::vector<StaticBackground> backgrounds_;  // per sensor
   std::vector<ScanSpacing> lidar_spacing_;     // per sensor, estimated from its first full cloud
+  RingOffsetOptions ring_offset_options_;
+  std::vector<std::optional<RingOffsetEstimator>> ring_offsets_;  // per sensor: lidars, from their first full cloud
 };
 
 }  // namespace vocal

@@ -75,6 +75,9 @@ struct TargetSearch {
   // Planes larger than the board (floor, walls, large furniture; a 2D scan's long runs): most of the
   // time they cover what becomes a board-sized segment once someone stands in front of them.
   std::vector<SurfacePatch> surfaces;
+  // A spinning lidar's room planes, each plane's returns (those of its pieces larger than the board):
+  // what its ring offsets are estimated from (lidar_ring_offsets.h). Empty for other sensors.
+  std::vector<std::vector<Eigen::Vector3d>> room_points;
 };
 
 // The board's candidates in a 3D cloud (lidar or depth, sensor frame): points outside the crop box

@@ -1,0 +1,116 @@
+// A VLP-16-like lidar's range offset per ring, estimated from the room planes its clouds show (floor,
+// walls, furniture that extraction finds anyway), against the offsets the simulator drew.
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+#include "vocal/calibration/lidar_ring_offsets.h"
+#include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/simulated_sensor_data.h"
+#include "vocal/calibration/target_extraction.h"
+
+namespace {
+// `clouds` clouds of the furnished room with the board held still in it, 2 cm noise and each ring's
+// range offset drawn from +-2 cm; each cloud's room planes as extraction finds them go to `estimator`
+// (made from the first cloud's rings). The offsets drawn.
+std::vector<double> observeTheRoom(int clouds, std::uint32_t seed, std::optional<vocal::RingOffsetEstimator>* estimator,
+                                   std::vector<vocal::LidarRing>* rings = nullptr) {
+  const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1, 0, 0)[0];
+  const vocal::TargetDescription target;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> drawn(-0.02, 0.02);
+  std::vector<double> offsets(16);
+  for (double& b : offsets) b = drawn(rng);
+  vocal::SimulatedRoomView view;
+  view.sensor = &lidar;
+  view.target = &target;
+  view.layout = vocal::RoomLayout::kFurnished;
+  view.person_holds_target = true;
+  view.mixed_pixels = true;
+  view.range_noise = 0.02;
+  view.ring_bias = offsets;
+  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
+  view.reference_from_target.linear() = vocal::targetFacingRig();
+  for (int i = 0; i < clouds; ++i) {
+    const std::vector<Eigen::Vector3d> cloud = vocal::simulateLidarCloud(view, &rng);
+    if (i == 0) {
+      std::vector<double> elevations;
+      for (const vocal::LidarRing& ring : vocal::lidarRingsOf(cloud)) elevations.push_back(ring.elevation);
+      if (rings) *rings = vocal::lidarRingsOf(cloud);
+      estimator->emplace(elevations);
+    }
+    const vocal::TargetSearch search =
+        vocal::findTargetInCloud(cloud, target.width, target.height, vocal::estimateScanSpacing(cloud));
+    (*estimator)->addPlanes(search.room_points);
+  }
+  return offsets;
+}
+}  // namespace
+
+TEST(LidarRingOffsets, FindsTheSixteenRingsOfAVlp16Cloud) {
+  std::optional<vocal::RingOffsetEstimator> estimator;
+  std::vector<vocal::LidarRing> rings;
+  observeTheRoom(1, 5, &estimator, &rings);
+  ASSERT_EQ(rings.size(), 16u);
+  for (std::size_t r = 0; r < rings.size(); ++r) {
+    EXPECT_NEAR(rings[r].elevation * 180.0 / M_PI, -15.0 + 2.0 * r, 1e-6) << "ring " << r;
+    EXPECT_GT(rings[r].returns, 1000u) << "ring " << r;
+  }
+}
+
+// The offsets drawn (+-2 cm) are recovered to 3 mm from ten clouds of the room (what is left is
+// shared by all rings: returns where the room's surfaces meet others); what is left of the returns'
+// distance to their planes is their noise along the ray, seen along each plane's normal.
+TEST(LidarRingOffsets, RecoversEachRingsOffsetFromTheRoomsPlanes) {
+  for (const std::uint32_t seed : {3u, 7u}) {
+    std::optional<vocal::RingOffsetEstimator> estimator;
+    const std::vector<double> drawn = observeTheRoom(10, seed, &estimator);
+    const vocal::RingOffsets found = estimator->solve();
+    ASSERT_EQ(found.offsets.size(), 16);
+    std::printf("seed %u: %d planes, %zu returns, %.1f mm rms off them\n", seed, found.planes, found.returns, 1000 * found.rms);
+    double worst = 0.0;
+    for (int r = 0; r < 16; ++r) {
+      const double error = found.offsets[r] - drawn[r];
+      std::printf("  ring %2d drawn %+6.1f mm, found %+6.1f +- %.1f\n", r, 1000 * drawn[r], 1000 * found.offsets[r], 1000 * found.sigmas[r]);
+      worst = std::max(worst, std::abs(error));
+      EXPECT_LT(found.sigmas[r], 0.001) << "seed " << seed << " ring " << r;
+    }
+    EXPECT_LT(worst, 0.003) << "seed " << seed;
+    EXPECT_GT(found.rms, 0.014) << "seed " << seed;
+    EXPECT_LT(found.rms, 0.02) << "seed " << seed;
+  }
+}
+
+TEST(LidarRingOffsets, AReturnMovesBackAlongItsRayByItsRingsOffset) {
+  vocal::RingOffsetEstimator estimator({-0.1, 0.0, 0.1});
+  vocal::RingOffsets rings = estimator.solve();
+  rings.offsets << 0.02, -0.01, 0.0;
+  const Eigen::Vector3d low = 3.0 * Eigen::Vector3d(std::cos(-0.1), 0.0, std::sin(-0.1));
+  EXPECT_LT((rings.corrected(low) - low * (2.98 / 3.0)).norm(), 1e-12);
+  const Eigen::Vector3d level(0.0, -2.0, 0.0);
+  EXPECT_LT((rings.corrected(level) - Eigen::Vector3d(0.0, -2.01, 0.0)).norm(), 1e-12);
+  const Eigen::Vector3d between = Eigen::Vector3d(std::cos(0.05), 0.0, std::sin(0.05));  // half-way: in no ring
+  EXPECT_EQ(rings.ringOf(between), -1);
+  EXPECT_EQ(rings.corrected(between), between);
+}
+
+// Nothing seen: no offset invented, each as uncertain as the prior.
+TEST(LidarRingOffsets, WithoutPlanesEveryOffsetStaysAtZero) {
+  vocal::RingOffsetOptions options;
+  options.prior_sigma = 0.05;
+  vocal::RingOffsetEstimator estimator({-0.1, 0.0, 0.1}, options);
+  estimator.addPlane({Eigen::Vector3d(2.0, 0.0, 0.0), Eigen::Vector3d(2.0, 0.1, 0.0), Eigen::Vector3d(2.0, 0.0, 0.2)});  // too few returns
+  const vocal::RingOffsets rings = estimator.solve();
+  EXPECT_EQ(rings.planes, 0);
+  EXPECT_EQ(rings.offsets, Eigen::VectorXd::Zero(3));
+  EXPECT_EQ(rings.sigmas, Eigen::VectorXd::Constant(3, 0.05));
+}
+
+TEST(LidarRingOffsets, NeedsTwoRings) {
+  EXPECT_EQ(vocal_test::inputErrorOf([] { vocal::RingOffsetEstimator estimator({0.0}); }),
+            "lidar ring offsets: 1 ring(s) of returns; a spinning lidar has 2 or more");
+}
