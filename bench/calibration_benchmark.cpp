@@ -1,12 +1,19 @@
-// Google Benchmark of MSG-Cal's solve: a simulated rig of 3 RGB-D sensors and 2 lidars (5 sensors)
-// observing 50 target poses with 1 mm range noise; plane fits, pairwise initialisation, the Ceres
-// graph and the covariance all count.
+// Google Benchmark of MSG-Cal: the solve (a simulated rig of 3 RGB-D sensors and 2 lidars observing
+// 50 target poses with 1 mm range noise; plane fits, pairwise initialisation, the Ceres graph and the
+// covariance all count), and per VLP-16 cloud of the furnished room with a person holding the board
+// (2 cm noise, +-2 cm ring offsets, mixed pixels): the target search, and adding its room planes to
+// the ring offsets' estimate.
 //   devel/lib/vocal/calibration_benchmark
 
 #include <benchmark/benchmark.h>
 
+#include <random>
+
 #include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/lidar_ring_offsets.h"
 #include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/simulated_sensor_data.h"
+#include "vocal/calibration/target_extraction.h"
 
 namespace {
 void BM_CalibrateRig(benchmark::State& state) {
@@ -25,7 +32,49 @@ void BM_CalibrateRig(benchmark::State& state) {
   state.counters["observations"] = static_cast<double>(rig.observations.size());
   state.counters["points"] = static_cast<double>(points);
 }
+
+std::vector<Eigen::Vector3d> furnishedRoomLidarCloud() {
+  static const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1, 0, 0)[0];
+  static const vocal::TargetDescription target;
+  std::mt19937 rng(3);
+  vocal::SimulatedRoomView view;
+  view.sensor = &lidar;
+  view.target = &target;
+  view.layout = vocal::RoomLayout::kFurnished;
+  view.person_holds_target = true;
+  view.mixed_pixels = true;
+  view.range_noise = 0.02;
+  std::uniform_real_distribution<double> offset(-0.02, 0.02);
+  for (int ring = 0; ring < 16; ++ring) view.ring_bias.push_back(offset(rng));
+  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
+  view.reference_from_target.linear() = vocal::targetFacingRig();
+  return vocal::simulateLidarCloud(view, &rng);
+}
+
+void BM_FindTargetInLidarCloud(benchmark::State& state) {
+  const std::vector<Eigen::Vector3d> cloud = furnishedRoomLidarCloud();
+  const vocal::ScanSpacing spacing = vocal::estimateScanSpacing(cloud);
+  const vocal::TargetDescription target;
+  for (auto _ : state) benchmark::DoNotOptimize(vocal::findTargetInCloud(cloud, target.width, target.height, spacing));
+  state.counters["returns"] = static_cast<double>(cloud.size());
+}
+
+void BM_RingOffsetsAddPlanes(benchmark::State& state) {
+  const std::vector<Eigen::Vector3d> cloud = furnishedRoomLidarCloud();
+  const vocal::TargetDescription target;
+  const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, target.width, target.height, vocal::estimateScanSpacing(cloud));
+  std::vector<double> elevations;
+  for (const vocal::LidarRing& ring : vocal::lidarRingsOf(cloud)) elevations.push_back(ring.elevation);
+  vocal::RingOffsetEstimator estimator(elevations);
+  std::size_t returns = 0;
+  for (const auto& plane : search.room_points) returns += plane.size();
+  for (auto _ : state) estimator.addPlanes(search.room_points);
+  state.counters["planes"] = static_cast<double>(search.room_points.size());
+  state.counters["returns"] = static_cast<double>(returns);
+}
 }  // namespace
 
 BENCHMARK(BM_CalibrateRig)->Arg(50)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FindTargetInLidarCloud)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RingOffsetsAddPlanes)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

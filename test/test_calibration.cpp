@@ -211,6 +211,24 @@ TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
   const YAML::Node with_spread = YAML::LoadFile(folder + "/spread.yaml")["sensors"][1];
   EXPECT_EQ(with_spread["translation_spread"].as<std::vector<double>>(), (std::vector<double>{0.001, 0.002, 0.003}));
   EXPECT_EQ(with_spread["rotation_spread"].as<std::vector<double>>(), (std::vector<double>{0.004, 0.005, 0.006}));
+  EXPECT_FALSE(with_spread["ring_offsets"]) << "no ring offsets were given";
+
+  // With ring offsets, the lidar's beside its result (none for the RGB-D sensor).
+  vocal::RingOffsets rings = vocal::RingOffsetEstimator({-0.1, 0.1}).solve();
+  rings.planes = 7;
+  rings.offsets << 0.012, -0.003;
+  rings.sigmas << 0.001, 0.002;
+  const std::vector<std::optional<vocal::RingOffsets>> offsets = {std::nullopt, rings};
+  vocal::writeCalibrationYaml(folder + "/rings.yaml", "base_link", specs(rig), result, nullptr, &offsets);
+  const YAML::Node with_rings = YAML::LoadFile(folder + "/rings.yaml")["sensors"];
+  EXPECT_FALSE(with_rings[0]["ring_offsets"]);
+  const YAML::Node ring_offsets = with_rings[1]["ring_offsets"];
+  ASSERT_TRUE(ring_offsets);
+  const auto elevations = ring_offsets["elevation_deg"].as<std::vector<double>>();
+  ASSERT_EQ(elevations.size(), 2u);
+  EXPECT_NEAR(elevations[1], 0.1 * 180.0 / M_PI, 1e-6);
+  EXPECT_EQ(ring_offsets["offset_m"].as<std::vector<double>>(), (std::vector<double>{0.012, -0.003}));
+  EXPECT_EQ(ring_offsets["offset_stddev_m"].as<std::vector<double>>(), (std::vector<double>{0.001, 0.002}));
 
   // The URDF's rpy reproduces the rotation.
   std::ifstream urdf(folder + "/rig.urdf");

@@ -81,9 +81,12 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
     EXPECT_NE(calibrate.response.message.find("; uncertain: sensor '" + sensors[s].spec.name + "' moves "), std::string::npos)
         << calibrate.response.message;
   }
+  // The lidar's ring offsets, estimated from the room's floor and wall, in the reply and the result YAML.
+  EXPECT_NE(calibrate.response.message.find("; lidar0 ring offsets "), std::string::npos) << calibrate.response.message;
   std::ifstream result_yaml(folder + "/calibration.yaml");
   const std::string result_text((std::istreambuf_iterator<char>(result_yaml)), std::istreambuf_iterator<char>());
   EXPECT_NE(result_text.find("    translation_spread: ["), std::string::npos) << result_text;
+  EXPECT_NE(result_text.find("    ring_offsets:  # from "), std::string::npos) << result_text;
 
   for (std::size_t s = 1; s < sensors.size(); ++s) {
     geometry_msgs::TransformStamped t;

@@ -106,7 +106,8 @@ TEST(PoseJackknife, NamesTheUncertainSensorItsAxesAndTheLikelyCause) {
             "sensor 'velodyne' moves 13.0 mm / 8.3 mrad between re-solves without one pose (tolerance 10.0 mm / 10.0 mrad), "
             "most along the rig's z and about its y: its result may be off by as much; a 3D lidar's per-ring range biases "
             "(its intrinsic calibration, the driver's calibration file) tilt every plane it sees alike, which moves its height "
-            "and pitch together and no choice of poses undoes");
+            "and pitch together and no choice of poses undoes: calibrate where it sees walls and floor around it, which its "
+            "ring offsets are estimated from");
   // A tighter rotation tolerance takes the laser in too, with its own advice.
   const std::vector<std::string> tight = vocal::spreadOverTolerance(jackknife, specs, {0.01, 0.0015});
   ASSERT_EQ(tight.size(), 2u);

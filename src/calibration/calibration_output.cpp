@@ -1,5 +1,6 @@
 #include "vocal/calibration/calibration_output.h"
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 
@@ -28,7 +29,8 @@ void checkSizes(const std::vector<SensorSpec>& sensors, const CalibrationResult&
 }  // namespace
 
 void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
-                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result, const PoseJackknife* spread) {
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result, const PoseJackknife* spread,
+                          const std::vector<std::optional<RingOffsets>>* ring_offsets) {
   checkSizes(sensors, result);
   std::ofstream file = openOutput(path);
   file << "# vocal MSG-Cal result: pose of each sensor frame in " << reference_frame << "\n"
@@ -52,6 +54,18 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       const Vector6d& jk = spread->standard_deviation[s];
       file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"
            << "    rotation_spread: [" << jk[3] << ", " << jk[4] << ", " << jk[5] << "]  # rad, jackknife over still poses\n";
+    }
+    if (ring_offsets && s < ring_offsets->size() && (*ring_offsets)[s]) {
+      const RingOffsets& rings = *(*ring_offsets)[s];
+      const auto list = [&](const char* key, auto value, const char* comment) {
+        file << "      " << key << ": [";
+        for (std::size_t r = 0; r < rings.elevations.size(); ++r) file << (r ? ", " : "") << value(r);
+        file << "]" << comment << "\n";
+      };
+      file << "    ring_offsets:  # from " << rings.planes << " room planes; the board's returns were moved back along their rays by them\n";
+      list("elevation_deg", [&](std::size_t r) { return rings.elevations[r] * 180.0 / M_PI; }, "");
+      list("offset_m", [&](std::size_t r) { return rings.offsets[r]; }, "  # how much too long each ring's ranges read");
+      list("offset_stddev_m", [&](std::size_t r) { return rings.sigmas[r]; }, "");
     }
     file << "    rms_m: " << c.rms << "\n"
          << "    observations: " << c.observations << "\n";

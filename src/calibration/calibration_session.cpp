@@ -117,9 +117,11 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
   return recordRange(sensor, stamp, std::move(search));
 }
 
-std::optional<RingOffsets> CalibrationSession::ringOffsets(int sensor) const {
-  if (sensor < 0 || sensor >= static_cast<int>(ring_offsets_.size()) || !ring_offsets_[sensor]) return std::nullopt;
-  return ring_offsets_[sensor]->solve();
+std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const {
+  std::vector<std::optional<RingOffsets>> offsets(ring_offsets_.size());
+  for (std::size_t s = 0; s < offsets.size(); ++s)
+    if (ring_offsets_[s]) offsets[s] = ring_offsets_[s]->solve();
+  return offsets;
 }
 
 bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
@@ -196,8 +198,7 @@ std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
 
 std::vector<TimedObservation> CalibrationSession::timedObservations() const {
   const std::vector<int>& chosen = chosenCandidates();
-  std::vector<std::optional<RingOffsets>> offsets(rig_.sensors.size());
-  for (std::size_t s = 0; s < offsets.size(); ++s) offsets[s] = ringOffsets(static_cast<int>(s));
+  const std::vector<std::optional<RingOffsets>> offsets = ringOffsets();
   std::vector<TimedObservation> observations = observations_;
   for (std::size_t i = 0; i < range_messages_.size(); ++i) {
     if (chosen[i] < 0) continue;

@@ -60,7 +60,8 @@ const char* adviceFor(SensorType type) {
   switch (type) {
     case SensorType::kLidar3d:
       return "a 3D lidar's per-ring range biases (its intrinsic calibration, the driver's calibration file) tilt "
-             "every plane it sees alike, which moves its height and pitch together and no choice of poses undoes";
+             "every plane it sees alike, which moves its height and pitch together and no choice of poses undoes: "
+             "calibrate where it sees walls and floor around it, which its ring offsets are estimated from";
     case SensorType::kLaser2d:
       return "tilt the target further and at more heights: a 2D laser's height, pitch and roll come only from where "
              "its one line crosses tilted targets";

@@ -174,6 +174,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       const std::vector<SensorSpec> specs = rig.specs();
       // The spread across still poses re-solves once per pose (seconds): messages are taken meanwhile.
       const CalibrationOptions solved_with = session_->calibrationOptions(options);
+      const std::vector<std::optional<RingOffsets>> ring_offsets = session_->ringOffsets();
       lock.unlock();
       std::optional<PoseJackknife> spread;
       try {
@@ -199,9 +200,18 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         }
         for (const std::string& uncertain : spreadOverTolerance(*spread, specs, tolerance_)) summary << "; uncertain: " << uncertain;
       }
+      for (std::size_t s = 0; s < specs.size(); ++s) {
+        if (!ring_offsets[s]) continue;
+        const RingOffsets& rings = *ring_offsets[s];
+        char line[160];
+        std::snprintf(line, sizeof(line), "; %s ring offsets %+.1f to %+.1f mm (from %d room planes)", specs[s].name.c_str(),
+                      1000 * rings.offsets.minCoeff(), 1000 * rings.offsets.maxCoeff(), rings.planes);
+        summary << line;
+      }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       if (!output_dir_.empty()) {
-        writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr);
+        writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr,
+                             &ring_offsets);
         writeUrdfSnippet(output_dir_ + "/calibration.urdf", rig.reference_frame, specs, result);
         writeStaticTransformLaunch(output_dir_ + "/calibration.launch", rig.reference_frame, specs, result);
         summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";

@@ -133,9 +133,9 @@ void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife
 
 // Each 3D lidar's ring offsets, which its board returns were corrected by: a ring far off, or a sigma
 // near the prior's, says what the room gave.
-void printRingOffsets(const vocal::RigDescription& rig, const vocal::CalibrationSession& session) {
+void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::optional<vocal::RingOffsets>>& offsets) {
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-    const std::optional<vocal::RingOffsets> rings = session.ringOffsets(static_cast<int>(s));
+    const std::optional<vocal::RingOffsets>& rings = offsets[s];
     if (!rings) continue;
     std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected):\n",
                 rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms);
@@ -158,9 +158,9 @@ int run(const vocal::CommandLine& args) {
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
-  vocal::RingOffsetOptions ring_offsets;
-  ring_offsets.enabled = !args.has("no-ring-offsets");
-  vocal::CalibrationSession session(rig, {}, {}, ring_offsets);
+  vocal::RingOffsetOptions ring_offset_options;
+  ring_offset_options.enabled = !args.has("no-ring-offsets");
+  vocal::CalibrationSession session(rig, {}, {}, ring_offset_options);
   const bool quiet = args.has("quiet");
   // On a terminal one line counts up; in a log, a line per thousand messages.
   const bool terminal = isatty(fileno(stderr));
@@ -184,7 +184,8 @@ int run(const vocal::CommandLine& args) {
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
     std::printf("\n");
   }
-  printRingOffsets(rig, session);
+  const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.ringOffsets();
+  printRingOffsets(rig, ring_offsets);
 
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
@@ -217,7 +218,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
     const std::vector<vocal::SensorSpec> specs = rig.specs();
-    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr);
+    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, &ring_offsets);
     vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result);
     vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());

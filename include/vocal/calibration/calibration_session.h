@@ -66,9 +66,9 @@ class CalibrationSession {
   // Every range sensor's message in arrival order, with the candidate taken and why none was.
   std::vector<RangeMessage> rangeMessages() const;
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
-  // A 3D lidar's ring offsets estimated from the room planes of its clouds so far (its board points
-  // are corrected by them); none for other sensors, with ring offsets off, or before a cloud.
-  std::optional<RingOffsets> ringOffsets(int sensor) const;
+  // Per sensor, a 3D lidar's ring offsets estimated from the room planes of its clouds so far (its
+  // board points are corrected by them); none for other sensors, with ring offsets off, or before a cloud.
+  std::vector<std::optional<RingOffsets>> ringOffsets() const;
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;

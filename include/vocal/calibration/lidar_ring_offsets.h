@@ -27,9 +27,9 @@ std::vector<LidarRing> lidarRingsOf(const std::vector<Eigen::Vector3d>& cloud);
 
 struct RingOffsetOptions {
   bool enabled = true;
-  // Prior on each offset (metres): a ring the room does not see (or a rig cropped to the board) keeps
-  // an offset near zero instead of an arbitrary one.
-  double prior_sigma = 0.05;
+  // Prior on each offset (metres; a VLP-16's range accuracy is +-3 cm): a ring the room does not show
+  // (a rig whose crop box leaves little of the room) keeps an offset near zero, not an arbitrary one.
+  double prior_sigma = 0.03;
   std::size_t min_plane_points = 200;  // a plane with fewer returns adds nothing
   // Metres from another of the cloud's planes within which a plane's returns are left out: where walls
   // meet, the other wall's returns lie inside the plane's RANSAC band, off its plane at wide angles -
