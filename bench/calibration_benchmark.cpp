@@ -37,17 +37,10 @@ std::vector<Eigen::Vector3d> furnishedRoomLidarCloud() {
   static const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1, 0, 0)[0];
   static const vocal::TargetDescription target;
   std::mt19937 rng(3);
-  vocal::SimulatedRoomView view;
-  view.sensor = &lidar;
-  view.target = &target;
-  view.layout = vocal::RoomLayout::kFurnished;
-  view.person_holds_target = true;
-  view.mixed_pixels = true;
+  vocal::SimulatedRoomView view = vocal::boardHeldInFurnishedRoom(lidar, target);
   view.range_noise = 0.02;
   std::uniform_real_distribution<double> offset(-0.02, 0.02);
   for (int ring = 0; ring < 16; ++ring) view.ring_bias.push_back(offset(rng));
-  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
-  view.reference_from_target.linear() = vocal::targetFacingRig();
   return vocal::simulateLidarCloud(view, &rng);
 }
 

@@ -25,16 +25,9 @@ std::vector<double> observeTheRoom(int clouds, std::uint32_t seed, std::optional
   std::uniform_real_distribution<double> drawn(-0.02, 0.02);
   std::vector<double> offsets(16);
   for (double& b : offsets) b = drawn(rng);
-  vocal::SimulatedRoomView view;
-  view.sensor = &lidar;
-  view.target = &target;
-  view.layout = vocal::RoomLayout::kFurnished;
-  view.person_holds_target = true;
-  view.mixed_pixels = true;
+  vocal::SimulatedRoomView view = vocal::boardHeldInFurnishedRoom(lidar, target);
   view.range_noise = 0.02;
   view.ring_bias = offsets;
-  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
-  view.reference_from_target.linear() = vocal::targetFacingRig();
   for (int i = 0; i < clouds; ++i) {
     const std::vector<Eigen::Vector3d> cloud = vocal::simulateLidarCloud(view, &rng);
     if (i == 0) {

@@ -63,6 +63,18 @@ double boardGrey(const TargetPattern& pattern, const Eigen::Vector2d& p) {
 }
 }  // namespace
 
+SimulatedRoomView boardHeldInFurnishedRoom(const SimulatedSensor& sensor, const TargetDescription& target) {
+  SimulatedRoomView view;
+  view.sensor = &sensor;
+  view.target = &target;
+  view.layout = RoomLayout::kFurnished;
+  view.person_holds_target = true;
+  view.mixed_pixels = true;
+  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
+  view.reference_from_target.linear() = targetFacingRig();
+  return view;
+}
+
 std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
   const SensorInRoom sensor(view);
   std::vector<float> ranges;

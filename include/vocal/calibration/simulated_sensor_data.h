@@ -33,6 +33,10 @@ struct SimulatedRoomView {
   bool mixed_pixels = false;
 };
 
+// The board held still by a person 2 m in front of the rig, facing it, in the furnished room, mixed
+// pixels on (noise and ring biases are the caller's): one messy view for tests and benchmarks.
+SimulatedRoomView boardHeldInFurnishedRoom(const SimulatedSensor& sensor, const TargetDescription& target);
+
 // What each ray hit (laser: per beam, kNone where nothing; lidar: per returned point; depth: per pixel), and a lidar point's ring.
 struct SimulatedTruth {
   std::vector<SurfaceLabel> labels;
