@@ -1,9 +1,12 @@
 // A VLP-16-like lidar's range offset per ring, estimated from the room planes its clouds show (floor,
 // walls, furniture that extraction finds anyway), against the offsets the simulator drew.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
