@@ -55,10 +55,9 @@ void BM_FindTargetInLidarCloud(benchmark::State& state) {
 void BM_RingOffsetsAddPlanes(benchmark::State& state) {
   const std::vector<Eigen::Vector3d> cloud = furnishedRoomLidarCloud();
   const vocal::TargetDescription target;
-  const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, target.width, target.height, vocal::estimateScanSpacing(cloud));
-  std::vector<double> elevations;
-  for (const vocal::LidarRing& ring : vocal::lidarRingsOf(cloud)) elevations.push_back(ring.elevation);
-  vocal::RingOffsetEstimator estimator(elevations);
+  const vocal::ScanSpacing spacing = vocal::estimateScanSpacing(cloud);
+  const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, target.width, target.height, spacing);
+  vocal::RingOffsetEstimator estimator(spacing.rings);
   std::size_t returns = 0;
   for (const auto& plane : search.room_points) returns += plane.size();
   for (auto _ : state) estimator.addPlanes(search.room_points);

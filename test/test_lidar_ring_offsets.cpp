@@ -33,14 +33,12 @@ std::vector<double> observeTheRoom(int clouds, std::uint32_t seed, std::optional
   view.ring_bias = offsets;
   for (int i = 0; i < clouds; ++i) {
     const std::vector<Eigen::Vector3d> cloud = vocal::simulateLidarCloud(view, &rng);
+    const vocal::ScanSpacing spacing = vocal::estimateScanSpacing(cloud);
     if (i == 0) {
-      std::vector<double> elevations;
-      for (const vocal::LidarRing& ring : vocal::lidarRingsOf(cloud)) elevations.push_back(ring.elevation);
       if (rings) *rings = vocal::lidarRingsOf(cloud);
-      estimator->emplace(elevations);
+      estimator->emplace(spacing.rings);  // the rings CalibrationSession takes
     }
-    const vocal::TargetSearch search =
-        vocal::findTargetInCloud(cloud, target.width, target.height, vocal::estimateScanSpacing(cloud));
+    const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, target.width, target.height, spacing);
     (*estimator)->addPlanes(search.room_points);
   }
   return offsets;

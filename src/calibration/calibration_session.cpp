@@ -105,13 +105,7 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
   }
   TargetSearch search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
   std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
-  if (ring_offset_options_.enabled && !offsets && spacing.pattern == ScanPattern::kSpinning) {
-    // The rings of the first full cloud (a stray return's elevation is no ring).
-    std::vector<double> elevations;
-    for (const LidarRing& ring : lidarRingsOf(cloud))
-      if (ring.returns >= 20) elevations.push_back(ring.elevation);
-    if (elevations.size() >= 2 && elevations.size() <= 128) offsets.emplace(std::move(elevations), ring_offset_options_);
-  }
+  if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2) offsets.emplace(spacing.rings, ring_offset_options_);
   if (offsets) offsets->addPlanes(search.room_points);
   search.room_points.clear();  // tens of thousands of returns per cloud: not kept
   return recordRange(sensor, stamp, std::move(search));

@@ -324,7 +324,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
     unexplained = without(unexplained, inliers);
     if (room.empty()) continue;
     remaining = without(remaining, room);
-    if (spacing.pattern == ScanPattern::kSpinning) {
+    if (!spacing.rings.empty()) {
       search.room_points.emplace_back();
       for (int i : room) search.room_points.back().push_back(cloud->at(i).getVector3fMap().cast<double>());
     }
@@ -597,7 +597,11 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
     for (std::size_t i = 1; i < azimuths.size(); ++i)
       if (azimuths[i] - azimuths[i - 1] > 1e-5) steps.push_back(azimuths[i] - azimuths[i - 1]);
     spacing.horizontal = median(steps);
-    if (spacing.horizontal > 0.0) return spacing;
+    if (spacing.horizontal > 0.0) {
+      for (const LidarRing& r : rings)
+        if (r.returns >= 20) spacing.rings.push_back(r.elevation);  // a stray return's elevation is no ring
+      return spacing;
+    }
   }
   // Dense (a depth camera): the angle to each point's nearest neighbour, seen from the sensor.
   const Cloud::Ptr directions(new Cloud);

@@ -28,9 +28,14 @@ enum class ScanPattern { kSpinning, kPinhole };
 // (horizontal) and between rings / rows (vertical). Predicts how many points the board gives at a
 // range and how far apart its neighbouring points may lie.
 struct ScanSpacing {
+  ScanSpacing(double horizontal_ = 0.0, double vertical_ = 0.0, ScanPattern pattern_ = ScanPattern::kSpinning)
+      : horizontal(horizontal_), vertical(vertical_), pattern(pattern_) {}
   double horizontal = 0.0;
   double vertical = 0.0;
   ScanPattern pattern = ScanPattern::kSpinning;
+  // A spinning lidar's ring elevations (radians, ascending; rings of 20 returns or more) when
+  // estimateScanSpacing found its cloud to be one; empty otherwise.
+  std::vector<double> rings;
 };
 
 struct TargetExtractionOptions {
@@ -76,7 +81,7 @@ struct TargetSearch {
   // time they cover what becomes a board-sized segment once someone stands in front of them.
   std::vector<SurfacePatch> surfaces;
   // A spinning lidar's room planes, each plane's returns (those of its pieces larger than the board):
-  // what its ring offsets are estimated from (lidar_ring_offsets.h). Empty for other sensors.
+  // what its ring offsets are estimated from (lidar_ring_offsets.h). Empty unless the spacing has rings.
   std::vector<std::vector<Eigen::Vector3d>> room_points;
 };
 
@@ -94,8 +99,8 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& cloud, double
 TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double target_width, double target_height,
                               double beam_spacing, const TargetExtractionOptions& options = {});
 
-// A spinning lidar's ring and azimuth spacing from its cloud (elevations cluster into rings); a
-// dense cloud's (depth camera) from the angle to each point's nearest neighbour. Zero for < 10 points.
+// A spinning lidar's ring and azimuth spacing from its cloud (elevations cluster into rings), with its
+// rings; a dense cloud's (depth camera) from the angle to each point's nearest neighbour. Zero for < 10 points.
 ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud);
 
 // The most board-like candidate's points (empty when none): for callers without a background model.
