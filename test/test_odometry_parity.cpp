@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <functional>
+#include <thread>
+#include <vector>
 
 #include "test_support.h"
 
@@ -327,6 +330,25 @@ TEST(OdometryParity, SamePoseAfterAFullSolve) {
   expectSamePoseAsTheReference([](const vocal::PinholeCamera& camera, const vocal::OdometryConfig& config) {
     return std::make_unique<vocal::OpenClOdometryBackend>(camera, config);
   });
+}
+
+// Three odometry nodelets in one manager build their estimators at once on their first frames. The
+// race is in the OpenCL implementation's first enumeration (PoCL crashed in about half the fresh
+// processes that enumerated from 8 threads at once), so each try is a fresh process: a death test
+// in "threadsafe" style runs the statement in a new run of this program.
+TEST(OpenClDevicesDeathTest, ListedFromManyThreadsAtOnceInAFreshProcess) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    EXPECT_EXIT(
+        {
+          std::vector<std::thread> threads;
+          for (int i = 0; i < 8; ++i) threads.emplace_back([] { vocal::listOpenClDevices(); });
+          for (std::thread& t : threads) t.join();
+          std::exit(0);
+        },
+        ::testing::ExitedWithCode(0), "")
+        << "attempt " << attempt;
+  }
 }
 
 TEST(OdometryParity, DeviceChoiceErrorsNameWhatWasFound) {

@@ -167,8 +167,8 @@ struct OpenClOdometryBackend::State {
 OpenClOdometryBackend::OpenClOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config)
     : state_(std::make_unique<State>()) {
   // Two estimators in one process (two odometry nodelets in one manager) may be built at once: the
-  // platform enumeration and program build are serialised, as not every OpenCL implementation makes
-  // them thread-safe.
+  // context and program build are serialised (the enumeration is, in listOpenClDevices), as not every
+  // OpenCL implementation makes them thread-safe.
   static std::mutex setup_mutex;
   std::lock_guard<std::mutex> setup_lock(setup_mutex);
   State& s = *state_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <mutex>
 #include <sstream>
 
 #define CL_TARGET_OPENCL_VERSION 120
@@ -31,6 +32,10 @@ std::string deviceName(cl_device_id device) {
 }  // namespace
 
 std::vector<OpenClDeviceInfo> listOpenClDevices() {
+  // Odometry nodelets in one manager build their estimators on their first frames, each on its own
+  // thread: PoCL's first enumeration crashes when two run at once, so every caller takes turns.
+  static std::mutex enumeration_mutex;
+  std::lock_guard<std::mutex> lock(enumeration_mutex);
   std::vector<OpenClDeviceInfo> devices;
   cl_uint platform_count = 0;
   if (clGetPlatformIDs(0, nullptr, &platform_count) != CL_SUCCESS || platform_count == 0) return devices;

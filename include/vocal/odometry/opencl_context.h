@@ -16,7 +16,8 @@ struct OpenClDeviceInfo {
   const void* handle = nullptr;  // the cl_device_id, opaque so this header needs no CL headers
 };
 
-// Every device of every platform; empty when there is no platform (no ICD installed).
+// Every device of every platform; empty when there is no platform (no ICD installed). Safe to call
+// from several threads at once (calls take turns).
 std::vector<OpenClDeviceInfo> listOpenClDevices();
 
 // Picks a device: with no filters the first GPU, else the first CPU device, else the first device;
