@@ -229,6 +229,8 @@ TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
   EXPECT_NEAR(elevations[1], 0.1 * 180.0 / M_PI, 1e-6);
   EXPECT_EQ(ring_offsets["offset_m"].as<std::vector<double>>(), (std::vector<double>{0.012, -0.003}));
   EXPECT_EQ(ring_offsets["offset_stddev_m"].as<std::vector<double>>(), (std::vector<double>{0.001, 0.002}));
+  EXPECT_FALSE(ring_offsets["applied"].as<bool>());
+  EXPECT_EQ(ring_offsets["verdict"].as<std::string>(), "not estimated: no room plane seen at more than grazing incidence");
 
   // The URDF's rpy reproduces the rotation.
   std::ifstream urdf(folder + "/rig.urdf");
@@ -1114,4 +1116,50 @@ TEST(Calibration, ConsensusFilterRejectsAWrongSegmentOfAWeakSpreadSession) {
   EXPECT_TRUE(vocal::rejectInconsistentObservations(planes).empty()) << "plane samples fixed a transform after all";
   const std::set<std::pair<int, int>> rejected = vocal::rejectInconsistentObservations(planes, {}, &centres);
   EXPECT_EQ(rejected, (std::set<std::pair<int, int>>{{wrong_sensor, wrong_pose}}));
+}
+
+// Which sensors go into /tf_static, the URDF and the launch file: the reference whenever the result is
+// trusted; another only when its spread across poses is within the tolerance (or the user asks for it);
+// none when the result is not trusted; and none but the reference when there is no spread to judge by.
+TEST(CalibrationOutput, WithholdsUncertainAndUntrustedSensors) {
+  const std::vector<vocal::SensorSpec> sensors = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
+                                                  {"lidar0", vocal::SensorType::kLidar3d, "lidar0"},
+                                                  {"camera0", vocal::SensorType::kCamera, "camera0"}};
+  vocal::CalibrationResult result;
+  result.sensors.resize(3);
+  vocal::PoseJackknife spread;
+  spread.standard_deviation = {vocal::Vector6d::Zero(), (vocal::Vector6d() << 0.02, 0, 0, 0, 0, 0).finished(),
+                               (vocal::Vector6d() << 0.002, 0, 0, 0.003, 0, 0).finished()};
+  const vocal::SpreadTolerance tolerance;  // 1 cm / 10 mrad
+  std::vector<std::string> withheld = vocal::withheldSensors(sensors, 0, result, &spread, tolerance, false);
+  EXPECT_EQ(withheld, (std::vector<std::string>{
+                          "", "uncertain: it moves 20.0 mm / 0.0 mrad between re-solves without one pose (tolerance 10.0 mm / 10.0 mrad)", ""}));
+  EXPECT_EQ(vocal::withheldSensors(sensors, 0, result, &spread, tolerance, true), std::vector<std::string>(3));
+  withheld = vocal::withheldSensors(sensors, 0, result, nullptr, tolerance, false);
+  EXPECT_EQ(withheld[0], "");
+  EXPECT_EQ(withheld[2], "uncertain: its spread across still poses could not be computed, so nothing says the result holds");
+  result.trusted = false;
+  result.failure = "sensor 'lidar0' ran 0.4 m from its closed form";
+  for (const std::string& why : vocal::withheldSensors(sensors, 0, result, &spread, tolerance, true))
+    EXPECT_EQ(why, "the calibration is not trusted (sensor 'lidar0' ran 0.4 m from its closed form)");
+
+  // The files: the YAML marks each sensor and why; the URDF and launch file leave the withheld out.
+  result.trusted = true;
+  withheld = vocal::withheldSensors(sensors, 0, result, &spread, tolerance, false);
+  const std::string folder = ::testing::TempDir();
+  vocal::writeCalibrationYaml(folder + "/withheld.yaml", "base_link", sensors, result, &spread, nullptr, &withheld);
+  vocal::writeStaticTransformLaunch(folder + "/withheld.launch", "base_link", sensors, result, &withheld);
+  vocal::writeUrdfSnippet(folder + "/withheld.urdf", "base_link", sensors, result, &withheld);
+  const YAML::Node yaml = YAML::LoadFile(folder + "/withheld.yaml");
+  EXPECT_TRUE(yaml["sensors"][0]["published"].as<bool>());
+  EXPECT_FALSE(yaml["sensors"][1]["published"].as<bool>());
+  EXPECT_EQ(yaml["sensors"][1]["withheld_because"].as<std::string>(), withheld[1]);
+  EXPECT_TRUE(yaml["sensors"][2]["published"].as<bool>());
+  for (const char* file : {"/withheld.launch", "/withheld.urdf"}) {
+    std::ifstream in(folder + file);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.find("\"lidar0\""), std::string::npos) << text;
+    EXPECT_NE(text.find("<!-- lidar0 withheld: uncertain: it moves 20.0 mm"), std::string::npos) << text;
+    EXPECT_NE(text.find("camera0"), std::string::npos) << text;
+  }
 }

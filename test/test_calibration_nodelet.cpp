@@ -42,6 +42,7 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   nh.setParam("/calibration/rig", folder + "/rig.yaml");
   nh.setParam("/calibration/output_dir", folder);
   nh.setParam("/calibration/tolerance_rotation", 1e-6);  // every sensor's spread is over it: each reported uncertain
+  nh.setParam("/calibration/publish_uncertain", true);    // ... and published all the same, as asked
   nodelet::Loader manager(false);
   ASSERT_TRUE(manager.load("/calibration", "vocal/MsgCalibration", {}, {}));
   std::mutex mutex;
@@ -81,6 +82,7 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
     EXPECT_NE(calibrate.response.message.find("; uncertain: sensor '" + sensors[s].spec.name + "' moves "), std::string::npos)
         << calibrate.response.message;
   }
+  EXPECT_EQ(calibrate.response.message.find("withheld"), std::string::npos) << calibrate.response.message;
   // The lidar's ring offsets, estimated from the room's floor and wall, in the reply and the result YAML.
   EXPECT_NE(calibrate.response.message.find("; lidar0 ring offsets "), std::string::npos) << calibrate.response.message;
   std::ifstream result_yaml(folder + "/calibration.yaml");

@@ -71,4 +71,16 @@ inline std::string tumDataFolder() {
   return folder;
 }
 
+// Path of a real calibration recording beside the repository (../shared/data/real_rigs/NAME), or ""
+// (with a loud note) when it is not there.
+inline std::string realRigFolder(const std::string& name) {
+  const std::string folder = std::string(VOCAL_REAL_RIGS_DIR) + "/" + name;
+  std::ifstream probe(folder + "/camera_info.yaml");
+  if (!probe) {
+    std::cerr << "\n*** real rig recording not found at " << folder << ": real-data checks are SKIPPED ***\n\n";
+    return "";
+  }
+  return folder;
+}
+
 }  // namespace vocal_test

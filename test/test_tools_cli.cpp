@@ -375,12 +375,30 @@ TEST(ToolsCli, CalibrateRigFromASessionRecordedAtThreeHertz) {
   RunResult r = runTool("simulate_calibration_session " + folder +
                         " --rgbd 1 --lidar 1 --laser 1 --camera 1 --poses 6 --rate 3 --still 2 --moving 1.3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --tolerance-mm 0.001");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --tolerance-mm 0.001 --output-dir " + folder);
   EXPECT_NE(r.output.find("6 still target poses"), std::string::npos) << r.output;
-  // Under a tolerance of a micrometre every sensor but the reference is reported uncertain.
+  // Under a tolerance of a micrometre every sensor but the reference is reported uncertain, kept out of
+  // the URDF and launch file (not out of the YAML), and the exit status says so.
+  EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("(tolerance 0.0 mm / 10.0 mrad)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("\nuncertain: sensor '"), std::string::npos) << r.output;
+  for (const char* sensor : {"lidar0", "laser0", "camera0"}) {
+    EXPECT_NE(r.output.find("withheld: sensor '" + std::string(sensor) + "' is kept out of calibration.urdf and calibration.launch: uncertain: it moves "),
+              std::string::npos) << r.output;
+  }
+  EXPECT_NE(r.output.find("pass --publish-uncertain to publish them anyway"), std::string::npos) << r.output;
+  const YAML::Node withheld = YAML::LoadFile(folder + "/calibration.yaml");
+  EXPECT_TRUE(withheld["sensors"][0]["published"].as<bool>());  // the reference, held fixed
+  EXPECT_FALSE(withheld["sensors"][1]["published"].as<bool>());
+  EXPECT_EQ(withheld["sensors"][1]["withheld_because"].as<std::string>().rfind("uncertain: it moves ", 0), 0u);
+  std::ifstream launch(folder + "/calibration.launch");
+  const std::string launch_text((std::istreambuf_iterator<char>(launch)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(launch_text.find("name=\"lidar0_extrinsic\""), std::string::npos) << launch_text;
+  EXPECT_NE(launch_text.find("name=\"rgbd0_extrinsic\""), std::string::npos) << launch_text;
+  // Asked for, they are published, and the run succeeds.
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --tolerance-mm 0.001 --publish-uncertain");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("withheld:"), std::string::npos) << r.output;
   r = runTool("simulate_calibration_session " + folder + " --rate 0");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --rate: messages per second must be > 0\n");

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "vocal/calibration/pattern_observation.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/pose_jackknife.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -36,7 +38,8 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
       backgrounds_(rig_.sensors.size()),
       lidar_spacing_(rig_.sensors.size()),
       ring_offset_options_(ring_offsets),
-      ring_offsets_(rig_.sensors.size()) {
+      ring_offsets_(rig_.sensors.size()),
+      ring_offset_choice_(rig_.sensors.size()) {
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
 }
@@ -106,7 +109,10 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
   TargetSearch search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
   std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
   if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2) offsets.emplace(spacing.rings, ring_offset_options_);
-  if (offsets) offsets->addPlanes(search.room_points);
+  if (offsets) {
+    offsets->addPlanes(search.room_points);
+    ring_offset_choice_[sensor].reset();  // decided on the clouds before this one
+  }
   search.room_points.clear();  // tens of thousands of returns per cloud: not kept
   return recordRange(sensor, stamp, std::move(search));
 }
@@ -115,7 +121,43 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const 
   std::vector<std::optional<RingOffsets>> offsets(ring_offsets_.size());
   for (std::size_t s = 0; s < offsets.size(); ++s)
     if (ring_offsets_[s]) offsets[s] = ring_offsets_[s]->solve();
+  for (std::size_t s = 0; s < offsets.size(); ++s)
+    if (offsets[s] && ring_offset_choice_[s]) std::tie(offsets[s]->applied, offsets[s]->verdict) = *ring_offset_choice_[s];
   return offsets;
+}
+
+std::vector<std::optional<RingOffsets>> CalibrationSession::chooseRingOffsets(const CalibrationOptions& options) {
+  for (auto& choice : ring_offset_choice_) choice.reset();
+  std::vector<std::optional<RingOffsets>> offsets = ringOffsets();
+  const CalibrationOptions solve = calibrationOptions(options);
+  for (std::size_t s = 0; s < offsets.size(); ++s) {
+    if (!offsets[s] || !offsets[s]->applied) continue;
+    std::vector<std::optional<RingOffsets>> without = offsets;
+    without[s]->applied = false;
+    HeldOutFit fit[2];  // without, with
+    try {
+      for (int with = 0; with < 2; ++with) {
+        const std::vector<TargetObservation> associated =
+            associateStillTarget(rig_.specs(), timedObservations(with ? offsets : without), stillness_);
+        fit[with] = heldOutBoardFit(rig_.specs(), associated, solve, static_cast<int>(s));
+      }
+    } catch (const InputError&) {
+      fit[0].poses = fit[1].poses = 0;  // the rig does not solve yet: nothing to predict with
+    }
+    char line[320];
+    if (fit[0].poses == 0 || fit[1].poses == 0) {
+      std::snprintf(line, sizeof(line), "applied, unchecked: no still pose where another sensor saw the board to check them against");
+      ring_offset_choice_[s] = {true, line};
+    } else {
+      const bool better = fit[1].rms <= fit[0].rms;
+      std::snprintf(line, sizeof(line),
+                    "%s: the board's held-out poses are predicted %s with them (%.1f mm rms off the plane the other sensors "
+                    "put it in, %.1f mm without; %d poses, each left out once)",
+                    better ? "applied" : "refused", better ? "better" : "worse", 1000 * fit[1].rms, 1000 * fit[0].rms, fit[1].poses);
+      ring_offset_choice_[s] = {better, line};
+    }
+  }
+  return ringOffsets();
 }
 
 bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
@@ -190,9 +232,10 @@ std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
   return messages;
 }
 
-std::vector<TimedObservation> CalibrationSession::timedObservations() const {
+std::vector<TimedObservation> CalibrationSession::timedObservations() const { return timedObservations(ringOffsets()); }
+
+std::vector<TimedObservation> CalibrationSession::timedObservations(const std::vector<std::optional<RingOffsets>>& offsets) const {
   const std::vector<int>& chosen = chosenCandidates();
-  const std::vector<std::optional<RingOffsets>> offsets = ringOffsets();
   std::vector<TimedObservation> observations = observations_;
   for (std::size_t i = 0; i < range_messages_.size(); ++i) {
     if (chosen[i] < 0) continue;
@@ -201,7 +244,7 @@ std::vector<TimedObservation> CalibrationSession::timedObservations() const {
     observation.stamp = range_messages_[i].stamp;
     observation.points = range_messages_[i].search.candidates[chosen[i]].points;
     observation.outline = range_messages_[i].search.candidates[chosen[i]].outline;
-    if (const std::optional<RingOffsets>& rings = offsets[observation.sensor]) {
+    if (const std::optional<RingOffsets>& rings = offsets[observation.sensor]; rings && rings->applied) {
       for (Eigen::Vector3d& p : observation.points) p = rings->corrected(p);
       for (Eigen::Vector3d& p : observation.outline) p = rings->corrected(p);
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -80,6 +81,13 @@ void RingOffsetEstimator::addPlane(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < options_.min_plane_points) return;
   const PrincipalAxes plane = principalAxesOf(points);
   const Eigen::Vector3d normal = plane.axes.col(2);
+  std::vector<double> incidence;
+  incidence.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) incidence.push_back(std::abs(normal.dot(p.normalized())));
+  if (median(std::move(incidence)) < options_.min_incidence) {
+    ++grazing_planes_;
+    return;
+  }
   const Eigen::Index rings = normal_.rows();
   // Each return's distance e from the plane as measured against its ring's offset b (along the ray:
   // b times the ray's cosine to the normal) and a small change of the plane (tilts a1, a2 about its
@@ -117,12 +125,14 @@ RingOffsets RingOffsetEstimator::solve() const {
   RingOffsets result = rings_;
   result.planes = planes_;
   result.returns = returns_;
+  result.grazing_planes = grazing_planes_;
   const Eigen::Index rings = normal_.rows();
   const double prior = 1.0 / (options_.prior_sigma * options_.prior_sigma);
   const double dof = static_cast<double>(returns_) - 3.0 * planes_ - static_cast<double>(rings);
   if (!(dof > 0.0)) {
     result.offsets = Eigen::VectorXd::Zero(rings);
     result.sigmas = Eigen::VectorXd::Constant(rings, options_.prior_sigma);
+    result.verdict = "not estimated: no room plane seen at more than grazing incidence";
     return result;
   }
   // The returns' noise from the residuals: first with no offsets (an overestimate), then with them.
@@ -138,6 +148,20 @@ RingOffsets RingOffsetEstimator::solve() const {
   }
   result.sigmas = information.inverse().diagonal().cwiseSqrt();
   result.rms = std::sqrt(std::max(squares, 0.0) / static_cast<double>(returns_));
+  Eigen::Index worst = 0;
+  result.offsets.cwiseAbs().maxCoeff(&worst);
+  char line[320];
+  if (std::abs(result.offsets[worst]) > options_.max_offset) {
+    std::snprintf(line, sizeof(line),
+                  "refused: the ring at %+.1f deg would read %+.0f mm too long, beyond the +-%.0f mm a lidar's ranges are "
+                  "specified to; the room's planes do not fit a range offset per ring (bent or cluttered walls, %.1f mm rms off "
+                  "their planes): the board's returns are taken as measured",
+                  result.elevations[worst] * 180.0 / M_PI, 1000 * result.offsets[worst], 1000 * options_.max_offset, 1000 * result.rms);
+  } else {
+    result.applied = true;
+    std::snprintf(line, sizeof(line), "applied: every ring within +-%.0f mm", 1000 * options_.max_offset);
+  }
+  result.verdict = line;
   return result;
 }
 

@@ -1,9 +1,11 @@
 #include "vocal/calibration/pose_jackknife.h"
 
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
 
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -54,6 +56,48 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
   return jackknife;
 }
 
+HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                           const CalibrationOptions& options, int sensor) {
+  std::set<int> poses;
+  for (const TargetObservation& o : observations)
+    if (o.sensor == sensor) poses.insert(o.target_pose);
+  HeldOutFit fit;
+  double squares = 0.0;
+  std::size_t points = 0;
+  for (const int held_out : poses) {
+    std::vector<TargetObservation> rest;
+    std::vector<const TargetObservation*> others;
+    const TargetObservation* own = nullptr;
+    for (const TargetObservation& o : observations) {
+      if (o.target_pose != held_out) rest.push_back(o);
+      else if (o.sensor == sensor) own = &o;
+      else others.push_back(&o);
+    }
+    if (others.empty()) continue;
+    CalibrationResult result;
+    try {
+      result = calibrateRig(sensors, rest, options);
+    } catch (const InputError&) {
+      continue;
+    }
+    if (!result.trusted) continue;
+    std::vector<Eigen::Vector3d> board;
+    for (const TargetObservation* o : others)
+      for (const Eigen::Vector3d& p : o->points) board.push_back(result.sensors[o->sensor].reference_from_sensor * p);
+    if (board.size() < 3) continue;
+    const PrincipalAxes plane = principalAxesOf(board);
+    const Eigen::Isometry3d& placed = result.sensors[sensor].reference_from_sensor;
+    for (const Eigen::Vector3d& p : own->points) {
+      const double distance = plane.axes.col(2).dot(placed * p - plane.centroid);
+      squares += distance * distance;
+    }
+    points += own->points.size();
+    ++fit.poses;
+  }
+  if (points > 0) fit.rms = std::sqrt(squares / static_cast<double>(points));
+  return fit;
+}
+
 namespace {
 // Why a sensor of this type moves between re-solves, or which poses would pin it down.
 const char* adviceFor(SensorType type) {
@@ -71,14 +115,18 @@ const char* adviceFor(SensorType type) {
 }
 }  // namespace
 
+bool spreadIsOver(const Vector6d& spread, const SpreadTolerance& tolerance) {
+  return spread.head<3>().norm() > tolerance.translation || spread.tail<3>().norm() > tolerance.rotation;
+}
+
 std::vector<std::string> spreadOverTolerance(const PoseJackknife& jackknife, const std::vector<SensorSpec>& sensors,
                                              const SpreadTolerance& tolerance) {
   static const char* const kAxis[] = {"x", "y", "z"};
   std::vector<std::string> lines;
   for (std::size_t s = 0; s < sensors.size() && s < jackknife.standard_deviation.size(); ++s) {
     const Vector6d& spread = jackknife.standard_deviation[s];
+    if (!spreadIsOver(spread, tolerance)) continue;
     const double translation = spread.head<3>().norm(), rotation = spread.tail<3>().norm();
-    if (translation <= tolerance.translation && rotation <= tolerance.rotation) continue;
     Eigen::Index along = 0, about = 0;
     spread.head<3>().maxCoeff(&along);
     spread.tail<3>().maxCoeff(&about);

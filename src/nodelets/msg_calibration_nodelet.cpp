@@ -51,6 +51,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     consensus_filter_ = pnh.param("consensus_filter", true);
     board_edges_ = pnh.param("board_edges", false);
     ring_offsets_.enabled = pnh.param("ring_offsets", true);
+    publish_uncertain_ = pnh.param("publish_uncertain", false);
     for (auto [name, value] : {std::pair<const char*, double*>{"tolerance_translation", &tolerance_.translation}, {"tolerance_rotation", &tolerance_.rotation}}) {
       const double given = pnh.param(name, *value);
       if (given > 0.0) *value = given;
@@ -168,13 +169,14 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
       options.board_edges.enabled = board_edges_;
+      // Before association: the lidars' board points depend on whether their offsets are applied.
+      const std::vector<std::optional<RingOffsets>> ring_offsets = session_->chooseRingOffsets(options);
       const std::vector<TargetObservation> associated = session_->associatedObservations();
       const CalibrationResult result = session_->calibrate(associated, options);
       const RigDescription rig = session_->rig();  // a copy: ~reset may replace the session meanwhile
       const std::vector<SensorSpec> specs = rig.specs();
       // The spread across still poses re-solves once per pose (seconds): messages are taken meanwhile.
       const CalibrationOptions solved_with = session_->calibrationOptions(options);
-      const std::vector<std::optional<RingOffsets>> ring_offsets = session_->ringOffsets();
       lock.unlock();
       std::optional<PoseJackknife> spread;
       try {
@@ -204,24 +206,34 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         if (!ring_offsets[s]) continue;
         const RingOffsets& rings = *ring_offsets[s];
         char line[160];
-        std::snprintf(line, sizeof(line), "; %s ring offsets %+.1f to %+.1f mm (from %d room planes)", specs[s].name.c_str(),
+        std::snprintf(line, sizeof(line), "; %s ring offsets %+.1f to %+.1f mm (from %d room planes) ", specs[s].name.c_str(),
                       1000 * rings.offsets.minCoeff(), 1000 * rings.offsets.maxCoeff(), rings.planes);
-        summary << line;
+        summary << line << rings.verdict;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
+      const std::vector<std::string> withheld =
+          withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr, tolerance_, publish_uncertain_);
+      bool any_withheld = false;
+      for (std::size_t s = 0; s < specs.size(); ++s) {
+        if (withheld[s].empty()) continue;
+        summary << "; withheld from /tf_static: " << specs[s].name << " (" << withheld[s] << ")";
+        any_withheld = true;
+      }
+      if (any_withheld && result.trusted) summary << "; calibrate again as the uncertain lines say, or set ~publish_uncertain to publish anyway";
       if (!output_dir_.empty()) {
         writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr,
-                             &ring_offsets);
-        writeUrdfSnippet(output_dir_ + "/calibration.urdf", rig.reference_frame, specs, result);
-        writeStaticTransformLaunch(output_dir_ + "/calibration.launch", rig.reference_frame, specs, result);
+                             &ring_offsets, &withheld);
+        writeUrdfSnippet(output_dir_ + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
+        writeStaticTransformLaunch(output_dir_ + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
         summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";
       }
       const ros::Time now = ros::Time::now();
       std::vector<geometry_msgs::TransformStamped> transforms;
       for (std::size_t s = 0; s < specs.size(); ++s) {
+        if (!withheld[s].empty()) continue;
         transforms.push_back(toTransformStamped(result.sensors[s].reference_from_sensor, rig.reference_frame, specs[s].frame_id, now));
       }
-      if (result.trusted) static_broadcaster_.sendTransform(transforms);
+      if (!transforms.empty()) static_broadcaster_.sendTransform(transforms);
       // Every sensor's target points in the reference frame, one colour per sensor: they must coincide.
       std::vector<ColoredPoint> fused;
       const Rgb8 palette[] = {{230, 25, 75}, {60, 180, 75}, {0, 130, 200}, {245, 130, 48}, {145, 30, 180}, {70, 240, 240}};
@@ -280,6 +292,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
   RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
+  bool publish_uncertain_ = false;  // ~publish_uncertain: uncertain sensors go to /tf_static too
   SpreadTolerance tolerance_;  // beyond it a sensor's spread across poses is reported as uncertain
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;

@@ -42,7 +42,10 @@ const char kUsage[] =
     "  --tolerance-mm T    a sensor that moves more than T mm (default 10) or R mrad (default 10) when one still\n"
     "  --tolerance-mrad R  pose is left out is called uncertain, with the axis and the likely cause\n"
     "  --no-ring-offsets   take a 3D lidar's ranges as they are (by default each ring's range offset is\n"
-    "                      estimated from the room's planes, floor and walls, and its board returns corrected)\n"
+    "                      estimated from the room's planes, floor and walls, and its board returns corrected\n"
+    "                      when the offsets are within +-3 cm and predict held-out still poses better than none)\n"
+    "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
+    "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
@@ -131,18 +134,20 @@ void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife
   }
 }
 
-// Each 3D lidar's ring offsets, which its board returns were corrected by: a ring far off, or a sigma
-// near the prior's, says what the room gave.
+// Each 3D lidar's ring offsets and whether its board returns were corrected by them, and why: a ring far
+// off, or a sigma near the prior's, says what the room gave.
 void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::optional<vocal::RingOffsets>>& offsets) {
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const std::optional<vocal::RingOffsets>& rings = offsets[s];
     if (!rings) continue;
-    std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected):\n",
-                rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms);
+    std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected; "
+                "%d planes seen only at grazing incidence left out):\n",
+                rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms, rings->grazing_planes);
     for (std::size_t r = 0; r < rings->elevations.size(); ++r) {
       std::printf("  %+6.1f deg %+6.1f +- %.1f%s", rings->elevations[r] * 180.0 / M_PI, 1000 * rings->offsets[r], 1000 * rings->sigmas[r],
                   r % 4 == 3 || r + 1 == rings->elevations.size() ? "\n" : "");
     }
+    std::printf("  ring offsets %s\n", rings->verdict.c_str());
   }
 }
 
@@ -172,6 +177,11 @@ int run(const vocal::CommandLine& args) {
   if (!quiet && terminal) std::fprintf(stderr, "\r");
   std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
   for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
+  vocal::CalibrationOptions options;
+  options.consensus_filter = !args.has("no-filter");
+  options.board_edges.enabled = args.has("edges");
+  // Before association: the lidars' board points depend on whether their offsets are applied.
+  const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.chooseRingOffsets(options);
   const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
   int poses = 0;
   for (const auto& o : associated) poses = std::max(poses, o.target_pose + 1);
@@ -184,12 +194,7 @@ int run(const vocal::CommandLine& args) {
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
     std::printf("\n");
   }
-  const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.ringOffsets();
   printRingOffsets(rig, ring_offsets);
-
-  vocal::CalibrationOptions options;
-  options.consensus_filter = !args.has("no-filter");
-  options.board_edges.enabled = args.has("edges");
   const vocal::CalibrationResult result = session.calibrate(associated, options);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
               "sigma t (mm) / r (mrad), rms (mm), observations (rejected)");
@@ -215,19 +220,33 @@ int run(const vocal::CommandLine& args) {
   for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
   if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
   if (args.has("report")) printReport(rig, session, associated, result, poses);
+  const std::vector<vocal::SensorSpec> specs = rig.specs();
+  const std::vector<std::string> withheld = vocal::withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr,
+                                                                   tolerance, args.has("publish-uncertain"));
+  bool any_withheld = false;
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (withheld[s].empty()) continue;
+    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", specs[s].name.c_str(), withheld[s].c_str());
+    any_withheld = true;
+  }
+  if (any_withheld && result.trusted) {
+    std::printf("  its values are in calibration.yaml; calibrate again as the uncertain line says, or pass --publish-uncertain to "
+                "publish them anyway\n");
+  }
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
-    const std::vector<vocal::SensorSpec> specs = rig.specs();
-    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, &ring_offsets);
-    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result);
-    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result);
+    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, &ring_offsets,
+                                &withheld);
+    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
+    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
-  return result.trusted ? 0 : 1;
+  // Non-zero when a sensor was left out, so a script applying the result notices.
+  return any_withheld ? 1 : 0;
 }
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain"}, 2);
 }

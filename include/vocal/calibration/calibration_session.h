@@ -66,17 +66,26 @@ class CalibrationSession {
   // Every range sensor's message in arrival order, with the candidate taken and why none was.
   std::vector<RangeMessage> rangeMessages() const;
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
-  // Per sensor, a 3D lidar's ring offsets estimated from the room planes of its clouds so far (its
-  // board points are corrected by them); none for other sensors, with ring offsets off, or before a cloud.
+  // Per sensor, a 3D lidar's ring offsets estimated from the room planes of its clouds so far, with
+  // whether its board points are corrected by them (RingOffsets::applied, verdict): those within the
+  // lidar's specification are, until chooseRingOffsets has decided otherwise; none for other sensors,
+  // with ring offsets off, or before a cloud.
   std::vector<std::optional<RingOffsets>> ringOffsets() const;
+  // Per 3D lidar whose offsets are within its specification: the rig solved with and without them,
+  // each leaving out one still pose at a time, and the offsets kept only when they predict the lidar's
+  // held-out board views better (heldOutBoardFit, pose_jackknife.h); the verdict says which and by how
+  // much. Holds until the next cloud. Returns ringOffsets().
+  std::vector<std::optional<RingOffsets>> chooseRingOffsets(const CalibrationOptions& options);
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
   bool recordRange(int sensor, double stamp, TargetSearch search);
   TargetExtractionOptions extractionFor(int sensor) const;
-  // Every observation: cameras' as recorded, range sensors' candidates resolved against the background.
+  // Every observation: cameras' as recorded, range sensors' candidates resolved against the background,
+  // each lidar's corrected by its ring offsets where they are applied.
   std::vector<TimedObservation> timedObservations() const;
+  std::vector<TimedObservation> timedObservations(const std::vector<std::optional<RingOffsets>>& offsets) const;
   // Per range message, the candidate taken (-1: none): computed once per new message, as diagnostics
   // ask for the counts every second of a long session.
   const std::vector<int>& chosenCandidates() const;
@@ -93,6 +102,8 @@ class CalibrationSession {
   std::vector<ScanSpacing> lidar_spacing_;     // per sensor, estimated from its first full cloud
   RingOffsetOptions ring_offset_options_;
   std::vector<std::optional<RingOffsetEstimator>> ring_offsets_;  // per sensor: lidars, from their first full cloud
+  // Per sensor, chooseRingOffsets's decision (applied, verdict) until the next cloud.
+  std::vector<std::optional<std::pair<bool, std::string>>> ring_offset_choice_;
 };
 
 }  // namespace vocal

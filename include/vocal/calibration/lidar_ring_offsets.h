@@ -9,6 +9,7 @@
 // and the board's points are moved back along their rays before the calibration.
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +36,14 @@ struct RingOffsetOptions {
   // meet, the other wall's returns lie inside the plane's RANSAC band, off its plane at wide angles -
   // what a range offset common to all rings would look like.
   double corner_margin = 0.1;
+  // A plane whose returns meet it at a median |cosine| (ray to normal) below this is left out: the
+  // offsets move its returns almost within it, and a real scan's near-level rings each lie on a cone so
+  // flat that RANSAC takes it for a plane through the lidar (on the office VLP-16 such "planes" alone
+  // asked for +1.5 to +5.9 m).
+  double min_incidence = 0.2;
+  // Metres: offsets beyond this are refused, not applied (a VLP-16's range accuracy is +-3 cm; larger
+  // ones say the room's planes do not fit the model - bent or cluttered walls - not the lidar).
+  double max_offset = 0.03;
 };
 
 struct RingOffsets {
@@ -45,6 +54,12 @@ struct RingOffsets {
   int planes = 0;                  // room planes they were estimated from
   std::size_t returns = 0;         // ... holding this many returns
   double rms = 0.0;                // metres: the returns' distance to their planes once corrected
+  int grazing_planes = 0;          // planes left out as seen only at grazing incidence
+  // Whether the board's returns are corrected by them, and why (or why not), in words for the user:
+  // refused when an offset is beyond RingOffsetOptions::max_offset, or (CalibrationSession::
+  // chooseRingOffsets) when they predict held-out board poses worse than none.
+  bool applied = false;
+  std::string verdict;
 
   // The ring whose elevation is nearest the point's, -1 when none lies within half the rings' spacing.
   int ringOf(const Eigen::Vector3d& point) const;
@@ -73,6 +88,7 @@ class RingOffsetEstimator {
   Eigen::VectorXd gradient_;
   double residual_squares_ = 0.0;
   int planes_ = 0;
+  int grazing_planes_ = 0;
   std::size_t returns_ = 0;
 };
 

@@ -26,11 +26,28 @@ struct PoseJackknife {
 PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                  const CalibrationOptions& options, const CalibrationResult& full);
 
+// How well a rig solved without a target pose predicts one range sensor's view of the board at that
+// pose: cross-validation over poses, which tells two ways of treating a sensor's data apart (its ring
+// offsets applied or not) by what they predict rather than by how well they fit themselves.
+struct HeldOutFit {
+  double rms = 0.0;  // metres: the sensor's held-out board points from the board's plane as predicted
+  int poses = 0;     // poses it was measured at
+};
+
+// For each target pose that `sensor` and another sensor saw: the rig re-solved without the pose, the
+// board's plane fitted to the other sensors' points there (placed by their re-solved poses), and the
+// sensor's points (placed by its own) measured against it. A re-solve that fails is skipped.
+HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                           const CalibrationOptions& options, int sensor);
+
 // How far a sensor may move between the jackknife's re-solves before its result is called uncertain.
 struct SpreadTolerance {
   double translation = 0.01;  // metres, the norm over the rig frame's axes
   double rotation = 0.01;     // radians
 };
+
+// Whether a sensor's spread (PoseJackknife::standard_deviation) is over `tolerance`.
+bool spreadIsOver(const Vector6d& spread, const SpreadTolerance& tolerance);
 
 // One line per sensor whose spread is over `tolerance`: its name, the spread, the rig axis it moves most
 // along and about, and (by sensor type) the likely cause or the poses that would pin it down. Empty when
