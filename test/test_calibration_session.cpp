@@ -146,6 +146,49 @@ TEST(CalibrationSession, SimulatedSensorsPublishAtTheirOwnRates) {
             "simulated session: sensor 'rgbd0' has no positive rate");
 }
 
+// Lidars of every kind, each beside an RGB-D reference in a recorded session (8 still poses, 1 cm range
+// noise): an Ouster OS1-64 (64 rings from its driver's ring field) and a Livox-like solid-state lidar (a
+// non-repeating rosette ahead, no rings: no ring offsets, and a verdict that says why). Each within the
+// issue's 1 cm / 0.01 rad.
+TEST(CalibrationSession, CalibratesLidarsOfEveryKind) {
+  for (const vocal::LidarModel model : {vocal::LidarModel::kOuster64, vocal::LidarModel::kLivox}) {
+    const bool livox = model == vocal::LidarModel::kLivox;
+    const std::string name = livox ? "livox" : "ouster64";
+    const std::string folder = vocal_test::makeTempFolder("calibration_session_" + name);
+    std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 0, 0);
+    if (livox) vocal::pointLidarsAhead(&sensors);
+    const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+    vocal::SimulatedSessionOptions options;
+    options.target_poses = 8;
+    options.depth_width = 160;
+    options.depth_height = 120;
+    options.lidar_noise = 0.01;
+    options.lidar_model = model;
+    options.seed = 4;
+    vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+    vocal::CalibrationSession session(rig);
+    const vocal::BagReadSummary read = vocal::readCalibrationBag(folder + "/session.bag", &session);
+    EXPECT_EQ(read.dropped, 0u) << (read.problems.empty() ? "" : read.problems.front());
+    const std::vector<std::optional<vocal::RingOffsets>> offsets = session.chooseRingOffsets({});
+    ASSERT_TRUE(offsets[1]) << name;
+    if (livox) {
+      EXPECT_FALSE(offsets[1]->applied);
+      EXPECT_EQ(offsets[1]->verdict, "not estimated: its clouds show no rings (a solid-state or non-repeating scan pattern, and no ring field)");
+    } else {
+      EXPECT_EQ(offsets[1]->elevations.size(), 64u);
+      EXPECT_NEAR(offsets[1]->elevations.front() * 180.0 / M_PI, -16.6, 0.01);
+    }
+    const vocal::CalibrationResult result = session.calibrate();
+    EXPECT_TRUE(result.trusted) << name << ": " << result.failure;
+    const Eigen::Isometry3d error = sensors[1].reference_from_sensor.inverse() * result.sensors[1].reference_from_sensor;
+    std::cout << name << ": " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000 << " mrad from "
+              << result.sensors[1].observations << " still poses; target in " << session.counts()[1].target_found << " of "
+              << session.counts()[1].received << " clouds; ring offsets " << offsets[1]->verdict << "\n";
+    EXPECT_LT(error.translation().norm(), 0.01) << name;
+    EXPECT_LT(vocal::rotationAngle(error), 0.01) << name;
+  }
+}
+
 // A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,
 // 0.6 s still and 0.3 s moving, sensors at 10 Hz and unsynchronised, 1 mm range noise and 2 grey levels
 // of image noise. The rig must come out within the bounds.

@@ -122,10 +122,21 @@ TEST(MessageConversions, LidarCloudHasAVelodyneDriversLayoutAndReadsBack) {
   std::uint16_t ring = 0;
   std::memcpy(&ring, cloud.data.data() + cloud.point_step + cloud.fields[4].offset, 2);
   EXPECT_EQ(ring, 15);
-  const std::vector<Eigen::Vector3d> read = vocal::fromPointCloud2(cloud, "/velodyne_points");
+  std::vector<int> rings = {7};
+  const std::vector<Eigen::Vector3d> read = vocal::fromPointCloud2(cloud, "/velodyne_points", &rings);
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[0], points[0]);
   EXPECT_EQ(read[1], points[1]);
+  EXPECT_EQ(rings, (std::vector<int>{3, 15})) << "the driver's ring field, as written";
+  // An Ouster driver's ring is a uint8 (other drivers: uint16, int32): read all the same; a cloud without
+  // the field gives no rings.
+  sensor_msgs::PointCloud2 ouster = cloud;
+  ouster.fields[4].datatype = sensor_msgs::PointField::UINT8;
+  vocal::fromPointCloud2(ouster, "/os_cloud_node/points", &rings);
+  EXPECT_EQ(rings, (std::vector<int>{3, 15}));  // little-endian: the uint16's low byte
+  ouster.fields.pop_back();
+  vocal::fromPointCloud2(ouster, "/os_cloud_node/points", &rings);
+  EXPECT_TRUE(rings.empty());
 }
 
 TEST(VoxelCloudMap, FusesViewsOfOneSurfaceIntoOnePointPerVoxel) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <tuple>
 
 #include "vocal/calibration/pattern_observation.h"
@@ -98,10 +99,32 @@ bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch sear
   return found;
 }
 
-bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud) {
+namespace {
+// Each ring's elevation as its driver numbers them: the median of its returns' (rings of 20 or more).
+std::vector<double> elevationsOfDriverRings(const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
+  std::map<int, std::vector<double>> by_ring;
+  for (std::size_t i = 0; i < cloud.size() && i < rings.size(); ++i)
+    by_ring[rings[i]].push_back(std::atan2(cloud[i].z(), cloud[i].head<2>().norm()));
+  std::vector<double> elevations;
+  for (auto& [ring, values] : by_ring)
+    if (values.size() >= 20) elevations.push_back(median(std::move(values)));
+  std::sort(elevations.begin(), elevations.end());
+  return elevations;
+}
+}  // namespace
+
+bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
   const RigSensorDescription& description = checkSensor(sensor, SensorType::kLidar3d, "point cloud");
   ScanSpacing& spacing = lidar_spacing_[sensor];
-  if (!(spacing.horizontal > 0.0) && cloud.size() >= 1000) spacing = estimateScanSpacing(cloud);
+  if (!(spacing.horizontal > 0.0) && cloud.size() >= 1000) {
+    spacing = estimateScanSpacing(cloud);
+    // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
+    // elevation at close range; a scanner without rings has none to cluster).
+    if (rings.size() == cloud.size()) {
+      std::vector<double> driver = elevationsOfDriverRings(cloud, rings);
+      if (driver.size() >= 2) spacing.rings = std::move(driver);
+    }
+  }
   if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
     throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
                      " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more)");
@@ -121,8 +144,14 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const 
   std::vector<std::optional<RingOffsets>> offsets(ring_offsets_.size());
   for (std::size_t s = 0; s < offsets.size(); ++s)
     if (ring_offsets_[s]) offsets[s] = ring_offsets_[s]->solve();
-  for (std::size_t s = 0; s < offsets.size(); ++s)
+  for (std::size_t s = 0; s < offsets.size(); ++s) {
     if (offsets[s] && ring_offset_choice_[s]) std::tie(offsets[s]->applied, offsets[s]->verdict) = *ring_offset_choice_[s];
+    // A lidar whose clouds came without rings: say so rather than nothing.
+    if (!offsets[s] && ring_offset_options_.enabled && lidar_spacing_[s].horizontal > 0.0 && lidar_spacing_[s].rings.size() < 2) {
+      offsets[s].emplace();
+      offsets[s]->verdict = "not estimated: its clouds show no rings (a solid-state or non-repeating scan pattern, and no ring field)";
+    }
+  }
   return offsets;
 }
 

@@ -94,6 +94,15 @@ std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int
   return sensors;
 }
 
+void pointLidarsAhead(std::vector<SimulatedSensor>* sensors) {
+  int i = 0;
+  for (SimulatedSensor& s : *sensors) {
+    if (s.spec.type != SensorType::kLidar3d) continue;
+    s.reference_from_sensor.linear() = rotationFromRollPitchYaw(0.03 - 0.02 * i, 0.05, 0.08 - 0.16 * i);
+    ++i;
+  }
+}
+
 Eigen::Matrix3d targetFacingRig() {
   // The target's z axis along -x of the reference frame.
   Eigen::Matrix3d facing;

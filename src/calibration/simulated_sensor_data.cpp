@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "vocal/core/errors.h"
+
 namespace vocal {
 
 namespace {
@@ -91,22 +93,46 @@ std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt199
   return ranges;
 }
 
+LidarModel parseLidarModel(const std::string& name, const std::string& what) {
+  if (name == "vlp16") return LidarModel::kVlp16;
+  if (name == "ouster64") return LidarModel::kOuster64;
+  if (name == "livox") return LidarModel::kLivox;
+  throw InputError(what + ": '" + name + "' is unknown: expected vlp16, ouster64 or livox");
+}
+
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
   const SensorInRoom sensor(view);
   std::vector<Eigen::Vector3d> points;
   if (truth) *truth = {};
-  for (int ring = 0; ring < 16; ++ring) {
-    const double elevation = (-15.0 + 2.0 * ring) * M_PI / 180.0;
+  const auto cast = [&](const Eigen::Vector3d& ray, const Eigen::Vector3d& footprint, int ring, double bias) {
+    const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng);
+    if (hit.label == SurfaceLabel::kNone) return;
+    points.push_back((noisy(hit.range, view.range_noise, rng) + bias) * ray);
+    if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
+  };
+  if (view.lidar_model == LidarModel::kLivox) {
+    // A rosette: the beam swings out from the axis and back (250 Hz) while the swing turns (sqrt(2) x 37 Hz),
+    // 100,000 points a second; a frame is 0.1 s of it from view.time on.
+    constexpr double kHalfAngle = 35.0 * M_PI / 180.0;
+    for (int i = 0; i < 10000; ++i) {
+      const double t = view.time + i * 1e-5;
+      const double off_axis = kHalfAngle * std::sin(2 * M_PI * 250.0 * t), around = 2 * M_PI * 37.0 * std::sqrt(2.0) * t;
+      const Eigen::Vector3d ray(std::cos(off_axis), std::sin(off_axis) * std::cos(around), std::sin(off_axis) * std::sin(around));
+      cast(ray, 0.0015 * ray.unitOrthogonal(), -1, 0.0);
+    }
+    return points;
+  }
+  const bool ouster = view.lidar_model == LidarModel::kOuster64;
+  const int rings = ouster ? 64 : 16, steps = ouster ? 1024 : 1800;
+  const double lowest = ouster ? -16.6 : -15.0, ring_step = ouster ? 33.2 / 63 : 2.0;
+  for (int ring = 0; ring < rings; ++ring) {
+    const double elevation = (lowest + ring_step * ring) * M_PI / 180.0;
     const double bias = ring < static_cast<int>(view.ring_bias.size()) ? view.ring_bias[ring] : 0.0;
-    for (int step = 0; step < 1800; ++step) {
-      const double azimuth = step * 0.2 * M_PI / 180.0 - M_PI;
+    for (int step = 0; step < steps; ++step) {
+      const double azimuth = step * 2 * M_PI / steps - M_PI;
       const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-      // A VLP-16 beam's footprint is about 3 mrad wide.
-      const Eigen::Vector3d footprint = 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0);
-      const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng);
-      if (hit.label == SurfaceLabel::kNone) continue;
-      points.push_back((noisy(hit.range, view.range_noise, rng) + bias) * ray);
-      if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
+      // A beam's footprint is about 3 mrad wide.
+      cast(ray, 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0), ring, bias);
     }
   }
   return points;

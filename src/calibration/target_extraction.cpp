@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numeric>
 #include <optional>
 
@@ -618,6 +619,23 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
     if (tree.nearestKSearch(directions->at(i), 2, found, distances) == 2 && distances[1] > 0.0f) angles.push_back(std::sqrt(distances[1]));
   }
   spacing.horizontal = spacing.vertical = median(angles);
+  // A non-repeating pattern (a Livox's rosette) lays its points along curves: the nearest neighbour is
+  // close along the curve, the next curve far. What predicts a board's returns is the mean density over
+  // the solid angle the cloud covers (2-degree cells holding 2 or more returns).
+  constexpr double kCell = 2.0 * M_PI / 180.0;
+  std::map<std::pair<int, int>, int> cells;
+  for (const Eigen::Vector3d& p : cloud) {
+    const double elevation = std::atan2(p.z(), p.head<2>().norm()), azimuth = std::atan2(p.y(), p.x());
+    ++cells[{static_cast<int>(std::floor(azimuth / kCell)), static_cast<int>(std::floor(elevation / kCell))}];
+  }
+  double solid_angle = 0.0, covered = 0.0;
+  for (const auto& [cell, count] : cells) {
+    if (count < 2) continue;
+    solid_angle += kCell * (std::sin((cell.second + 1) * kCell) - std::sin(cell.second * kCell));
+    covered += count;
+  }
+  const double mean_spacing = covered > 0.0 ? std::sqrt(solid_angle / covered) : 0.0;
+  if (mean_spacing > 1.5 * spacing.horizontal) spacing.horizontal = spacing.vertical = mean_spacing;
   return spacing;
 }
 

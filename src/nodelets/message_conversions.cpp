@@ -1,5 +1,6 @@
 #include "vocal/nodelets/message_conversions.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -267,15 +268,37 @@ PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::stri
   return camera;
 }
 
-std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what) {
+namespace {
+// An integer field's value at `p` (PointField datatypes INT8 ... UINT32).
+int integerAt(const std::uint8_t* p, std::uint8_t datatype) {
+  switch (datatype) {
+    case sensor_msgs::PointField::INT8: return *reinterpret_cast<const std::int8_t*>(p);
+    case sensor_msgs::PointField::UINT8: return *p;
+    case sensor_msgs::PointField::INT16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+    case sensor_msgs::PointField::UINT16: { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
+    case sensor_msgs::PointField::INT32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
+    default: { std::uint32_t v; std::memcpy(&v, p, 4); return static_cast<int>(std::min<std::uint32_t>(v, 1u << 30)); }
+  }
+}
+}  // namespace
+
+std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what, std::vector<int>* rings) {
   int offsets[3] = {-1, -1, -1};
   std::uint8_t types[3] = {0, 0, 0};
   const char* names[] = {"x", "y", "z"};
+  int ring_offset = -1;
+  std::uint8_t ring_type = 0;
   for (const sensor_msgs::PointField& field : msg.fields) {
     for (int axis = 0; axis < 3; ++axis) {
       if (field.name == names[axis]) offsets[axis] = static_cast<int>(field.offset), types[axis] = field.datatype;
     }
+    const std::size_t ring_size = field.datatype <= sensor_msgs::PointField::UINT8 ? 1 : field.datatype <= sensor_msgs::PointField::UINT16 ? 2 : 4;
+    if (field.name == "ring" && field.datatype >= sensor_msgs::PointField::INT8 && field.datatype <= sensor_msgs::PointField::UINT32 &&
+        field.offset + ring_size <= msg.point_step) {
+      ring_offset = static_cast<int>(field.offset), ring_type = field.datatype;
+    }
   }
+  if (rings) rings->clear();
   for (int axis = 0; axis < 3; ++axis) {
     if (offsets[axis] < 0) throw InputError(what + ": the cloud has no '" + names[axis] + "' field");
     if (types[axis] != sensor_msgs::PointField::FLOAT32 && types[axis] != sensor_msgs::PointField::FLOAT64) {
@@ -305,7 +328,9 @@ std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg
           std::memcpy(&point[axis], p + offsets[axis], 8);
         }
       }
-      if (point.allFinite()) points.push_back(point);
+      if (!point.allFinite()) continue;
+      points.push_back(point);
+      if (rings && ring_offset >= 0) rings->push_back(integerAt(p + ring_offset, ring_type));
     }
   }
   return points;

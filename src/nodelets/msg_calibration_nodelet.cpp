@@ -148,7 +148,9 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
 
   void onCloud(int sensor, const sensor_msgs::PointCloud2& msg) {
     guarded(sensor, [&] {
-      session_->addCloud(sensor, msg.header.stamp.toSec(), fromPointCloud2(msg, session_->rig().sensors[sensor].cloud_topic));
+      std::vector<int> rings;
+      const std::vector<Eigen::Vector3d> points = fromPointCloud2(msg, session_->rig().sensors[sensor].cloud_topic, &rings);
+      session_->addCloud(sensor, msg.header.stamp.toSec(), points, rings);
     });
   }
 
@@ -205,10 +207,12 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       for (std::size_t s = 0; s < specs.size(); ++s) {
         if (!ring_offsets[s]) continue;
         const RingOffsets& rings = *ring_offsets[s];
-        char line[160];
-        std::snprintf(line, sizeof(line), "; %s ring offsets %+.1f to %+.1f mm (from %d room planes) ", specs[s].name.c_str(),
-                      1000 * rings.offsets.minCoeff(), 1000 * rings.offsets.maxCoeff(), rings.planes);
-        summary << line << rings.verdict;
+        char line[160] = "";
+        if (rings.offsets.size() > 0) {
+          std::snprintf(line, sizeof(line), "%+.1f to %+.1f mm (from %d room planes) ", 1000 * rings.offsets.minCoeff(),
+                        1000 * rings.offsets.maxCoeff(), rings.planes);
+        }
+        summary << "; " << specs[s].name << " ring offsets " << line << rings.verdict;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       const std::vector<std::string> withheld =

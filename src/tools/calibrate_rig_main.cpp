@@ -140,6 +140,10 @@ void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::o
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const std::optional<vocal::RingOffsets>& rings = offsets[s];
     if (!rings) continue;
+    if (rings->elevations.empty()) {
+      std::printf("%s: ring offsets %s\n", rig.sensors[s].spec.name.c_str(), rings->verdict.c_str());
+      continue;
+    }
     std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected; "
                 "%d planes seen only at grazing incidence left out):\n",
                 rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms, rings->grazing_planes);

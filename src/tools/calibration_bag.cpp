@@ -78,11 +78,12 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   summary.reference_from_target = simulateRig(std::vector<SimulatedSensor>{}, poses).reference_from_target;
 
   std::mt19937 rng(options.seed);
-  std::vector<double> ring_bias(16, 0.0);
+  std::vector<double> ring_bias(options.lidar_model == LidarModel::kOuster64 ? 64 : 16, 0.0);
   if (options.ring_bias > 0.0) {
     std::uniform_real_distribution<double> bias(-options.ring_bias, options.ring_bias);
     for (double& b : ring_bias) b = bias(rng);
   }
+  for (double& b : ring_bias) b += options.lidar_range_offset;
   // The session's lenses, each undistorted once (most of a distorted render's cost), and camera i's.
   const PinholeCamera image_camera = defaultKinectCamera(640, 480);
   const std::vector<LensDistortion> lenses = options.camera_lenses.empty() ? std::vector<LensDistortion>(1) : options.camera_lenses;
@@ -114,6 +115,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       const bool lidar = sensors[s].spec.type == SensorType::kLidar3d;
       view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
       view.ring_bias = lidar ? ring_bias : std::vector<double>{};
+      view.lidar_model = options.lidar_model;
+      view.time = time;
       view.sensor = &sensors[s];
       const RigSensorDescription& d = rig.sensors[s];
       const ros::Time stamp(1000.0 + time);
@@ -248,7 +251,9 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
             case Kind::kCloud: {
               const auto cloud = m.instantiate<sensor_msgs::PointCloud2>();
               if (!cloud) throw InputError(m.getTopic() + ": not a sensor_msgs/PointCloud2");
-              session->addCloud(sensor, cloud->header.stamp.toSec(), fromPointCloud2(*cloud, m.getTopic()));
+              std::vector<int> rings;
+              const std::vector<Eigen::Vector3d> points = fromPointCloud2(*cloud, m.getTopic(), &rings);
+              session->addCloud(sensor, cloud->header.stamp.toSec(), points, rings);
               break;
             }
             case Kind::kScan: {

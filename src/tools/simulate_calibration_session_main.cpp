@@ -27,6 +27,10 @@ const char kUsage[] =
     "  --person            someone holds the board by its sides (furnished rooms)\n"
     "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
     "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
+    "  --range-offset M    a range offset every lidar ring shares, metres (default 0)\n"
+    "  --lidar-model M     vlp16 (default: 16 rings), ouster64 (64 rings over +-16.6 degrees) or livox (a\n"
+    "                      non-repeating rosette over a 70-degree cone ahead, no rings; the lidar turned to\n"
+    "                      face the target)\n"
     "  --mixed-pixels      returns between two surfaces where a beam straddles an edge\n"
     "  --rate HZ           messages per second of every sensor (default 10), unsynchronised\n"
     "  --camera-rate HZ --rgbd-rate HZ --lidar-rate HZ --laser-rate HZ   one sensor type's own rate\n"
@@ -47,8 +51,10 @@ int run(const vocal::CommandLine& args) {
   vocal::makeFolders(dir);
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
-  const std::vector<vocal::SimulatedSensor> sensors =
+  std::vector<vocal::SimulatedSensor> sensors =
       vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
+  const vocal::LidarModel lidar_model = vocal::parseLidarModel(args.text("lidar-model", "vlp16"), "option --lidar-model");
+  if (lidar_model == vocal::LidarModel::kLivox) vocal::pointLidarsAhead(&sensors);  // it sees a cone ahead, not all round
   vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target, unless given
   target.width = args.number("board-width", target.width);
   target.height = args.number("board-height", target.height);
@@ -96,6 +102,8 @@ int run(const vocal::CommandLine& args) {
   }
   options.lidar_noise = args.number("lidar-noise", -1.0);
   options.ring_bias = args.number("ring-bias", 0.0);
+  options.lidar_range_offset = args.number("range-offset", 0.0);
+  options.lidar_model = lidar_model;
   options.mixed_pixels = args.has("mixed-pixels");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
@@ -112,6 +120,7 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
+                         "range-offset", "lidar-model",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square"},
                         {"person", "mixed-pixels"}, 1);

@@ -44,7 +44,9 @@ class CalibrationSession {
   // Each returns whether the target was found (range sensors: a board-shaped segment; whether it is
   // static background is settled over the whole session). Throws InputError naming the sensor when it
   // has another type or the data is unusable (stamps are seconds).
-  bool addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud);          // lidar3d
+  // lidar3d; `rings`: each point's ring as its driver numbers them (PointCloud2's `ring` field), or empty.
+  // The driver's rings, where given, say which rings there are (else they are found by elevation).
+  bool addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings = {});
   bool addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan);            // laser2d, in beam order
   bool addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera);  // rgbd
   bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
@@ -69,7 +71,8 @@ class CalibrationSession {
   // Per sensor, a 3D lidar's ring offsets estimated from the room planes of its clouds so far, with
   // whether its board points are corrected by them (RingOffsets::applied, verdict): those within the
   // lidar's specification are, until chooseRingOffsets has decided otherwise; none for other sensors,
-  // with ring offsets off, or before a cloud.
+  // with ring offsets off, or before a cloud; a lidar without rings (a solid-state, non-repeating pattern)
+  // gets no offsets and a verdict saying so.
   std::vector<std::optional<RingOffsets>> ringOffsets() const;
   // Per 3D lidar whose offsets are within its specification: the rig solved with and without them,
   // each leaving out one still pose at a time, and the offsets kept only when they predict the lidar's

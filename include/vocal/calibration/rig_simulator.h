@@ -47,6 +47,10 @@ struct SimulatedRig {
 // degree steps) and cameras (640x480, ROS default intrinsics), each looking roughly forward (+x).
 std::vector<SimulatedSensor> exampleRig(int rgbd_sensors, int lidar_sensors, int laser_sensors = 0, int cameras = 0);
 
+// A forward-looking (solid-state) lidar's mounting: each lidar of `sensors` turned to look along the rig's
+// +x, where the target poses are, with a small roll, pitch and yaw of its own; its place kept.
+void pointLidarsAhead(std::vector<SimulatedSensor>* sensors);
+
 // What one sensor sees of a target rectangle (half extents in metres) at the given pose: its points in
 // the sensor frame (none when too little is in view) and where they end on the board's edges, or, for a
 // camera, its plane measurement. The sensor and target_pose fields are left for the caller.

@@ -7,6 +7,7 @@
 // known extrinsics; the range sensors also say what each point hit, the truth extraction is counted on.
 
 #include <random>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -20,6 +21,14 @@
 
 namespace vocal {
 
+// The lidars simulated: spinning ones with rings (a VLP-16: 16 rings 2 degrees apart from -15, 0.2 degree
+// azimuth steps; an Ouster OS1-64: 64 rings over +-16.6 degrees, 1024 azimuth steps) and a solid-state
+// one with a non-repeating pattern (Livox-like: a rosette over a 70-degree cone about its x axis, 10,000
+// points per 0.1 s frame, denser in the middle, never the same twice: no rings).
+enum class LidarModel { kVlp16, kOuster64, kLivox };
+// "vlp16", "ouster64", "livox"; throws InputError naming `what` for anything else.
+LidarModel parseLidarModel(const std::string& name, const std::string& what);
+
 struct SimulatedRoomView {
   const SimulatedSensor* sensor = nullptr;
   Eigen::Isometry3d reference_from_target = Eigen::Isometry3d::Identity();
@@ -31,6 +40,8 @@ struct SimulatedRoomView {
   // Where a beam's footprint straddles a range edge, half the returns lie between the two surfaces
   // (what lidars and time-of-flight depth cameras do at a board's edges).
   bool mixed_pixels = false;
+  LidarModel lidar_model = LidarModel::kVlp16;
+  double time = 0.0;  // seconds into the session: where a non-repeating pattern has got to
 };
 
 // The board held still by a person 2 m in front of the rig, facing it, in the furnished room, mixed
@@ -44,8 +55,8 @@ struct SimulatedTruth {
 };
 
 // A 2D laser's ranges in beam order (270 degrees, 0.25 degree steps from -135 degrees; infinity where
-// nothing is hit within 8 m) or a 16-ring lidar's points (VLP-16: rings 2 degrees apart from -15,
-// 0.2 degree azimuth steps; its hits only).
+// nothing is hit within 8 m) or a lidar's points (view.lidar_model; its hits only, a spinning lidar's
+// ring per point in `truth`, -1 for a pattern without rings).
 std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.

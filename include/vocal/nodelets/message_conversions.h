@@ -51,8 +51,11 @@ DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
 // The lens model of distortion_model and D (LensDistortion::fromCameraInfo's checks, naming `what`).
 LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
-// The x, y, z (float32 or float64) of every finite point, in the cloud's frame.
-std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what);
+// The x, y, z (float32 or float64) of every finite point, in the cloud's frame. With `rings`, each of those
+// points' `ring` field (the laser a spinning lidar's driver says it came from: velodyne, ouster and
+// hesai drivers publish one, any integer type); left empty when the cloud has no such field.
+std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what,
+                                             std::vector<int>* rings = nullptr);
 // The scan's returns within [range_min, range_max] as points in its plane (z = 0), in beam order.
 std::vector<Eigen::Vector3d> fromLaserScan(const sensor_msgs::LaserScan& msg, const std::string& what);
 sensor_msgs::LaserScan toLaserScan(const std::vector<float>& ranges, double angle_min, double angle_increment,

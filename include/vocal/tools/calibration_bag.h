@@ -11,6 +11,7 @@
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/rig_simulator.h"
 #include "vocal/calibration/simulated_room.h"
+#include "vocal/calibration/simulated_sensor_data.h"
 #include "vocal/core/lens_distortion.h"
 
 namespace vocal {
@@ -36,6 +37,8 @@ struct SimulatedSessionOptions {
   bool person_holds_target = false;
   double lidar_noise = -1.0;  // metres; < 0: range_noise
   double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
+  double lidar_range_offset = 0.0;  // metres added to every ring's ranges (a range offset the rings share)
+  LidarModel lidar_model = LidarModel::kVlp16;
   bool mixed_pixels = false;
   // Camera i's lens is camera_lenses[i % size] (none when empty): images rendered through it,
   // camera_info carries it.
