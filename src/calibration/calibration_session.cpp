@@ -113,30 +113,51 @@ std::vector<double> elevationsOfDriverRings(const std::vector<Eigen::Vector3d>& 
 }
 }  // namespace
 
-bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
-  const RigSensorDescription& description = checkSensor(sensor, SensorType::kLidar3d, "point cloud");
+void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
+  checkSensor(sensor, SensorType::kLidar3d, "point cloud");
   ScanSpacing& spacing = lidar_spacing_[sensor];
-  if (!(spacing.horizontal > 0.0) && cloud.size() >= 1000) {
-    spacing = estimateScanSpacing(cloud);
-    // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
-    // elevation at close range; a scanner without rings has none to cluster).
-    if (rings.size() == cloud.size()) {
-      std::vector<double> driver = elevationsOfDriverRings(cloud, rings);
-      if (driver.size() >= 2) spacing.rings = std::move(driver);
-    }
+  if (spacing.horizontal > 0.0 || cloud.size() < 1000) return;
+  spacing = estimateScanSpacing(cloud);
+  // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
+  // elevation at close range; a scanner without rings has none to cluster).
+  if (rings.size() == cloud.size()) {
+    std::vector<double> driver = elevationsOfDriverRings(cloud, rings);
+    if (driver.size() >= 2) spacing.rings = std::move(driver);
   }
+}
+
+CalibrationSession::Extraction CalibrationSession::extractCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud) const {
+  const RigSensorDescription& description = checkSensor(sensor, SensorType::kLidar3d, "point cloud");
+  const ScanSpacing& spacing = lidar_spacing_[sensor];
   if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
     throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
                      " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more)");
   }
-  TargetSearch search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
-  std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
-  if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2) offsets.emplace(spacing.rings, ring_offset_options_);
-  if (offsets) {
-    offsets->addPlanes(search.room_points);
-    ring_offset_choice_[sensor].reset();  // decided on the clouds before this one
+  Extraction extraction;
+  extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
+  return extraction;
+}
+
+bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
+  prepareCloud(sensor, cloud, rings);
+  return take(sensor, stamp, extractCloud(sensor, cloud));
+}
+
+bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
+  if (sensor < 0 || sensor >= static_cast<int>(rig_.sensors.size())) checkSensor(sensor, SensorType::kCamera, "data");  // throws
+  const SensorType type = rig_.sensors[sensor].spec.type;
+  if (type == SensorType::kCamera) return record(sensor, stamp, std::move(extraction.points), std::move(extraction.planes));
+  TargetSearch& search = extraction.search;
+  if (type == SensorType::kLidar3d) {
+    std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
+    const ScanSpacing& spacing = lidar_spacing_[sensor];
+    if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2) offsets.emplace(spacing.rings, ring_offset_options_);
+    if (offsets) {
+      offsets->addPlanes(search.room_points);
+      ring_offset_choice_[sensor].reset();  // decided on the clouds before this one
+    }
+    search.room_points.clear();  // tens of thousands of returns per cloud: not kept
   }
-  search.room_points.clear();  // tens of thousands of returns per cloud: not kept
   return recordRange(sensor, stamp, std::move(search));
 }
 
@@ -189,20 +210,24 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::chooseRingOffsets(co
   return ringOffsets();
 }
 
-bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
+CalibrationSession::Extraction CalibrationSession::extractScan(int sensor, const std::vector<Eigen::Vector3d>& scan) const {
   checkSensor(sensor, SensorType::kLaser2d, "2D scan");
   const double beam_spacing = beamSpacingOf(scan);
-  TargetSearch search;
+  Extraction extraction;
   if (beam_spacing > 0.0) {
-    search = findTargetInScan(scan, rig_.target.width, rig_.target.height, beam_spacing, extractionFor(sensor));
+    extraction.search = findTargetInScan(scan, rig_.target.width, rig_.target.height, beam_spacing, extractionFor(sensor));
   } else {
-    search.rejection = "the scan has fewer than 2 returns";
-    search.check = "no segment";
+    extraction.search.rejection = "the scan has fewer than 2 returns";
+    extraction.search.check = "no segment";
   }
-  return recordRange(sensor, stamp, std::move(search));
+  return extraction;
 }
 
-bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera) {
+bool CalibrationSession::addScan(int sensor, double stamp, const std::vector<Eigen::Vector3d>& scan) {
+  return take(sensor, stamp, extractScan(sensor, scan));
+}
+
+CalibrationSession::Extraction CalibrationSession::extractDepth(int sensor, const DepthImage& depth, const PinholeCamera& camera) const {
   const RigSensorDescription& description = checkSensor(sensor, SensorType::kRgbd, "depth image");
   if (!depth.sameSize(camera.width, camera.height)) {
     throw InputError("sensor '" + description.spec.name + "': depth image is " + std::to_string(depth.width()) + "x" +
@@ -216,21 +241,35 @@ bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& de
     for (int u = 0; u < depth.width(); u += kStep)
       if (isValidDepth(depth(u, v))) cloud.push_back(camera.backProject(u, v, depth(u, v)));
   const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy, ScanPattern::kPinhole};
-  return recordRange(sensor, stamp, findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor)));
+  Extraction extraction;
+  extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
+  return extraction;
 }
 
-bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
-                                  const LensDistortion& distortion) {
+bool CalibrationSession::addDepth(int sensor, double stamp, const DepthImage& depth, const PinholeCamera& camera) {
+  return take(sensor, stamp, extractDepth(sensor, depth, camera));
+}
+
+CalibrationSession::Extraction CalibrationSession::extractImage(int sensor, const ColorImage& image, const PinholeCamera& camera,
+                                                                const LensDistortion& distortion) const {
   const RigSensorDescription& description = checkSensor(sensor, SensorType::kCamera, "image");
   const char* name = description.spec.name.c_str();
+  Extraction extraction;
   std::vector<Eigen::Vector2d> corners;
   try {
     corners = detectPattern(image, rig_.target.pattern, name);
   } catch (const InputError&) {
-    return record(sensor, stamp, {}, {});  // no board in view: normal while the target moves
+    return extraction;  // no board in view: normal while the target moves
   }
   PatternObservation seen = observePattern(corners, rig_.target.pattern, camera, name, distortion);
-  return record(sensor, stamp, std::move(seen.points), {seen.plane});
+  extraction.points = std::move(seen.points);
+  extraction.planes = {seen.plane};
+  return extraction;
+}
+
+bool CalibrationSession::addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
+                                  const LensDistortion& distortion) {
+  return take(sensor, stamp, extractImage(sensor, image, camera, distortion));
 }
 
 const std::vector<int>& CalibrationSession::chosenCandidates() const {

@@ -1,9 +1,12 @@
 #include "vocal/tools/calibration_bag.h"
 
 #include <algorithm>
+#include <deque>
+#include <future>
 #include <map>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -219,12 +222,38 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
       for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
       throw InputError(bag_path + ": holds none of the rig's topics (" + list + ")");
     }
+    // The target searched on every core a few messages ahead of the session, which takes each result in
+    // bag order (the static background, the still runs and the ring offsets depend on it).
+    struct Pending {
+      int sensor;
+      double stamp;
+      std::string where;  // topic and bag time, for a message dropped
+      std::future<CalibrationSession::Extraction> extraction;
+    };
+    std::deque<Pending> pending;
+    const std::size_t ahead = std::max(2u, std::thread::hardware_concurrency());
+    const auto drop = [&](const std::string& where, const std::string& why) {
+      if (summary.problems.size() < 20) summary.problems.push_back(where + ": " + why);
+      ++summary.dropped;
+    };
+    const auto takeOldest = [&] {
+      Pending oldest = std::move(pending.front());
+      pending.pop_front();
+      try {
+        session->take(oldest.sensor, oldest.stamp, oldest.extraction.get());
+      } catch (const InputError& e) {
+        drop(oldest.where, e.what());
+      }
+    };
     for (const rosbag::MessageInstance& m : view) {
       ++summary.messages;
       if (progress) progress(summary.messages);
+      std::ostringstream where;
+      where << m.getTopic() << " at " << m.getTime();
       for (const auto& [sensor, kind] : routes.at(m.getTopic())) {
         const std::string& name = rig.sensors[sensor].spec.name;
         try {
+          std::future<CalibrationSession::Extraction> extraction;
           switch (kind) {
             case Kind::kInfo: {
               const auto info = m.instantiate<sensor_msgs::CameraInfo>();
@@ -240,39 +269,50 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               if (!cameras.count(sensor)) {
                 throw InputError("no usable camera_info for sensor '" + name + "' on " + rig.sensors[sensor].camera_info_topic);
               }
-              const double stamp = image->header.stamp.toSec();
+              const PinholeCamera camera = cameras[sensor];
               if (kind == Kind::kImage) {
-                session->addImage(sensor, stamp, fromColorImage(*image, m.getTopic()), cameras[sensor], lenses[sensor]);
+                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, lens = lenses[sensor],
+                                                             converted = fromColorImage(*image, m.getTopic())] {
+                  return session->extractImage(sensor, converted, camera, lens);
+                });
               } else {
-                session->addDepth(sensor, stamp, fromDepthImage(*image, m.getTopic()), cameras[sensor]);
+                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, converted = fromDepthImage(*image, m.getTopic())] {
+                  return session->extractDepth(sensor, converted, camera);
+                });
               }
+              pending.push_back({sensor, image->header.stamp.toSec(), where.str(), std::move(extraction)});
               break;
             }
             case Kind::kCloud: {
               const auto cloud = m.instantiate<sensor_msgs::PointCloud2>();
               if (!cloud) throw InputError(m.getTopic() + ": not a sensor_msgs/PointCloud2");
               std::vector<int> rings;
-              const std::vector<Eigen::Vector3d> points = fromPointCloud2(*cloud, m.getTopic(), &rings);
-              session->addCloud(sensor, cloud->header.stamp.toSec(), points, rings);
+              std::vector<Eigen::Vector3d> points = fromPointCloud2(*cloud, m.getTopic(), &rings);
+              session->prepareCloud(sensor, points, rings);
+              if (!session->hasSpacing(sensor)) session->extractCloud(sensor, points);  // throws: says why
+              extraction = std::async(std::launch::async, [session, sensor = sensor, points = std::move(points)] {
+                return session->extractCloud(sensor, points);
+              });
+              pending.push_back({sensor, cloud->header.stamp.toSec(), where.str(), std::move(extraction)});
               break;
             }
             case Kind::kScan: {
               const auto scan = m.instantiate<sensor_msgs::LaserScan>();
               if (!scan) throw InputError(m.getTopic() + ": not a sensor_msgs/LaserScan");
-              session->addScan(sensor, scan->header.stamp.toSec(), fromLaserScan(*scan, m.getTopic()));
+              extraction = std::async(std::launch::async, [session, sensor = sensor, points = fromLaserScan(*scan, m.getTopic())] {
+                return session->extractScan(sensor, points);
+              });
+              pending.push_back({sensor, scan->header.stamp.toSec(), where.str(), std::move(extraction)});
               break;
             }
           }
         } catch (const InputError& e) {
-          if (summary.problems.size() < 20) {
-            std::ostringstream problem;
-            problem << m.getTopic() << " at " << m.getTime() << ": " << e.what();
-            summary.problems.push_back(problem.str());
-          }
-          ++summary.dropped;
+          drop(where.str(), e.what());
         }
+        while (pending.size() > ahead) takeOldest();
       }
     }
+    while (!pending.empty()) takeOldest();
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": read failed (" + e.what() + ")");
   }

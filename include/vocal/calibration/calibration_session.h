@@ -52,6 +52,24 @@ class CalibrationSession {
   bool addImage(int sensor, double stamp, const ColorImage& image, const PinholeCamera& camera,
                 const LensDistortion& distortion = {});  // camera, through its lens (camera_info's D)
 
+  // The same in two steps, so that several messages can be searched at once (readCalibrationBag uses
+  // every core): extract* finds what one message shows of the target without touching the session (safe
+  // from several threads), take() adds it to the session, in arrival order. A lidar's spacing comes from
+  // its first full cloud: prepareCloud each cloud, in order, before extractCloud. Each add* is
+  // prepare (clouds), extract and take.
+  struct Extraction {
+    TargetSearch search;                   // range sensors: the board's candidates
+    std::vector<Eigen::Vector3d> points;   // cameras: the pattern's corners (none: not seen)
+    std::vector<PlaneMeasurement> planes;  // ... and its plane
+  };
+  void prepareCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings = {});
+  bool hasSpacing(int sensor) const { return lidar_spacing_.at(sensor).horizontal > 0.0; }  // extractCloud can search
+  Extraction extractCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud) const;
+  Extraction extractScan(int sensor, const std::vector<Eigen::Vector3d>& scan) const;
+  Extraction extractDepth(int sensor, const DepthImage& depth, const PinholeCamera& camera) const;
+  Extraction extractImage(int sensor, const ColorImage& image, const PinholeCamera& camera, const LensDistortion& distortion = {}) const;
+  bool take(int sensor, double stamp, Extraction extraction);
+
   // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
   // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does, and
   // for a sensor that saw the target but in no still pose, why (its spacing, the run it would need).
