@@ -52,6 +52,36 @@ TEST(BoardOutline, DistanceToTheOutlineIsSignedAndZeroOnTheEdges) {
   EXPECT_NEAR(vocal::distanceToOutline(0.48, -0.39, 0.45, 0.35), 0.05, 1e-12);  // beyond a corner
 }
 
+// A lidar without rings (a Livox's non-repeating pattern: returns scattered over the board, no scan
+// lines): rows and columns of its directions stand in for lines, and their ends lie on the board's
+// edges, all round, to within about the mean spacing. (Taken as lines split at gaps in elevation, the
+// scattered returns made one "line" whose two ends were corners: a Livox session's lidar 39 mm off.)
+TEST(BoardOutline, AScatteredPatternEndsOnTheBoardsEdgesAllRound) {
+  const double half_width = 0.45, half_height = 0.35, range = 2.0, spacing = 0.01;  // radians between returns, on average
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> across(-1.0, 1.0);
+  // The board 2 m ahead along x, facing the lidar, turned 0.3 rad about its vertical.
+  Eigen::Isometry3d sensor_from_board = Eigen::Isometry3d::Identity();
+  sensor_from_board.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() * vocal::targetFacingRig();
+  sensor_from_board.translation() = Eigen::Vector3d(range, 0.0, 0.0);
+  std::vector<Eigen::Vector3d> points;
+  const int count = static_cast<int>(4 * half_width * half_height / std::pow(range * spacing, 2));
+  for (int i = 0; i < count; ++i) points.push_back(sensor_from_board * Eigen::Vector3d(half_width * across(rng), half_height * across(rng), 0.0));
+  const Eigen::Vector3d normal = sensor_from_board.linear().col(2);
+  const std::vector<Eigen::Vector3d> outline = vocal::boardOutlinePoints(
+      points, vocal::Plane{normal, -normal.dot(sensor_from_board.translation())}, vocal::ScanSpacing(spacing, spacing, vocal::ScanPattern::kScattered));
+  ASSERT_GT(outline.size(), 40u);
+  int left = 0, right = 0, top = 0, bottom = 0;
+  for (const Eigen::Vector3d& p : outline) {
+    const Eigen::Vector3d on_board = sensor_from_board.inverse() * p;
+    EXPECT_LT(std::abs(vocal::distanceToOutline(on_board.x(), on_board.y(), half_width, half_height)), 2.0 * range * spacing)
+        << on_board.transpose();
+    left += on_board.x() < -0.8 * half_width, right += on_board.x() > 0.8 * half_width;
+    bottom += on_board.y() < -0.8 * half_height, top += on_board.y() > 0.8 * half_height;
+  }
+  EXPECT_GT(std::min({left, right, top, bottom}), 5) << left << " " << right << " " << top << " " << bottom;
+}
+
 TEST(BoardOutline, EachLidarRingEndsOnTheBoardsEdges) {
   const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1)[0];
   vocal::RigSimulationOptions options;  // noise-free: the ends are off the edges by the azimuth step only

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace vocal {
 
 namespace {
 // A return's direction as (along its scan line, across the lines): a lidar's azimuth (relative to the
-// points' mean, so a board behind the sensor does not wrap at +-pi) and elevation; a depth camera's
-// x / z and y / z (constant along a pixel row and column).
+// points' mean, so a board behind the sensor does not wrap at +-pi) and elevation (a scattered
+// pattern's too); a depth camera's x / z and y / z (constant along a pixel row and column).
 struct Directions {
   ScanPattern pattern;
   double reference_azimuth = 0.0;
@@ -24,6 +25,17 @@ struct Directions {
   }
 };
 
+// A line's end moved `outward` along coordinate `along`, onto the plane along its ray.
+void addEnd(Eigen::Vector2d end, int along, double outward, const Directions& frame, const Plane& plane,
+            std::vector<Eigen::Vector3d>* outline) {
+  end[along] += outward;
+  const Eigen::Vector3d ray = frame.ray(end);
+  const double facing = plane.normal.dot(ray);
+  if (std::abs(facing) < 1e-9) return;
+  const double scale = -plane.offset / facing;
+  if (scale > 0.0) outline->push_back(scale * ray);
+}
+
 // Lines along coordinate `along` (0 or 1), grouped by the other coordinate: a new line where it jumps
 // by more than half the spacing between lines. Each line's ends go out by half a step along it.
 void addLineEnds(const std::vector<Eigen::Vector2d>& directions, int along, double step_along, double step_across,
@@ -31,24 +43,36 @@ void addLineEnds(const std::vector<Eigen::Vector2d>& directions, int along, doub
   const int across = 1 - along;
   std::vector<Eigen::Vector2d> sorted = directions;
   std::sort(sorted.begin(), sorted.end(), [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a[across] < b[across]; });
-  const auto addEnd = [&](Eigen::Vector2d end, double outward) {
-    end[along] += outward;
-    const Eigen::Vector3d ray = frame.ray(end);
-    const double facing = plane.normal.dot(ray);
-    if (std::abs(facing) < 1e-9) return;
-    const double scale = -plane.offset / facing;
-    if (scale > 0.0) outline->push_back(scale * ray);
-  };
   std::size_t first = 0;
   for (std::size_t i = 1; i <= sorted.size(); ++i) {
     if (i < sorted.size() && sorted[i][across] - sorted[i - 1][across] <= 0.5 * step_across) continue;
     if (i - first >= 2) {
       const auto [low, high] = std::minmax_element(sorted.begin() + first, sorted.begin() + i,
                                                    [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a[along] < b[along]; });
-      addEnd(*low, -0.5 * step_along);
-      addEnd(*high, 0.5 * step_along);
+      addEnd(*low, along, -0.5 * step_along, frame, plane, outline);
+      addEnd(*high, along, 0.5 * step_along, frame, plane, outline);
     }
     first = i;
+  }
+}
+
+// A pattern without scan lines (a Livox's rosette): rows (or columns) `bin` wide stand in for lines;
+// each one's extreme returns go out by half the mean spacing.
+void addBinnedEnds(const std::vector<Eigen::Vector2d>& directions, int along, double bin, double step_along, const Directions& frame,
+                   const Plane& plane, std::vector<Eigen::Vector3d>* outline) {
+  std::map<long, std::pair<Eigen::Vector2d, Eigen::Vector2d>> ends;  // per bin: the lowest and highest along
+  std::map<long, int> counts;
+  for (const Eigen::Vector2d& d : directions) {
+    const long key = static_cast<long>(std::floor(d[1 - along] / bin));
+    auto [entry, added] = ends.try_emplace(key, d, d);
+    if (d[along] < entry->second.first[along]) entry->second.first = d;
+    if (d[along] > entry->second.second[along]) entry->second.second = d;
+    ++counts[key];
+  }
+  for (const auto& [key, low_high] : ends) {
+    if (counts[key] < 2) continue;
+    addEnd(low_high.first, along, -0.5 * step_along, frame, plane, outline);
+    addEnd(low_high.second, along, 0.5 * step_along, frame, plane, outline);
   }
 }
 }  // namespace
@@ -58,7 +82,7 @@ std::vector<Eigen::Vector3d> boardOutlinePoints(const std::vector<Eigen::Vector3
   std::vector<Eigen::Vector3d> outline;
   if (points.size() < 2) return outline;
   Directions frame{spacing.pattern};
-  if (spacing.pattern == ScanPattern::kSpinning) {
+  if (spacing.pattern != ScanPattern::kPinhole) {
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     for (const Eigen::Vector3d& p : points) mean += p.head<2>().normalized();
     frame.reference_azimuth = std::atan2(mean.y(), mean.x());
@@ -66,6 +90,12 @@ std::vector<Eigen::Vector3d> boardOutlinePoints(const std::vector<Eigen::Vector3
   std::vector<Eigen::Vector2d> directions;
   directions.reserve(points.size());
   for (const Eigen::Vector3d& p : points) directions.push_back(frame.of(p));
+  // No scan lines: rows and columns two mean spacings wide.
+  if (spacing.pattern == ScanPattern::kScattered) {
+    addBinnedEnds(directions, 0, 2.0 * spacing.vertical, spacing.horizontal, frame, plane, &outline);
+    addBinnedEnds(directions, 1, 2.0 * spacing.horizontal, spacing.vertical, frame, plane, &outline);
+    return outline;
+  }
   // A 2D laser's one line has no spacing across: any positive step keeps it whole.
   const double across = spacing.vertical > 0.0 ? spacing.vertical : 1.0;
   addLineEnds(directions, 0, spacing.horizontal, across, frame, plane, &outline);

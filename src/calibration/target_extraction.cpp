@@ -619,6 +619,7 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
     if (tree.nearestKSearch(directions->at(i), 2, found, distances) == 2 && distances[1] > 0.0f) angles.push_back(std::sqrt(distances[1]));
   }
   spacing.horizontal = spacing.vertical = median(angles);
+  spacing.pattern = ScanPattern::kScattered;
   // A non-repeating pattern (a Livox's rosette) lays its points along curves: the nearest neighbour is
   // close along the curve, the next curve far. What predicts a board's returns is the mean density over
   // the solid angle the cloud covers (2-degree cells holding 2 or more returns).

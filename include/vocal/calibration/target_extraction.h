@@ -21,8 +21,9 @@ struct CropBox {
 };
 
 // How a sensor's returns are laid out: a spinning lidar's rings (constant elevation about its z axis,
-// a 2D laser's one ring) or a depth camera's pixel rows and columns (optical frame, z forward).
-enum class ScanPattern { kSpinning, kPinhole };
+// a 2D laser's one ring), a depth camera's pixel rows and columns (optical frame, z forward), or no scan
+// lines at all (a solid-state lidar's non-repeating pattern, a cloud of unknown layout).
+enum class ScanPattern { kSpinning, kPinhole, kScattered };
 
 // Angles between neighbouring returns of a sensor, radians: within a lidar ring / image row
 // (horizontal) and between rings / rows (vertical). Predicts how many points the board gives at a
