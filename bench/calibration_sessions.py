@@ -36,6 +36,9 @@ SIMULATED = [
     ("must-show seed 7, 10 Hz", MUST_SHOW + " --rate 10 --seed 7", "--edges"),
     ("plain room seed 7, 3 Hz", MUST_SHOW.replace("--room furnished --person", "--room plain") + " --rate 3 --seed 7", "--edges"),
     ("seed 7, 3 Hz, +5 cm common range offset", MUST_SHOW + " --rate 3 --seed 7 --range-offset 0.05", "--edges"),
+    ("seed 7, 3 Hz, +2 cm common range offset", MUST_SHOW + " --rate 3 --seed 7 --range-offset 0.02", "--edges"),
+    ("seed 7, 3 Hz, VLP-16 vertical offsets", MUST_SHOW + " --rate 3 --seed 7 --vertical-offsets", "--edges"),
+    ("seed 7, 3 Hz, dark squares +2 cm", MUST_SHOW + " --rate 3 --seed 7 --dark-range-offset 0.02", "--edges"),
     ("Ouster OS1-64, seed 7, 3 Hz", MUST_SHOW + " --rate 3 --seed 7 --lidar-model ouster64", "--edges"),
     ("Livox-like, seed 7, 3 Hz", MUST_SHOW + " --rate 3 --seed 7 --lidar-model livox", "--edges"),
 ]

@@ -16,8 +16,8 @@ struct SensorInRoom {
   explicit SensorInRoom(const SimulatedRoomView& view)
       : room(view.layout, view.reference_from_target, *view.target, view.person_holds_target),
         pose(view.sensor->reference_from_sensor) {}
-  RoomHit cast(const Eigen::Vector3d& direction) const {
-    return room.cast(pose.translation(), pose.linear() * direction.normalized(), kMaxRange);
+  RoomHit cast(const Eigen::Vector3d& direction, const Eigen::Vector3d& origin = Eigen::Vector3d::Zero()) const {
+    return room.cast(pose * origin, pose.linear() * direction.normalized(), kMaxRange);
   }
   SimulatedRoom room;
   Eigen::Isometry3d pose;
@@ -27,12 +27,12 @@ struct SensorInRoom {
 // `footprint`) straddles an edge: half the time a range between the two surfaces, labelled mixed
 // unless it lies near the centre's surface.
 RoomHit rangeReturn(const SensorInRoom& sensor, const SimulatedRoomView& view, const Eigen::Vector3d& direction,
-                    const Eigen::Vector3d& footprint, std::mt19937* rng) {
-  RoomHit centre = sensor.cast(direction);
+                    const Eigen::Vector3d& footprint, std::mt19937* rng, const Eigen::Vector3d& origin = Eigen::Vector3d::Zero()) {
+  RoomHit centre = sensor.cast(direction, origin);
   if (!view.mixed_pixels) return centre;
   RoomHit other = centre;
   for (const double sign : {-1.0, 1.0}) {
-    const RoomHit side = sensor.cast(direction.normalized() + sign * footprint);
+    const RoomHit side = sensor.cast(direction.normalized() + sign * footprint, origin);
     const double gap = std::abs((side.label == SurfaceLabel::kNone ? kMaxRange : side.range) -
                                 (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
     const double other_gap = std::abs((other.label == SurfaceLabel::kNone ? kMaxRange : other.range) -
@@ -93,6 +93,9 @@ std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt199
   return ranges;
 }
 
+const std::vector<double> kVlp16VerticalOffsets = {0.0112, 0.0097, 0.0081, 0.0066, 0.0051, 0.0037, 0.0022, 0.0007,
+                                                   -0.0007, -0.0022, -0.0037, -0.0051, -0.0066, -0.0081, -0.0097, -0.0112};
+
 LidarModel parseLidarModel(const std::string& name, const std::string& what) {
   if (name == "vlp16") return LidarModel::kVlp16;
   if (name == "ouster64") return LidarModel::kOuster64;
@@ -105,9 +108,11 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
   std::vector<Eigen::Vector3d> points;
   if (truth) *truth = {};
   const auto cast = [&](const Eigen::Vector3d& ray, const Eigen::Vector3d& footprint, int ring, double bias) {
-    const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng);
+    const Eigen::Vector3d origin(0.0, 0.0, ring >= 0 && ring < static_cast<int>(view.ring_height.size()) ? view.ring_height[ring] : 0.0);
+    const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng, origin);
     if (hit.label == SurfaceLabel::kNone) return;
-    points.push_back((noisy(hit.range, view.range_noise, rng) + bias) * ray);
+    const bool dark = hit.label == SurfaceLabel::kTarget && boardGrey(view.target->pattern, hit.on_target) < 128.0;
+    points.push_back(origin + (noisy(hit.range, view.range_noise, rng) + bias + (dark ? view.dark_range_offset : 0.0)) * ray);
     if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
   };
   if (view.lidar_model == LidarModel::kLivox) {

@@ -119,6 +119,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
       view.ring_bias = lidar ? ring_bias : std::vector<double>{};
       view.lidar_model = options.lidar_model;
+      if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;
+      view.dark_range_offset = lidar ? options.dark_range_offset : 0.0;
       view.time = time;
       view.sensor = &sensors[s];
       const RigSensorDescription& d = rig.sensors[s];

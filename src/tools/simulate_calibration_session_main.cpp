@@ -28,6 +28,10 @@ const char kUsage[] =
     "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
     "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
     "  --range-offset M    a range offset every lidar ring shares, metres (default 0)\n"
+    "  --vertical-offsets  each VLP-16 laser at its own height (the manual's +-11 mm): points' elevations drift\n"
+    "                      with range; the clouds' ring field says which laser\n"
+    "  --dark-range-offset M   lidar returns on the board's dark squares read M metres long (intensity-\n"
+    "                      dependent range; default 0)\n"
     "  --lidar-model M     vlp16 (default: 16 rings), ouster64 (64 rings over +-16.6 degrees) or livox (a\n"
     "                      non-repeating rosette over a 70-degree cone ahead, no rings; the lidar turned to\n"
     "                      face the target)\n"
@@ -104,6 +108,8 @@ int run(const vocal::CommandLine& args) {
   options.ring_bias = args.number("ring-bias", 0.0);
   options.lidar_range_offset = args.number("range-offset", 0.0);
   options.lidar_model = lidar_model;
+  options.lidar_vertical_offsets = args.has("vertical-offsets");
+  options.dark_range_offset = args.number("dark-range-offset", 0.0);
   options.mixed_pixels = args.has("mixed-pixels");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
@@ -120,8 +126,8 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
-                         "range-offset", "lidar-model",
+                         "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square"},
-                        {"person", "mixed-pixels"}, 1);
+                        {"person", "mixed-pixels", "vertical-offsets"}, 1);
 }

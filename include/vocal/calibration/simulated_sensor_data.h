@@ -42,7 +42,17 @@ struct SimulatedRoomView {
   bool mixed_pixels = false;
   LidarModel lidar_model = LidarModel::kVlp16;
   double time = 0.0;  // seconds into the session: where a non-repeating pattern has got to
+  // Metres each lidar ring's laser sits above the lidar's origin (a VLP-16's lasers are up to 11 mm
+  // apart, kVlp16VerticalOffsets): its rays start there, and its points' elevation seen from the origin
+  // drifts with range - what clustering elevations into rings stumbles on, and a driver's ring field not.
+  std::vector<double> ring_height;
+  // Metres a lidar return reads too long on the board's dark squares (low reflectivity: a real lidar's
+  // range depends on the return's intensity).
+  double dark_range_offset = 0.0;
 };
+
+// A VLP-16's per-laser vertical offsets (its manual's vert_correction), metres, by ascending elevation.
+extern const std::vector<double> kVlp16VerticalOffsets;
 
 // The board held still by a person 2 m in front of the rig, facing it, in the furnished room, mixed
 // pixels on (noise and ring biases are the caller's): one messy view for tests and benchmarks.

@@ -39,6 +39,8 @@ struct SimulatedSessionOptions {
   double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
   double lidar_range_offset = 0.0;  // metres added to every ring's ranges (a range offset the rings share)
   LidarModel lidar_model = LidarModel::kVlp16;
+  bool lidar_vertical_offsets = false;  // a VLP-16's lasers at their own heights (kVlp16VerticalOffsets)
+  double dark_range_offset = 0.0;       // metres a lidar return reads too long on the board's dark squares
   bool mixed_pixels = false;
   // Camera i's lens is camera_lenses[i % size] (none when empty): images rendered through it,
   // camera_info carries it.
