@@ -4,8 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,21 +17,7 @@
 #include "vocal/core/se3.h"
 
 namespace {
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-RunResult run(const std::string& arguments) {
-  RunResult result;
-  FILE* pipe = ::popen((std::string(VOCAL_TOOLS_DIR) + "/" + arguments + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) result.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using vocal_test::RunResult;
 
 // The mean of the authors' estimates (reference_estimates.csv: roll,pitch,yaw,x,y,z, the camera's pose
 // in the lidar frame, R = Rz(yaw) Ry(pitch) Rx(roll)): translations averaged, rotations by their
@@ -71,11 +55,11 @@ TEST(RealRigCalibration, FisheyeCameraAndVlp16InAnOfficeWithDefaultFlags) {
   if (data.empty()) GTEST_SKIP() << "real rig recording not present";
   const std::string folder = vocal_test::makeTempFolder("real_rig_office");
   // As the recording's README suggests: each pose 0.6 s of images and clouds at 10 Hz, poses 2 s apart.
-  RunResult r = run("still_poses_to_bag " + data + " " + folder + "/session.bag");
+  RunResult r = vocal_test::runTool("still_poses_to_bag " + data + " " + folder + "/session.bag");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("wrote 20 poses (pose01 ... pose20): 120 images on /camera/image_raw, 120 clouds on /velodyne_points"),
             std::string::npos) << r.output;
-  r = run("calibrate_rig " + std::string(VOCAL_SOURCE_DIR) + "/config/vlp16_fisheye_office_rig.yaml " + folder +
+  r = vocal_test::runTool("calibrate_rig " + std::string(VOCAL_SOURCE_DIR) + "/config/vlp16_fisheye_office_rig.yaml " + folder +
           "/session.bag --quiet --output-dir " + folder);
   ASSERT_NE(r.output.find("20 still target poses"), std::string::npos) << r.output;
 
@@ -129,7 +113,7 @@ TEST(RealRigCalibration, StillPosesToBagNamesAPoseWithoutItsCloud) {
   std::filesystem::create_directories(folder + "/images");
   std::filesystem::create_directories(folder + "/clouds");
   vocal_test::writeText(folder + "/images/pose01.png", "");
-  const RunResult r = run("still_poses_to_bag " + folder + " " + folder + "/out.bag");
+  const RunResult r = vocal_test::runTool("still_poses_to_bag " + folder + " " + folder + "/out.bag");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "still_poses_to_bag: error: " + folder + "/images/pose01.png: no cloud of the same pose (" + folder +
                           "/clouds/pose01.pcd)\n");

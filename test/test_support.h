@@ -1,7 +1,10 @@
 #pragma once
 // Helpers shared by the tests: temporary folders and small synthetic sequences.
 
+#include <sys/wait.h>
+
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -70,6 +73,27 @@ inline std::string tumDataFolder() {
   }
   return folder;
 }
+
+#ifdef VOCAL_TOOLS_DIR
+// One of the installed command-line tools run as a user runs it: its exit code and what it printed
+// (stdout and stderr together).
+struct RunResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+inline RunResult runTool(const std::string& arguments) {
+  const std::string command = std::string(VOCAL_TOOLS_DIR) + "/" + arguments + " 2>&1";
+  RunResult result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) result.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+#endif
 
 // Path of a real calibration recording beside the repository (../shared/data/real_rigs/NAME), or ""
 // (with a loud note) when it is not there.

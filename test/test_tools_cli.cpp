@@ -24,22 +24,8 @@
 #include "vocal/tools/tum_bag_writer.h"
 
 namespace {
-struct RunResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-RunResult runTool(const std::string& arguments) {
-  const std::string command = std::string(VOCAL_TOOLS_DIR) + "/" + arguments + " 2>&1";
-  RunResult result;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;) result.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using vocal_test::RunResult;
+using vocal_test::runTool;
 
 std::map<std::string, double> parseMetrics(const std::string& output) {
   std::map<std::string, double> metrics;
