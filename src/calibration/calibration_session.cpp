@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <tuple>
 
@@ -144,7 +145,8 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
 }
 
 bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
-  if (sensor < 0 || sensor >= static_cast<int>(rig_.sensors.size())) checkSensor(sensor, SensorType::kCamera, "data");  // throws
+  // An index out of range: checkSensor throws, naming it.
+  if (sensor < 0 || sensor >= static_cast<int>(rig_.sensors.size())) checkSensor(sensor, SensorType::kCamera, "data");
   const SensorType type = rig_.sensors[sensor].spec.type;
   if (type == SensorType::kCamera) return record(sensor, stamp, std::move(extraction.points), std::move(extraction.planes));
   TargetSearch& search = extraction.search;
