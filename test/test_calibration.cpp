@@ -230,7 +230,7 @@ TEST(CalibrationOutput, YamlUrdfAndLaunchCarryTheResult) {
   EXPECT_EQ(ring_offsets["offset_m"].as<std::vector<double>>(), (std::vector<double>{0.012, -0.003}));
   EXPECT_EQ(ring_offsets["offset_stddev_m"].as<std::vector<double>>(), (std::vector<double>{0.001, 0.002}));
   EXPECT_FALSE(ring_offsets["applied"].as<bool>());
-  EXPECT_EQ(ring_offsets["verdict"].as<std::string>(), "not estimated: no room plane seen at more than grazing incidence");
+  EXPECT_EQ(ring_offsets["verdict"].as<std::string>(), "not estimated: no room plane (floor, wall, large furniture) with enough returns");
 
   // The URDF's rpy reproduces the rotation.
   std::ifstream urdf(folder + "/rig.urdf");

@@ -117,6 +117,7 @@ TEST(LidarRingOffsets, LeavesOutAPlaneSeenOnlyAtGrazingIncidence) {
   EXPECT_EQ(rings.planes, 0);
   EXPECT_EQ(rings.grazing_planes, 1);
   EXPECT_FALSE(rings.applied);
+  EXPECT_EQ(rings.verdict, "not estimated: every room plane was seen only at grazing incidence");
 }
 
 // A VLP-16's lasers sit at their own heights (up to +-11 mm; their rays do not start at the origin the

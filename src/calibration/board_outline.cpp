@@ -60,19 +60,21 @@ void addLineEnds(const std::vector<Eigen::Vector2d>& directions, int along, doub
 // each one's extreme returns go out by half the mean spacing.
 void addBinnedEnds(const std::vector<Eigen::Vector2d>& directions, int along, double bin, double step_along, const Directions& frame,
                    const Plane& plane, std::vector<Eigen::Vector3d>* outline) {
-  std::map<long, std::pair<Eigen::Vector2d, Eigen::Vector2d>> ends;  // per bin: the lowest and highest along
-  std::map<long, int> counts;
+  struct Ends {
+    Eigen::Vector2d low, high;  // the returns lowest and highest along
+    int count = 0;
+  };
+  std::map<long, Ends> bins;
   for (const Eigen::Vector2d& d : directions) {
-    const long key = static_cast<long>(std::floor(d[1 - along] / bin));
-    auto [entry, added] = ends.try_emplace(key, d, d);
-    if (d[along] < entry->second.first[along]) entry->second.first = d;
-    if (d[along] > entry->second.second[along]) entry->second.second = d;
-    ++counts[key];
+    Ends& ends = bins.try_emplace(static_cast<long>(std::floor(d[1 - along] / bin)), Ends{d, d}).first->second;
+    if (d[along] < ends.low[along]) ends.low = d;
+    if (d[along] > ends.high[along]) ends.high = d;
+    ++ends.count;
   }
-  for (const auto& [key, low_high] : ends) {
-    if (counts[key] < 2) continue;
-    addEnd(low_high.first, along, -0.5 * step_along, frame, plane, outline);
-    addEnd(low_high.second, along, 0.5 * step_along, frame, plane, outline);
+  for (const auto& [key, ends] : bins) {
+    if (ends.count < 2) continue;
+    addEnd(ends.low, along, -0.5 * step_along, frame, plane, outline);
+    addEnd(ends.high, along, 0.5 * step_along, frame, plane, outline);
   }
 }
 }  // namespace

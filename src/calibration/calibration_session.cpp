@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <tuple>
 
 #include "vocal/calibration/pattern_observation.h"
 #include "vocal/calibration/point_statistics.h"
@@ -163,14 +162,13 @@ bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
   return recordRange(sensor, stamp, std::move(search));
 }
 
-std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const {
+std::vector<std::optional<RingOffsets>> CalibrationSession::estimatedRingOffsets() const {
   std::vector<std::optional<RingOffsets>> offsets(ring_offsets_.size());
-  for (std::size_t s = 0; s < offsets.size(); ++s)
-    if (ring_offsets_[s]) offsets[s] = ring_offsets_[s]->solve();
   for (std::size_t s = 0; s < offsets.size(); ++s) {
-    if (offsets[s] && ring_offset_choice_[s]) std::tie(offsets[s]->applied, offsets[s]->verdict) = *ring_offset_choice_[s];
-    // A lidar whose clouds came without rings: say so rather than nothing.
-    if (!offsets[s] && ring_offset_options_.enabled && lidar_spacing_[s].horizontal > 0.0 && lidar_spacing_[s].rings.size() < 2) {
+    if (ring_offsets_[s]) {
+      offsets[s] = ring_offsets_[s]->solve();
+    } else if (ring_offset_options_.enabled && lidar_spacing_[s].horizontal > 0.0 && lidar_spacing_[s].rings.size() < 2) {
+      // A lidar whose clouds came without rings: say so rather than nothing.
       offsets[s].emplace();
       offsets[s]->verdict = "not estimated: its clouds show no rings (a solid-state or non-repeating scan pattern, and no ring field)";
     }
@@ -178,38 +176,62 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const 
   return offsets;
 }
 
-std::vector<std::optional<RingOffsets>> CalibrationSession::chooseRingOffsets(const CalibrationOptions& options) {
-  for (auto& choice : ring_offset_choice_) choice.reset();
-  std::vector<std::optional<RingOffsets>> offsets = ringOffsets();
-  const CalibrationOptions solve = calibrationOptions(options);
+std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const {
+  std::vector<std::optional<RingOffsets>> offsets = estimatedRingOffsets();
+  for (std::size_t s = 0; s < offsets.size(); ++s) {
+    if (!offsets[s] || !ring_offset_choice_[s]) continue;
+    offsets[s]->applied = ring_offset_choice_[s]->applied;
+    offsets[s]->verdict = ring_offset_choice_[s]->verdict;
+  }
+  return offsets;
+}
+
+std::vector<CalibrationSession::RingOffsetTrial> CalibrationSession::ringOffsetTrials() const {
+  const std::vector<std::optional<RingOffsets>> offsets = estimatedRingOffsets();
+  std::vector<RingOffsetTrial> trials;
   for (std::size_t s = 0; s < offsets.size(); ++s) {
     if (!offsets[s] || !offsets[s]->applied) continue;
     std::vector<std::optional<RingOffsets>> without = offsets;
     without[s]->applied = false;
-    HeldOutFit fit[2];  // without, with
-    try {
-      for (int with = 0; with < 2; ++with) {
-        const std::vector<TargetObservation> associated =
-            associateStillTarget(rig_.specs(), timedObservations(with ? offsets : without), stillness_);
-        fit[with] = heldOutBoardFit(rig_.specs(), associated, solve, static_cast<int>(s));
-      }
-    } catch (const InputError&) {
-      fit[0].poses = fit[1].poses = 0;  // the rig does not solve yet: nothing to predict with
-    }
-    char line[320];
-    if (fit[0].poses == 0 || fit[1].poses == 0) {
-      std::snprintf(line, sizeof(line), "applied, unchecked: no still pose where another sensor saw the board to check them against");
-      ring_offset_choice_[s] = {true, line};
-    } else {
-      const bool better = fit[1].rms <= fit[0].rms;
-      std::snprintf(line, sizeof(line),
-                    "%s: the board's held-out poses are predicted %s with them (%.1f mm rms off the plane the other sensors "
-                    "put it in, %.1f mm without; %d poses, each left out once)",
-                    better ? "applied" : "refused", better ? "better" : "worse", 1000 * fit[1].rms, 1000 * fit[0].rms, fit[1].poses);
-      ring_offset_choice_[s] = {better, line};
-    }
+    RingOffsetTrial trial;
+    trial.sensor = static_cast<int>(s);
+    trial.without = associateStillTarget(rig_.specs(), timedObservations(without), stillness_);
+    trial.with = associateStillTarget(rig_.specs(), timedObservations(offsets), stillness_);
+    trials.push_back(std::move(trial));
   }
+  return trials;
+}
+
+void CalibrationSession::recordRingOffsetChoice(int sensor, RingOffsetChoice choice) {
+  checkSensor(sensor, SensorType::kLidar3d, "ring offsets");
+  ring_offset_choice_[sensor] = std::move(choice);
+}
+
+std::vector<std::optional<RingOffsets>> CalibrationSession::chooseRingOffsets(const CalibrationOptions& options) {
+  for (RingOffsetTrial& trial : ringOffsetTrials())
+    recordRingOffsetChoice(trial.sensor, judgeRingOffsets(rig_.specs(), trial, calibrationOptions(options)));
   return ringOffsets();
+}
+
+RingOffsetChoice judgeRingOffsets(const std::vector<SensorSpec>& sensors, const CalibrationSession::RingOffsetTrial& trial,
+                                  const CalibrationOptions& options) {
+  HeldOutFit without, with;
+  try {
+    without = heldOutBoardFit(sensors, trial.without, options, trial.sensor);
+    with = heldOutBoardFit(sensors, trial.with, options, trial.sensor);
+  } catch (const InputError&) {
+    without.poses = with.poses = 0;  // the rig does not solve yet: nothing to predict with
+  }
+  if (without.poses == 0 || with.poses == 0) {
+    return {true, "applied, unchecked: no still pose where another sensor saw the board to check them against"};
+  }
+  const bool better = with.rms <= without.rms;
+  char line[320];
+  std::snprintf(line, sizeof(line),
+                "%s: the board's held-out poses are predicted %s with them (%.1f mm rms off the plane the other sensors "
+                "put it in, %.1f mm without; %d poses, each left out once)",
+                better ? "applied" : "refused", better ? "better" : "worse", 1000 * with.rms, 1000 * without.rms, with.poses);
+  return {better, line};
 }
 
 CalibrationSession::Extraction CalibrationSession::extractScan(int sensor, const std::vector<Eigen::Vector3d>& scan) const {

@@ -132,7 +132,8 @@ RingOffsets RingOffsetEstimator::solve() const {
   if (!(dof > 0.0)) {
     result.offsets = Eigen::VectorXd::Zero(rings);
     result.sigmas = Eigen::VectorXd::Constant(rings, options_.prior_sigma);
-    result.verdict = "not estimated: no room plane seen at more than grazing incidence";
+    result.verdict = grazing_planes_ > 0 ? "not estimated: every room plane was seen only at grazing incidence"
+                                         : "not estimated: no room plane (floor, wall, large furniture) with enough returns";
     return result;
   }
   // The returns' noise from the residuals: first with no offsets (an overestimate), then with them.

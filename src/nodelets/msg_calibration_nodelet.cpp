@@ -171,14 +171,23 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
       options.board_edges.enabled = board_edges_;
-      // Before association: the lidars' board points depend on whether their offsets are applied.
-      const std::vector<std::optional<RingOffsets>> ring_offsets = session_->chooseRingOffsets(options);
-      const std::vector<TargetObservation> associated = session_->associatedObservations();
-      const CalibrationResult result = session_->calibrate(associated, options);
       const RigDescription rig = session_->rig();  // a copy: ~reset may replace the session meanwhile
       const std::vector<SensorSpec> specs = rig.specs();
-      // The spread across still poses re-solves once per pose (seconds): messages are taken meanwhile.
       const CalibrationOptions solved_with = session_->calibrationOptions(options);
+      // Before association: the lidars' board points depend on whether their offsets are applied. Judging
+      // them re-solves twice per still pose (seconds): messages are taken meanwhile.
+      const std::vector<CalibrationSession::RingOffsetTrial> trials = session_->ringOffsetTrials();
+      const CalibrationSession* const judged = session_.get();
+      lock.unlock();
+      std::vector<RingOffsetChoice> choices;
+      for (const CalibrationSession::RingOffsetTrial& trial : trials) choices.push_back(judgeRingOffsets(specs, trial, solved_with));
+      lock.lock();
+      if (session_.get() != judged) throw InputError("the session was reset (~reset) while it was being calibrated: call ~calibrate again");
+      for (std::size_t t = 0; t < trials.size(); ++t) session_->recordRingOffsetChoice(trials[t].sensor, choices[t]);
+      const std::vector<std::optional<RingOffsets>> ring_offsets = session_->ringOffsets();
+      const std::vector<TargetObservation> associated = session_->associatedObservations();
+      const CalibrationResult result = session_->calibrate(associated, options);
+      // The spread across still poses re-solves once per pose (seconds): messages are taken meanwhile.
       lock.unlock();
       std::optional<PoseJackknife> spread;
       try {

@@ -229,13 +229,18 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
     struct Pending {
       int sensor;
       double stamp;
-      std::string where;  // topic and bag time, for a message dropped
+      std::string topic;  // and bag time: where a dropped message was
+      ros::Time time;
       std::future<CalibrationSession::Extraction> extraction;
     };
     std::deque<Pending> pending;
     const std::size_t ahead = std::max(2u, std::thread::hardware_concurrency());
-    const auto drop = [&](const std::string& where, const std::string& why) {
-      if (summary.problems.size() < 20) summary.problems.push_back(where + ": " + why);
+    const auto drop = [&](const std::string& topic, const ros::Time& time, const std::string& why) {
+      if (summary.problems.size() < 20) {
+        std::ostringstream problem;
+        problem << topic << " at " << time << ": " << why;
+        summary.problems.push_back(problem.str());
+      }
       ++summary.dropped;
     };
     const auto takeOldest = [&] {
@@ -244,14 +249,12 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
       try {
         session->take(oldest.sensor, oldest.stamp, oldest.extraction.get());
       } catch (const InputError& e) {
-        drop(oldest.where, e.what());
+        drop(oldest.topic, oldest.time, e.what());
       }
     };
     for (const rosbag::MessageInstance& m : view) {
       ++summary.messages;
       if (progress) progress(summary.messages);
-      std::ostringstream where;
-      where << m.getTopic() << " at " << m.getTime();
       for (const auto& [sensor, kind] : routes.at(m.getTopic())) {
         const std::string& name = rig.sensors[sensor].spec.name;
         try {
@@ -282,7 +285,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
                   return session->extractDepth(sensor, converted, camera);
                 });
               }
-              pending.push_back({sensor, image->header.stamp.toSec(), where.str(), std::move(extraction)});
+              pending.push_back({sensor, image->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
               break;
             }
             case Kind::kCloud: {
@@ -295,7 +298,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               extraction = std::async(std::launch::async, [session, sensor = sensor, points = std::move(points)] {
                 return session->extractCloud(sensor, points);
               });
-              pending.push_back({sensor, cloud->header.stamp.toSec(), where.str(), std::move(extraction)});
+              pending.push_back({sensor, cloud->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
               break;
             }
             case Kind::kScan: {
@@ -304,12 +307,12 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               extraction = std::async(std::launch::async, [session, sensor = sensor, points = fromLaserScan(*scan, m.getTopic())] {
                 return session->extractScan(sensor, points);
               });
-              pending.push_back({sensor, scan->header.stamp.toSec(), where.str(), std::move(extraction)});
+              pending.push_back({sensor, scan->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
               break;
             }
           }
         } catch (const InputError& e) {
-          drop(where.str(), e.what());
+          drop(m.getTopic(), m.getTime(), e.what());
         }
         while (pending.size() > ahead) takeOldest();
       }

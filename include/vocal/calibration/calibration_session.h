@@ -36,6 +36,12 @@ struct RangeMessage {
   std::string check;      // which check refused the last candidate (TargetSearch::check, or "static background")
 };
 
+// Whether a lidar's ring offsets are applied, and why, in words for the user.
+struct RingOffsetChoice {
+  bool applied = false;
+  std::string verdict;
+};
+
 class CalibrationSession {
  public:
   explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {},
@@ -95,14 +101,24 @@ class CalibrationSession {
   // Per 3D lidar whose offsets are within its specification: the rig solved with and without them,
   // each leaving out one still pose at a time, and the offsets kept only when they predict the lidar's
   // held-out board views better (heldOutBoardFit, pose_jackknife.h); the verdict says which and by how
-  // much. Holds until the next cloud. Returns ringOffsets().
+  // much. Holds until the next cloud. Returns ringOffsets(). In three steps for a caller that holds a
+  // lock over the session (the re-solves take seconds): ringOffsetTrials (cheap), judgeRingOffsets (the
+  // re-solves, no session state), recordRingOffsetChoice.
   std::vector<std::optional<RingOffsets>> chooseRingOffsets(const CalibrationOptions& options);
+  struct RingOffsetTrial {
+    int sensor = -1;
+    std::vector<TargetObservation> without, with;  // the still poses associated without and with its offsets
+  };
+  std::vector<RingOffsetTrial> ringOffsetTrials() const;
+  void recordRingOffsetChoice(int sensor, RingOffsetChoice choice);
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
   bool recordRange(int sensor, double stamp, TargetSearch search);
   TargetExtractionOptions extractionFor(int sensor) const;
+  // The offsets as estimated, each applied when within its lidar's specification (no choice yet).
+  std::vector<std::optional<RingOffsets>> estimatedRingOffsets() const;
   // Every observation: cameras' as recorded, range sensors' candidates resolved against the background,
   // each lidar's corrected by its ring offsets where they are applied.
   std::vector<TimedObservation> timedObservations() const;
@@ -123,8 +139,14 @@ class CalibrationSession {
   std::vector<ScanSpacing> lidar_spacing_;     // per sensor, estimated from its first full cloud
   RingOffsetOptions ring_offset_options_;
   std::vector<std::optional<RingOffsetEstimator>> ring_offsets_;  // per sensor: lidars, from their first full cloud
-  // Per sensor, chooseRingOffsets's decision (applied, verdict) until the next cloud.
-  std::vector<std::optional<std::pair<bool, std::string>>> ring_offset_choice_;
+  // Per sensor, chooseRingOffsets's decision until the next cloud.
+  std::vector<std::optional<RingOffsetChoice>> ring_offset_choice_;
 };
+
+// Judges one lidar's trial (CalibrationSession::ringOffsetTrials): the held-out board views predicted
+// with and without its offsets (`options`: CalibrationSession::calibrationOptions), the offsets applied
+// when they predict no worse, or when no pose lets them be checked.
+RingOffsetChoice judgeRingOffsets(const std::vector<SensorSpec>& sensors, const CalibrationSession::RingOffsetTrial& trial,
+                                  const CalibrationOptions& options);
 
 }  // namespace vocal
