@@ -9,11 +9,11 @@
 
 #include <random>
 
-#include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/lidar_ring_offsets.h"
-#include "vocal/calibration/rig_simulator.h"
-#include "vocal/calibration/simulated_sensor_data.h"
-#include "vocal/calibration/target_extraction.h"
+#include "vocal/calibration/extraction/lidar_ring_offsets.h"
+#include "vocal/calibration/extraction/target_extraction.h"
+#include "vocal/calibration/solver/graph_calibration.h"
+#include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace {
 void BM_CalibrateRig(benchmark::State& state) {

@@ -8,10 +8,10 @@
 #include <memory>
 
 #include "vocal/core/errors.h"
-#include "vocal/core/synthetic_sequence.h"
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/simulation/synthetic_sequence.h"
 #ifdef VOCAL_HAVE_OPENCL
 #include "vocal/odometry/opencl_backend.h"
 #endif

@@ -10,10 +10,10 @@
 #include <random>
 #include <set>
 
-#include "vocal/calibration/board_outline.h"
-#include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/extraction/board_outline.h"
+#include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/rig_simulator.h"
 
 namespace {
 std::vector<vocal::SensorSpec> specs(const vocal::SimulatedRig& rig) {

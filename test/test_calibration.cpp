@@ -16,16 +16,16 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "vocal/calibration/calibration_output.h"
-#include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/pairwise_initialization.h"
+#include "vocal/calibration/association/still_target_association.h"
+#include "vocal/calibration/extraction/target_extraction.h"
+#include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/plane.h"
-#include "vocal/calibration/rig_simulator.h"
-#include "vocal/calibration/simulated_sensor_data.h"
-#include "vocal/calibration/still_target_association.h"
-#include "vocal/calibration/target_extraction.h"
+#include "vocal/calibration/solver/graph_calibration.h"
+#include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace {
 std::vector<vocal::SensorSpec> specs(const vocal::SimulatedRig& rig) {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "vocal/calibration/calibration_overlay.h"
+#include "vocal/calibration/output/calibration_overlay.h"
 #include "vocal/core/se3.h"
 
 namespace {

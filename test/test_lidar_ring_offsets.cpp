@@ -12,10 +12,10 @@
 
 #include "test_support.h"
 #include "vocal/calibration/calibration_session.h"
-#include "vocal/calibration/lidar_ring_offsets.h"
-#include "vocal/calibration/rig_simulator.h"
-#include "vocal/calibration/simulated_sensor_data.h"
-#include "vocal/calibration/target_extraction.h"
+#include "vocal/calibration/extraction/lidar_ring_offsets.h"
+#include "vocal/calibration/extraction/target_extraction.h"
+#include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 #include "vocal/tools/calibration_bag.h"
 
 namespace {

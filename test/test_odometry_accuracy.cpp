@@ -15,12 +15,12 @@
 #include "test_support.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_sequence.h"
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/core/tum_sequence.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_config_yaml.h"
+#include "vocal/simulation/synthetic_sequence.h"
 
 namespace {
 struct RunSummary {

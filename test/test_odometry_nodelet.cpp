@@ -24,11 +24,11 @@
 
 #include "test_support.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_sequence.h"
-#include "vocal/core/synthetic_trajectory.h"
 #include "vocal/core/tum_sequence.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/simulation/synthetic_sequence.h"
+#include "vocal/simulation/synthetic_trajectory.h"
 #include "vocal/tools/tum_bag_writer.h"
 
 using T = vocal::TumBagTopics;

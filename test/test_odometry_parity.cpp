@@ -13,10 +13,10 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_sequence.h"
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/simulation/synthetic_sequence.h"
 #ifdef VOCAL_HAVE_OPENCL
 #include "vocal/odometry/opencl_backend.h"
 #include "vocal/odometry/opencl_context.h"

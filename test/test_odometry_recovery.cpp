@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_sequence.h"
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/simulation/synthetic_sequence.h"
 
 namespace {
 struct Sequence {

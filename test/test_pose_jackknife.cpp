@@ -8,9 +8,9 @@
 #include <iostream>
 #include <random>
 
-#include "vocal/calibration/pose_jackknife.h"
-#include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/rig_simulator.h"
 
 namespace {
 struct Rig {

@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "vocal/core/errors.h"
-#include "vocal/core/synthetic_sequence.h"
+#include "vocal/simulation/synthetic_sequence.h"
 
 namespace vocal_test {
 
@@ -75,15 +75,16 @@ inline std::string tumDataFolder() {
 }
 
 #ifdef VOCAL_TOOLS_DIR
-// One of the installed command-line tools run as a user runs it: its exit code and what it printed
-// (stdout and stderr together).
+// A command's exit code and what it printed (stdout and stderr together). runTool runs one of the
+// installed command-line tools as a user runs it.
 struct RunResult {
   int exit_code = -1;
   std::string output;
 };
 
-inline RunResult runTool(const std::string& arguments) {
-  const std::string command = std::string(VOCAL_TOOLS_DIR) + "/" + arguments + " 2>&1";
+// A shell command's exit code and output (stdout and stderr together).
+inline RunResult runCommand(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   RunResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return result;
@@ -93,6 +94,8 @@ inline RunResult runTool(const std::string& arguments) {
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
 }
+
+inline RunResult runTool(const std::string& arguments) { return runCommand(std::string(VOCAL_TOOLS_DIR) + "/" + arguments); }
 #endif
 
 // Path of a real calibration recording beside the repository (../shared/data/real_rigs/NAME), or ""

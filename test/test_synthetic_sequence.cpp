@@ -8,8 +8,8 @@
 #include "vocal/core/errors.h"
 #include "vocal/core/image_io.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_sequence.h"
 #include "vocal/core/tum_sequence.h"
+#include "vocal/simulation/synthetic_sequence.h"
 
 using vocal_test::makeTempFolder;
 

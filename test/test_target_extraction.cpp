@@ -11,12 +11,12 @@
 #include <gtest/gtest.h>
 
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/extraction/static_background.h"
 #include "vocal/calibration/rig_description.h"
-#include "vocal/calibration/rig_simulator.h"
-#include "vocal/calibration/simulated_sensor_data.h"
-#include "vocal/calibration/static_background.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace {
 using PointKey = std::tuple<float, float, float>;

@@ -6,8 +6,8 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/synthetic_trajectory.h"
 #include "vocal/core/trajectory_evaluation.h"
+#include "vocal/simulation/synthetic_trajectory.h"
 
 namespace {
 vocal::Trajectory groundTruth(int frames = 300) {

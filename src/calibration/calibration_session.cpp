@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <map>
 
-#include "vocal/calibration/pattern_observation.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/point_statistics.h"
-#include "vocal/calibration/pose_jackknife.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {

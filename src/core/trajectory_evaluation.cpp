@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include <Eigen/SVD>
+#include <Eigen/Geometry>
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -17,23 +17,13 @@ Eigen::Isometry3d alignRigid(const std::vector<Eigen::Vector3d>& model, const st
     throw InputError("rigid alignment needs two lists of at least 3 matched points, got " +
                      std::to_string(model.size()) + " and " + std::to_string(data.size()));
   }
-  const double n = static_cast<double>(model.size());
-  const Eigen::Vector3d model_mean =
-      std::accumulate(model.begin(), model.end(), Eigen::Vector3d(Eigen::Vector3d::Zero())) / n;
-  const Eigen::Vector3d data_mean = std::accumulate(data.begin(), data.end(), Eigen::Vector3d(Eigen::Vector3d::Zero())) / n;
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  // Horn's / Umeyama's closed form without scale, as the TUM benchmark's evaluate_ate.py.
+  Eigen::Matrix3Xd from(3, model.size()), to(3, data.size());
   for (std::size_t i = 0; i < model.size(); ++i) {
-    covariance += (data[i] - data_mean) * (model[i] - model_mean).transpose();
+    from.col(static_cast<Eigen::Index>(i)) = model[i];
+    to.col(static_cast<Eigen::Index>(i)) = data[i];
   }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) {
-    S(2, 2) = -1.0;  // a reflection is not a rotation
-  }
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = svd.matrixU() * S * svd.matrixV().transpose();
-  T.translation() = data_mean - T.linear() * model_mean;
-  return T;
+  return Eigen::Isometry3d(Eigen::umeyama(from, to, false));
 }
 
 AteResult computeAte(const Trajectory& ground_truth, const Trajectory& estimate, double max_difference) {

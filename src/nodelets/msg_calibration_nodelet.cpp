@@ -24,9 +24,9 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
-#include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
-#include "vocal/calibration/pose_jackknife.h"
+#include "vocal/calibration/output/calibration_output.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/nodelets/message_conversions.h"

@@ -12,10 +12,10 @@
 
 #include <unistd.h>
 
-#include "vocal/calibration/calibration_output.h"
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/point_statistics.h"
-#include "vocal/calibration/pose_jackknife.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"

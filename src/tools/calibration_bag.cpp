@@ -11,10 +11,10 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
-#include "vocal/calibration/simulated_sensor_data.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace vocal {
 

@@ -5,7 +5,7 @@
 #include <map>
 #include <optional>
 
-#include "vocal/calibration/pattern_observation.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/image_io.h"
 #include "vocal/tools/calibration_bag.h"

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "vocal/core/errors.h"
-#include "vocal/core/synthetic_sequence.h"
+#include "vocal/simulation/synthetic_sequence.h"
 #include "vocal/tools/command_line.h"
 
 namespace {

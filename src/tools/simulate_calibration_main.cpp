@@ -15,12 +15,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "vocal/calibration/calibration_output.h"
-#include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/rig_simulator.h"
+#include "vocal/calibration/output/calibration_output.h"
+#include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/rig_simulator.h"
 #include "vocal/tools/command_line.h"
 
 namespace {

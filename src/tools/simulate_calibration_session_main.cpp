@@ -7,9 +7,9 @@
 #include <string>
 #include <utility>
 
-#include "vocal/calibration/rig_simulator.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
+#include "vocal/simulation/rig_simulator.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/command_line.h"
 

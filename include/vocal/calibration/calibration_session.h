@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "vocal/calibration/graph_calibration.h"
-#include "vocal/calibration/lidar_ring_offsets.h"
+#include "vocal/calibration/association/still_target_association.h"
+#include "vocal/calibration/extraction/lidar_ring_offsets.h"
+#include "vocal/calibration/extraction/static_background.h"
+#include "vocal/calibration/extraction/target_extraction.h"
 #include "vocal/calibration/rig_description.h"
-#include "vocal/calibration/static_background.h"
-#include "vocal/calibration/still_target_association.h"
-#include "vocal/calibration/target_extraction.h"
+#include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/image.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"

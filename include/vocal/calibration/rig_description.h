@@ -20,8 +20,8 @@
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/calibration_types.h"
-#include "vocal/calibration/pattern_observation.h"
-#include "vocal/calibration/target_extraction.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
+#include "vocal/calibration/extraction/target_extraction.h"
 
 namespace vocal {
 

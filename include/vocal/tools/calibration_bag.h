@@ -9,10 +9,10 @@
 
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/rig_description.h"
-#include "vocal/calibration/rig_simulator.h"
-#include "vocal/calibration/simulated_room.h"
-#include "vocal/calibration/simulated_sensor_data.h"
 #include "vocal/core/lens_distortion.h"
+#include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_room.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace vocal {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "vocal/calibration/calibration_overlay.h"
-#include "vocal/calibration/graph_calibration.h"
+#include "vocal/calibration/output/calibration_overlay.h"
 #include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/solver/graph_calibration.h"
 
 namespace vocal {
 

@@ -1,0 +1,47 @@
+#pragma once
+// ---- MSG-Cal stage 4, output (calibration/output/): a result -> what a user applies and checks -------
+// In:  CalibrationResult, the sensors' spread (PoseJackknife) and ring offsets.
+// Out: which sensors are withheld and why; the result YAML, URDF snippet and static-transform launch
+//      file (this file); each camera's view with the range sensors' board points drawn over it
+//      (calibration_overlay.h).
+// ------------------------------------------------------------------------------------------------------
+//
+// A calibration result as the files a ROS user applies: the result YAML of the design (per sensor:
+// frame_id, parent, translation, rotation and their standard deviations), a URDF snippet of fixed
+// joints, and a launch file of static transform publishers.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/extraction/lidar_ring_offsets.h"
+#include "vocal/calibration/solver/graph_calibration.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
+
+namespace vocal {
+
+// Per sensor, why its result must stay out of /tf_static, the URDF and the launch file ("" where it may
+// go in): the whole result is not trusted; or its spread across still poses is over `tolerance`, or
+// there is no spread to judge it by (`spread` null) - both unless `publish_uncertain`. The reference
+// sensor, held fixed, goes in whenever the result is trusted.
+std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
+                                         const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain);
+
+// Each throws InputError naming the file when it cannot be written. With `spread`, the YAML also gives
+// each sensor's jackknife standard deviations over the still poses (translation_spread, rotation_spread);
+// with `ring_offsets` (per sensor), each 3D lidar's range offset per ring and whether its board returns were
+// corrected by them. With `withheld` (withheldSensors), the YAML marks each sensor published or not and
+// why, and the URDF and launch file leave the withheld ones out (a comment says why).
+void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
+                          const PoseJackknife* spread = nullptr,
+                          const std::vector<std::optional<RingOffsets>>* ring_offsets = nullptr,
+                          const std::vector<std::string>* withheld = nullptr);
+void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
+                      const CalibrationResult& result, const std::vector<std::string>* withheld = nullptr);
+void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,
+                                const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
+                                const std::vector<std::string>* withheld = nullptr);
+
+}  // namespace vocal

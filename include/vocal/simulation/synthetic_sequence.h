@@ -1,0 +1,53 @@
+#pragma once
+// Renders a synthetic scene along a trajectory into a TUM-layout folder: rgb/*.png (8-bit),
+// depth/*.png (16-bit, 5000 per metre), rgb.txt, depth.txt, groundtruth.txt and camera.yaml.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "vocal/core/pinhole_camera.h"
+#include "vocal/core/rgbd_frame.h"
+#include "vocal/simulation/rgbd_sensor_model.h"
+#include "vocal/simulation/synthetic_scene.h"
+#include "vocal/simulation/synthetic_trajectory.h"
+
+namespace vocal {
+
+struct SyntheticSequenceOptions {
+  SceneVariant scene = SceneVariant::kIndoorRoom;
+  int width = 640;
+  int height = 480;
+  SyntheticTrajectoryOptions trajectory;
+  // When set, poses come from this TUM trajectory file instead of being generated.
+  std::string trajectory_path;
+  RgbdSensorModel sensor_model;  // ideal images unless noise / drop-outs are switched on
+  // Frames [covered_from, covered_from + covered_frames) show a hand over the lens (coverLens).
+  int covered_from = 0;
+  int covered_frames = 0;
+};
+
+// Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
+// command-line --kinect-noise switch sets them.
+RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
+
+// Renders one frame; `noise_seed` makes the depth model reproducible.
+RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
+                               const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
+                               std::uint32_t noise_seed);
+
+// A hand held over the lens: no depth (closer than the sensor's minimum range) and a dark, nearly
+// uniform colour image with sensor noise; what tracking must survive without inventing motion.
+void coverLens(std::uint32_t noise_seed, RgbdFrame* frame);
+
+struct SyntheticSequence {
+  PinholeCamera camera;
+  Trajectory ground_truth;
+};
+
+// Creates `folder` (and rgb/, depth/) if needed and writes every file; `progress(done, total)` is
+// called after each frame. Throws InputError for bad options or files that cannot be written.
+SyntheticSequence writeSyntheticSequence(const std::string& folder, const SyntheticSequenceOptions& options,
+                                         const std::function<void(int, int)>& progress = nullptr);
+
+}  // namespace vocal

@@ -1,0 +1,116 @@
+#include "vocal/calibration/extraction/pattern_observation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+std::vector<Eigen::Vector3d> TargetPattern::corners() const {
+  std::vector<Eigen::Vector3d> out;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      out.emplace_back((c - 0.5 * (cols - 1)) * square_size, (r - 0.5 * (rows - 1)) * square_size, 0.0);
+  return out;
+}
+
+std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const TargetPattern& pattern, const char* what) {
+  cv::Mat gray(image.height(), image.width(), CV_8UC1);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) gray.at<std::uint8_t>(y, x) = luma8(image(x, y));
+  std::vector<cv::Point2f> corners;
+  const cv::Size size(pattern.cols, pattern.rows);
+  // A plain threshold first (about 5 ms for 640x480, FAST_CHECK rejects board-free images early); the
+  // sector-based detector, which copes with uneven light and blur, when that fails (about 60 ms; the
+  // adaptive-threshold variant of the first took 600 ms on a partly visible board).
+  bool found = cv::findChessboardCorners(gray, size, corners, cv::CALIB_CB_FAST_CHECK);
+  if (!found) found = cv::findChessboardCornersSB(gray, size, corners, cv::CALIB_CB_NORMALIZE_IMAGE);
+  if (!found) {
+    throw InputError(std::string(what) + ": no " + std::to_string(pattern.rows) + "x" + std::to_string(pattern.cols) +
+                     " checkerboard (inner corners) found in the image");
+  }
+  cv::cornerSubPix(gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 0.001));
+  std::vector<Eigen::Vector2d> out;
+  for (const cv::Point2f& c : corners) out.emplace_back(c.x, c.y);
+  return out;
+}
+
+PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corners, const TargetPattern& pattern,
+                                  const PinholeCamera& camera, const char* what, const LensDistortion& distortion) {
+  const std::vector<Eigen::Vector3d> object = pattern.corners();
+  if (image_corners.size() != object.size()) {
+    throw InputError(std::string(what) + ": " + std::to_string(image_corners.size()) + " corners detected, the " +
+                     std::to_string(pattern.rows) + "x" + std::to_string(pattern.cols) + " pattern has " +
+                     std::to_string(object.size()));
+  }
+  std::vector<cv::Point3d> object_points;
+  std::vector<cv::Point2d> image_points;
+  // PnP on the corners as an ideal pinhole camera would have seen them.
+  for (std::size_t i = 0; i < object.size(); ++i) {
+    object_points.emplace_back(object[i].x(), object[i].y(), object[i].z());
+    const Eigen::Vector2d ideal = distortion.undistort(
+        {(image_corners[i].x() - camera.cx) / camera.fx, (image_corners[i].y() - camera.cy) / camera.fy});
+    image_points.emplace_back(camera.fx * ideal.x() + camera.cx, camera.fy * ideal.y() + camera.cy);
+  }
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  cv::Vec3d rvec, tvec;
+  if (!cv::solvePnP(object_points, image_points, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE) ||
+      !cv::solvePnP(object_points, image_points, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) {
+    throw InputError(std::string(what) + ": the pattern's pose could not be estimated from its corners");
+  }
+  cv::Matx33d R;
+  cv::Rodrigues(rvec, R);
+  PatternObservation observation;
+  double squared = 0.0;
+  for (std::size_t i = 0; i < object.size(); ++i) {
+    const cv::Vec3d p = R * cv::Vec3d(object[i].x(), object[i].y(), object[i].z()) + tvec;
+    observation.points.emplace_back(p[0], p[1], p[2]);
+    squared += (projectThroughLens(camera, distortion, observation.points.back()) - image_corners[i]).squaredNorm();
+  }
+  observation.reprojection_rms_px = std::sqrt(squared / object.size());
+  // Pose covariance sigma^2 (J^T J)^-1 with the pose perturbed as R exp([w]x), t + dt: a corner X moves
+  // by -R [X]x w + dt in the camera frame.
+  Eigen::Matrix3d rotation;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) rotation(r, c) = R(r, c);
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < object.size(); ++i) {
+    const Eigen::Vector3d& p = observation.points[i];
+    // Pixel <- distorted <- normalised <- camera point: the noise is the detected (distorted) pixels'.
+    Eigen::Matrix<double, 2, 3> normalisation;
+    normalisation << 1.0 / p.z(), 0.0, -p.x() / (p.z() * p.z()),  //
+        0.0, 1.0 / p.z(), -p.y() / (p.z() * p.z());
+    const Eigen::Matrix<double, 2, 3> projection = Eigen::Vector2d(camera.fx, camera.fy).asDiagonal() *
+                                                   distortion.jacobian({p.x() / p.z(), p.y() / p.z()}) * normalisation;
+    Eigen::Matrix<double, 3, 6> motion;
+    motion.leftCols<3>() = -rotation * skew(object[i]);
+    motion.rightCols<3>() = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix<double, 2, 6> J = projection * motion;
+    information += J.transpose() * J;
+  }
+  const int n = static_cast<int>(object.size());
+  // Per image axis: 2n residuals less the pose's 6 degrees of freedom.
+  const double pixel_sigma = std::max(0.05, std::sqrt(squared / std::max(2.0 * n - 6.0, 1.0)));
+  const Eigen::Matrix<double, 6, 6> pose_covariance = pixel_sigma * pixel_sigma * information.inverse();
+  // The plane's (tilt x, tilt y, centre distance): the normal R exp([w]x) e_z has components -w_y and
+  // w_x along the pattern's x and y axes; the centre t moves by n . dt along the normal.
+  const Eigen::Vector3d normal = rotation.col(2);
+  Eigen::Matrix<double, 3, 6> to_plane = Eigen::Matrix<double, 3, 6>::Zero();
+  to_plane(0, 1) = -1.0;
+  to_plane(1, 0) = 1.0;
+  to_plane.block<1, 3>(2, 3) = normal.transpose();
+  observation.plane.sensor_from_pattern.linear() = rotation;
+  observation.plane.sensor_from_pattern.translation() = Eigen::Vector3d(tvec[0], tvec[1], tvec[2]);
+  observation.plane.covariance = to_plane * pose_covariance * to_plane.transpose();
+  return observation;
+}
+
+}  // namespace vocal

@@ -1,0 +1,163 @@
+#include "vocal/calibration/output/calibration_output.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+std::ofstream openOutput(const std::string& path) {
+  std::ofstream file(path);
+  if (!file) throw InputError(path + ": cannot write calibration output");
+  file << std::setprecision(9);
+  return file;
+}
+
+void finish(std::ofstream& file, const std::string& path) {
+  if (!file.flush()) throw InputError(path + ": write error");
+}
+
+void checkSizes(const std::vector<SensorSpec>& sensors, const CalibrationResult& result) {
+  if (sensors.size() != result.sensors.size()) {
+    throw InputError("calibration output: " + std::to_string(sensors.size()) + " sensors but " +
+                     std::to_string(result.sensors.size()) + " results");
+  }
+}
+// A YAML double-quoted scalar.
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+  return out + "\"";
+}
+
+// The reason sensor s is withheld, empty when it is published (or nothing was withheld).
+std::string withheldReason(const std::vector<std::string>* withheld, std::size_t s) {
+  return withheld && s < withheld->size() ? (*withheld)[s] : std::string();
+}
+}  // namespace
+
+std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
+                                         const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain) {
+  std::vector<std::string> withheld(sensors.size());
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (!result.trusted) {
+      withheld[s] = "the calibration is not trusted (" + result.failure + ")";
+    } else if (static_cast<int>(s) == reference_sensor || publish_uncertain) {
+      continue;
+    } else if (!spread || s >= spread->standard_deviation.size()) {
+      withheld[s] = "uncertain: its spread across still poses could not be computed, so nothing says the result holds";
+    } else if (spreadIsOver(spread->standard_deviation[s], tolerance)) {
+      char line[160];
+      std::snprintf(line, sizeof(line), "uncertain: it moves %.1f mm / %.1f mrad between re-solves without one pose (tolerance %.1f mm / %.1f mrad)",
+                    1000 * spread->standard_deviation[s].head<3>().norm(), 1000 * spread->standard_deviation[s].tail<3>().norm(),
+                    1000 * tolerance.translation, 1000 * tolerance.rotation);
+      withheld[s] = line;
+    }
+  }
+  return withheld;
+}
+
+void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
+                          const std::vector<SensorSpec>& sensors, const CalibrationResult& result, const PoseJackknife* spread,
+                          const std::vector<std::optional<RingOffsets>>* ring_offsets, const std::vector<std::string>* withheld) {
+  checkSizes(sensors, result);
+  std::ofstream file = openOutput(path);
+  file << "# vocal MSG-Cal result: pose of each sensor frame in " << reference_frame << "\n"
+       << "reference_frame: " << reference_frame << "\n"
+       << "rms_m: " << result.rms << "\n"
+       << "sensors:\n";
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    const SensorCalibration& c = result.sensors[s];
+    const Eigen::Vector3d t = c.reference_from_sensor.translation();
+    const Eigen::Quaterniond q(c.reference_from_sensor.rotation());
+    const Vector6d& sd = c.standard_deviation;
+    file << "  - name: " << sensors[s].name << "\n"
+         << "    type: " << sensorTypeName(sensors[s].type) << "\n"
+         << "    frame_id: " << sensors[s].frame_id << "\n"
+         << "    parent: " << reference_frame << "\n"
+         << "    translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
+         << "    rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
+         << "    translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]\n"
+         << "    rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n";
+    if (withheld) {
+      const std::string why = withheldReason(withheld, s);
+      file << "    published: " << (why.empty() ? "true" : "false") << "\n";
+      if (!why.empty()) file << "    withheld_because: " << quoted(why) << "\n";
+    }
+    if (spread && s < spread->standard_deviation.size()) {
+      const Vector6d& jk = spread->standard_deviation[s];
+      file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"
+           << "    rotation_spread: [" << jk[3] << ", " << jk[4] << ", " << jk[5] << "]  # rad, jackknife over still poses\n";
+    }
+    if (ring_offsets && s < ring_offsets->size() && (*ring_offsets)[s]) {
+      const RingOffsets& rings = *(*ring_offsets)[s];
+      const auto list = [&](const char* key, auto value, const char* comment) {
+        file << "      " << key << ": [";
+        for (std::size_t r = 0; r < rings.elevations.size(); ++r) file << (r ? ", " : "") << value(r);
+        file << "]" << comment << "\n";
+      };
+      file << "    ring_offsets:  # from " << rings.planes << " room planes; applied: the board's returns were moved back along their rays by them\n"
+           << "      applied: " << (rings.applied ? "true" : "false") << "\n"
+           << "      verdict: " << quoted(rings.verdict) << "\n";
+      list("elevation_deg", [&](std::size_t r) { return rings.elevations[r] * 180.0 / M_PI; }, "");
+      list("offset_m", [&](std::size_t r) { return rings.offsets[r]; }, "  # how much too long each ring's ranges read");
+      list("offset_stddev_m", [&](std::size_t r) { return rings.sigmas[r]; }, "");
+    }
+    file << "    rms_m: " << c.rms << "\n"
+         << "    observations: " << c.observations << "\n";
+  }
+  finish(file, path);
+}
+
+void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
+                      const CalibrationResult& result, const std::vector<std::string>* withheld) {
+  checkSizes(sensors, result);
+  std::ofstream file = openOutput(path);
+  file << "<!-- vocal MSG-Cal result: paste into the robot's URDF -->\n";
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (const std::string why = withheldReason(withheld, s); !why.empty()) {
+      file << "<!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
+      continue;
+    }
+    const Eigen::Isometry3d& pose = result.sensors[s].reference_from_sensor;
+    // URDF rpy: fixed axes, R = Rz(yaw) Ry(pitch) Rx(roll).
+    const Eigen::Vector3d ypr = pose.rotation().eulerAngles(2, 1, 0);
+    const Eigen::Vector3d t = pose.translation();
+    file << "<link name=\"" << sensors[s].frame_id << "\"/>\n"
+         << "<joint name=\"" << reference_frame << "_to_" << sensors[s].frame_id << "\" type=\"fixed\">\n"
+         << "  <parent link=\"" << reference_frame << "\"/>\n"
+         << "  <child link=\"" << sensors[s].frame_id << "\"/>\n"
+         << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << ypr[2] << " " << ypr[1] << " "
+         << ypr[0] << "\"/>\n"
+         << "</joint>\n";
+  }
+  finish(file, path);
+}
+
+void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,
+                                const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
+                                const std::vector<std::string>* withheld) {
+  checkSizes(sensors, result);
+  std::ofstream file = openOutput(path);
+  file << "<launch>\n  <!-- vocal MSG-Cal result as static transforms -->\n";
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (const std::string why = withheldReason(withheld, s); !why.empty()) {
+      file << "  <!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
+      continue;
+    }
+    const Eigen::Isometry3d& pose = result.sensors[s].reference_from_sensor;
+    const Eigen::Vector3d t = pose.translation();
+    const Eigen::Quaterniond q(pose.rotation());
+    file << "  <node pkg=\"tf2_ros\" type=\"static_transform_publisher\" name=\"" << sensors[s].name
+         << "_extrinsic\" args=\"" << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " "
+         << q.z() << " " << q.w() << " " << reference_frame << " " << sensors[s].frame_id << "\"/>\n";
+  }
+  file << "</launch>\n";
+  finish(file, path);
+}
+
+}  // namespace vocal

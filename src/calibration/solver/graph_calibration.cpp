@@ -1,0 +1,506 @@
+#include "vocal/calibration/solver/graph_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ceres/sphere_manifold.h>
+
+#include "vocal/calibration/extraction/board_outline.h"
+#include "vocal/calibration/plane.h"
+#include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/pairwise_initialization.h"
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+// All points of one observation on the target's plane (rig frame). The sum over the points of
+// (n . (q p + t) + d)^2 equals |F^T v|^2 with v = (q^-1 n, n . t + d) and F F^T the 4x4 moment matrix
+// of the homogeneous points, so one block with 4 residuals carries exactly the information of every
+// point at the cost of one.
+struct ObservationOnPlaneResidual {
+  // Residuals are divided by `point_sigma`, so every observation counts by its own noise.
+  ObservationOnPlaneResidual(const std::vector<Eigen::Vector3d>& points, double point_sigma) {
+    Eigen::Matrix4d moments = Eigen::Matrix4d::Zero();
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
+      moments += h * h.transpose();
+    }
+    // Positive semi-definite (a 2D laser's points span only 3 dimensions): factor by eigenvalues.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(moments);
+    factor_transpose =
+        (eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt() / point_sigma).asDiagonal() * eigen.eigenvectors().transpose();
+  }
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    Eigen::Matrix<T, 4, 1> v;
+    v.template head<3>() = q.conjugate() * n;
+    v[3] = n.dot(t) + offset[0];
+    Eigen::Map<Eigen::Matrix<T, 4, 1>> out(residual);
+    out = factor_transpose.cast<T>() * v;
+    return true;
+  }
+
+  Eigen::Matrix4d factor_transpose;
+};
+
+// A camera's plane measurement against the target's plane (rig frame): the predicted plane in the
+// camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
+// pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
+// measurement's covariance.
+struct PlaneMeasurementResidual {
+  explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
+      : x_axis(measurement.sensor_from_pattern.linear().col(0)),
+        y_axis(measurement.sensor_from_pattern.linear().col(1)),
+        centre(measurement.sensor_from_pattern.translation()) {
+    // |L^-1 r|^2 = r^T covariance^-1 r for covariance = L L^T.
+    whitening = measurement.covariance.llt().matrixL().solve(Eigen::Matrix3d::Identity());
+  }
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    const Eigen::Matrix<T, 3, 1> n_camera = q.conjugate() * n;
+    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis.cast<T>()), n_camera.dot(y_axis.cast<T>()),
+                                   n_camera.dot(centre.cast<T>()) + n.dot(t) + offset[0]);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
+    out = whitening.cast<T>() * r;
+    return true;
+  }
+
+  Eigen::Vector3d x_axis, y_axis, centre;
+  Eigen::Matrix3d whitening;
+};
+
+// A range sensor's point noise from its own points: the RMS distance to their best plane (or, for a
+// 2D laser, to their best line in the scan plane), with a floor so noise-free data stays finite.
+double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {
+  constexpr double kFloor = 1e-4;
+  if (points.size() < 3) return kFloor;
+  if (type != SensorType::kLaser2d) return std::max(kFloor, fitPlane(points, "observation").rms);
+  // The scan's points lie in z = 0: the spread across their line is the middle one.
+  return std::max(kFloor, std::sqrt(std::max(principalAxesOf(points).spread[1], 0.0) / points.size()));
+}
+
+// A plane residual on a board pose (rig_from_board): its plane is the board's z = 0.
+template <typename PlaneResidual>
+struct OnBoardPlane {
+  PlaneResidual plane;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(board_translation);
+    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
+    const T offset = -normal.dot(t);
+    return plane(rotation, translation, normal.data(), &offset, residual);
+  }
+};
+
+// A point a sensor saw on the board's edge (sensor frame): its distance within the board's plane to the
+// board's outline, in standard deviations.
+struct OutlinePointResidual {
+  Eigen::Vector3d point;
+  double sigma, half_width, half_height;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
+    const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q * point.cast<T>() + t - t_board);
+    residual[0] = distanceToOutline(on_board.x(), on_board.y(), half_width, half_height) / T(sigma);
+    return true;
+  }
+};
+
+// A camera view's board outline from its PnP pose: three points along each edge (the pattern is
+// centred on the board, its x along the board's width).
+std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
+  const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
+  std::vector<Eigen::Vector3d> outline;
+  for (double s : {-0.5, 0.0, 0.5}) {
+    for (double side : {-1.0, 1.0}) {
+      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(side * half_width, s * 2.0 * half_height, 0.0));
+      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(s * 2.0 * half_width, side * half_height, 0.0));
+    }
+  }
+  return outline;
+}
+
+// Where a sensor saw the board's centre: a camera's pattern, a range sensor's edge points (both ends of
+// every line) or, with too few of them, its points.
+Eigen::Vector3d boardCentreSeen(const TargetObservation& o) {
+  if (!o.plane_measurements.empty()) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const PlaneMeasurement& m : o.plane_measurements) sum += m.sensor_from_pattern.translation();
+    return sum / o.plane_measurements.size();
+  }
+  return centroidOf(o.outline.size() >= 4 ? o.outline : o.points);
+}
+
+// The board's pose (rig frame) from one observation of a placed sensor: a camera's PnP pose, or a range
+// sensor's plane, centre and longest in-plane direction (along the board's longer side).
+Eigen::Isometry3d boardPoseSeen(const TargetObservation& o, const Eigen::Isometry3d& rig_from_sensor, const Plane& plane_in_rig,
+                                bool width_is_longer) {
+  if (!o.plane_measurements.empty()) return rig_from_sensor * o.plane_measurements.front().sensor_from_pattern;
+  const Eigen::Vector3d centre = rig_from_sensor * boardCentreSeen(o);
+  const Eigen::Vector3d normal = plane_in_rig.normal;
+  const Eigen::Vector3d longest = rig_from_sensor.linear() * principalAxesOf(o.points).axes.col(0);
+  Eigen::Vector3d x_axis = width_is_longer ? longest : normal.cross(longest);
+  x_axis = (x_axis - normal.dot(x_axis) * normal).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() << x_axis, normal.cross(x_axis), normal;
+  pose.translation() = centre - normal.dot(centre - (-plane_in_rig.offset * normal)) * normal;  // onto the plane
+  return pose;
+}
+
+// A 2D laser's two ends on the board from the end points of its pooled scans (each scan gives up to
+// two): the mean of those on either side of their middle along the line, in beam order; none when one
+// side was never seen.
+std::vector<Eigen::Vector3d> lineEnds(const std::vector<Eigen::Vector3d>& outline) {
+  if (outline.size() < 2) return {};
+  const PrincipalAxes line = principalAxesOf(outline);
+  const Eigen::Vector3d& mean = line.centroid;
+  Eigen::Vector3d along = line.axes.col(0);
+  if (along.head<2>().dot(Eigen::Vector2d(-mean.y(), mean.x())) < 0.0) along = -along;  // beam order: counter-clockwise
+  std::vector<Eigen::Vector3d> low, high;
+  for (const Eigen::Vector3d& p : outline) (along.dot(p - mean) < 0.0 ? low : high).push_back(p);
+  if (low.empty() || high.empty() || (centroidOf(high) - centroidOf(low)).norm() < 0.1) return {};
+  return {centroidOf(low), centroidOf(high)};
+}
+
+struct SensorState {
+  Eigen::Quaterniond rotation;  // Ceres block, Eigen's (x, y, z, w) memory order
+  Eigen::Vector3d translation;
+};
+
+struct PlaneState {
+  Eigen::Vector3d normal;
+  double offset;
+};
+
+// A plane residual on the target pose's plane, or (with board edges) on its board's pose.
+template <typename Residual, int kSize>
+void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
+                      PlaneState* plane, SensorState* board) {
+  if (plane) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, 3, 1>(new Residual(residual)), loss,
+                              sensor->rotation.coeffs().data(), sensor->translation.data(), plane->normal.data(), &plane->offset);
+    return;
+  }
+  problem->AddResidualBlock(
+      new ceres::AutoDiffCostFunction<OnBoardPlane<Residual>, kSize, 4, 3, 4, 3>(new OnBoardPlane<Residual>{residual}), loss,
+      sensor->rotation.coeffs().data(), sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+}
+
+void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
+                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board) {
+  for (const Eigen::Vector3d& p : outline) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<OutlinePointResidual, 1, 4, 3, 4, 3>(
+                                  new OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height}),
+                              new ceres::CauchyLoss(edges.loss_sigmas), sensor->rotation.coeffs().data(),
+                              sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+  }
+}
+}  // namespace
+
+CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                               const CalibrationOptions& options) {
+  const int sensor_count = static_cast<int>(sensors.size());
+  if (options.reference_sensor < 0 || options.reference_sensor >= sensor_count) {
+    throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
+                     std::to_string(sensor_count) + " sensors");
+  }
+  const BoardEdgeOptions& edges = options.board_edges;
+  if (edges.enabled && !(edges.width > 0.0 && edges.height > 0.0)) {
+    throw InputError("calibration: board edges need the board's width and height (got " + std::to_string(edges.width) + " x " +
+                     std::to_string(edges.height) + " m)");
+  }
+  // Planes fitted per (sensor, target pose).
+  std::vector<std::map<int, Plane>> planes(sensor_count);
+  std::vector<std::map<int, Eigen::Vector3d>> centres(sensor_count);  // the board's centre as each saw it
+  std::vector<int> observation_count(sensor_count, 0);
+  for (const TargetObservation& o : observations) {
+    if (o.sensor < 0 || o.sensor >= sensor_count) {
+      throw InputError("calibration: an observation names sensor index " + std::to_string(o.sensor) + " of " +
+                       std::to_string(sensor_count));
+    }
+    // A 2D laser sees a line of the target, not a plane: its points join the graph directly.
+    if (sensors[o.sensor].type != SensorType::kLaser2d) {
+      planes[o.sensor][o.target_pose] = fitPlane(o.points, sensors[o.sensor].name.c_str()).plane;
+      centres[o.sensor][o.target_pose] = boardCentreSeen(o);
+    }
+    ++observation_count[o.sensor];
+  }
+  std::map<std::pair<int, int>, const TargetObservation*> observation_of;  // (sensor, target pose)
+  for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
+  std::set<std::pair<int, int>> rejected;
+  if (options.consensus_filter) {
+    rejected = rejectInconsistentObservations(planes, options.consensus, &centres);
+    for (const auto& r : rejected) planes[r.first].erase(r.second);
+  }
+  for (int s = 0; s < sensor_count; ++s) {
+    if (observation_count[s] == 0) {
+      throw InputError("calibration: sensor '" + sensors[s].name + "' never sees the target: its pose is unconstrained in all 6 DoF");
+    }
+  }
+
+  const std::vector<ObservabilityWarning> warnings = checkObservability(sensors, planes);
+
+  // Chain closed-form estimates along a maximum spanning tree (edges weighted by shared poses).
+  auto sharedPoses = [&](int a, int b) {
+    std::vector<int> shared;
+    for (const auto& entry : planes[a])
+      if (planes[b].count(entry.first)) shared.push_back(entry.first);
+    return shared;
+  };
+  auto isLaser = [&](int s) { return sensors[s].type == SensorType::kLaser2d; };
+  if (isLaser(options.reference_sensor)) {
+    throw InputError("calibration: the reference sensor '" + sensors[options.reference_sensor].name +
+                     "' is a 2D laser; choose a sensor that sees the target's plane");
+  }
+  std::vector<Eigen::Isometry3d> initial(sensor_count, Eigen::Isometry3d::Identity());
+  std::vector<bool> placed(sensor_count, false);
+  placed[options.reference_sensor] = true;
+  initial[options.reference_sensor] = options.reference_pose;
+  int plane_sensors = 0;
+  for (int s = 0; s < sensor_count; ++s) plane_sensors += !isLaser(s);
+  for (int added = 1; added < plane_sensors; ++added) {
+    int best_parent = -1, best_child = -1;
+    std::size_t best_shared = 0;
+    for (int a = 0; a < sensor_count; ++a) {
+      if (!placed[a]) continue;
+      for (int b = 0; b < sensor_count; ++b) {
+        if (placed[b] || isLaser(b)) continue;
+        const std::size_t shared = sharedPoses(a, b).size();
+        if (shared > best_shared) best_shared = shared, best_parent = a, best_child = b;
+      }
+    }
+    if (best_child < 0) {
+      std::string unplaced;
+      for (int s = 0; s < sensor_count; ++s)
+        if (!placed[s] && !isLaser(s)) unplaced += (unplaced.empty() ? "'" : ", '") + sensors[s].name + "'";
+      throw InputError("calibration: the sensor graph is not connected: " + unplaced +
+                       " share no target pose with the reference's group");
+    }
+    std::vector<Plane> in_parent, in_child;
+    BoardCentres centres;
+    for (int k : sharedPoses(best_parent, best_child)) {
+      in_parent.push_back(planes[best_parent][k]);
+      in_child.push_back(planes[best_child][k]);
+      if (edges.enabled) {
+        centres.in_a.push_back(boardCentreSeen(*observation_of.at({best_parent, k})));
+        centres.in_b.push_back(boardCentreSeen(*observation_of.at({best_child, k})));
+      }
+    }
+    initial[best_child] = initial[best_parent] * alignPlanes(in_parent, in_child,
+                                                             "calibration of '" + sensors[best_child].name + "' against '" +
+                                                                 sensors[best_parent].name + "'",
+                                                             edges.enabled ? &centres : nullptr);
+    placed[best_child] = true;
+  }
+
+  // Target planes in the rig frame, from the placed plane-seeing sensors.
+  std::map<int, Plane> rig_planes;
+  for (int s = 0; s < sensor_count; ++s) {
+    for (const auto& entry : planes[s]) {
+      if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
+    }
+  }
+  // With edges, the board's pose per target pose: from a camera that saw it where one did (cameras
+  // first), else from the first range sensor (2D lasers fit no plane).
+  std::map<int, Eigen::Isometry3d> rig_boards;
+  std::vector<int> board_sources;
+  for (int s = 0; s < sensor_count && edges.enabled; ++s)
+    if (!isLaser(s)) board_sources.push_back(s);
+  std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return sensors[s].type == SensorType::kCamera; });
+  for (int s : board_sources) {
+    for (const auto& entry : planes[s]) {
+      if (rig_boards.count(entry.first)) continue;
+      rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initial[s], rig_planes[entry.first],
+                                              edges.width >= edges.height);
+    }
+  }
+  // 2D lasers: their scan points on those planes.
+  for (int s = 0; s < sensor_count; ++s) {
+    if (!isLaser(s)) continue;
+    std::vector<Plane> seen_planes;
+    std::vector<std::vector<Eigen::Vector3d>> scans;
+    ScanEnds scan_ends;
+    scan_ends.board_width = edges.width;
+    scan_ends.board_height = edges.height;
+    for (const TargetObservation& o : observations) {
+      if (o.sensor != s || !rig_planes.count(o.target_pose)) continue;
+      seen_planes.push_back(rig_planes[o.target_pose]);
+      scans.push_back(o.points);
+      if (edges.enabled) {
+        scan_ends.rig_from_board.push_back(rig_boards.at(o.target_pose));
+        scan_ends.ends.push_back(lineEnds(o.outline));
+      }
+    }
+    initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'",
+                                 edges.enabled ? &scan_ends : nullptr);
+    placed[s] = true;
+  }
+
+  // Parameter blocks.
+  std::vector<SensorState> sensor_state(sensor_count);
+  for (int s = 0; s < sensor_count; ++s) {
+    sensor_state[s].rotation = Eigen::Quaterniond(initial[s].rotation());
+    sensor_state[s].translation = initial[s].translation();
+  }
+  std::map<int, PlaneState> plane_state;
+  for (const auto& entry : rig_planes) plane_state[entry.first] = {entry.second.normal, entry.second.offset};
+  std::map<int, SensorState> board_state;  // with edges: rig_from_board per target pose, instead of its plane
+  for (const auto& entry : rig_boards) board_state[entry.first] = {Eigen::Quaterniond(entry.second.rotation()), entry.second.translation()};
+
+  ceres::Problem problem;
+  for (const TargetObservation& o : observations) {
+    if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
+    if (rejected.count({o.sensor, o.target_pose})) continue;
+    SensorState& sensor = sensor_state[o.sensor];
+    PlaneState* plane = edges.enabled ? nullptr : &plane_state[o.target_pose];
+    SensorState* board = edges.enabled ? &board_state.at(o.target_pose) : nullptr;
+    // Huber on each whitened block: down-weighted once its residuals pass huber_sigmas standard
+    // deviations on average.
+    if (!o.plane_measurements.empty()) {
+      for (const PlaneMeasurement& measurement : o.plane_measurements) {
+        addPlaneResidual<PlaneMeasurementResidual, 3>(&problem, PlaneMeasurementResidual(measurement),
+                                                      new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), &sensor, plane, board);
+        if (board) addOutlineResiduals(&problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, &sensor, board);
+      }
+      continue;
+    }
+    const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
+    addPlaneResidual<ObservationOnPlaneResidual, 4>(
+        &problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, sensors[o.sensor].type)),
+        new ceres::HuberLoss(threshold), &sensor, plane, board);
+    if (board) addOutlineResiduals(&problem, o.outline, edges.range_sigma, edges, &sensor, board);
+  }
+  for (int s = 0; s < sensor_count; ++s) {
+    problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
+  if (!edges.enabled) {
+    for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
+  }
+  for (auto& entry : board_state) {
+    if (problem.HasParameterBlock(entry.second.rotation.coeffs().data()))
+      problem.SetManifold(entry.second.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
+  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
+  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.num_threads = 2;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+
+  for (const auto& entry : board_state) {  // with edges: the solved boards' planes
+    const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
+    plane_state[entry.first] = {normal, -normal.dot(entry.second.translation)};
+  }
+
+  CalibrationResult result;
+  result.warnings = warnings;
+  result.sensors.resize(sensor_count);
+  for (int s = 0; s < sensor_count; ++s) {
+    SensorCalibration& out = result.sensors[s];
+    out.reference_from_sensor = Eigen::Isometry3d::Identity();
+    out.reference_from_sensor.linear() = sensor_state[s].rotation.normalized().toRotationMatrix();
+    out.reference_from_sensor.translation() = sensor_state[s].translation;
+    out.pairwise_estimate = initial[s];
+    out.observations = observation_count[s];
+  }
+  // Each observation's distance to its solved plane, once; sensor and overall RMS over the kept ones.
+  std::vector<double> sensor_squared(sensor_count, 0.0);
+  std::vector<std::size_t> sensor_points(sensor_count, 0);
+  for (const TargetObservation& o : observations) {
+    ObservationResidual residual;
+    residual.sensor = o.sensor;
+    residual.target_pose = o.target_pose;
+    residual.rejected = rejected.count({o.sensor, o.target_pose}) > 0;
+    residual.rms = std::numeric_limits<double>::quiet_NaN();  // no plane was solved for this pose
+    const auto plane = plane_state.find(o.target_pose);
+    if (plane != plane_state.end() && !o.points.empty()) {
+      const Eigen::Isometry3d& pose = result.sensors[o.sensor].reference_from_sensor;
+      double squared = 0.0;
+      for (const Eigen::Vector3d& p : o.points) squared += std::pow(plane->second.normal.dot(pose * p) + plane->second.offset, 2);
+      residual.rms = std::sqrt(squared / o.points.size());
+      if (!residual.rejected) {
+        sensor_squared[o.sensor] += squared;
+        sensor_points[o.sensor] += o.points.size();
+      }
+    }
+    if (residual.rejected) ++result.sensors[o.sensor].rejected_observations;
+    result.observations.push_back(residual);
+  }
+  double total_squared = 0.0;
+  std::size_t total_points = 0;
+  for (int s = 0; s < sensor_count; ++s) {
+    result.sensors[s].rms = sensor_points[s] ? std::sqrt(sensor_squared[s] / sensor_points[s]) : 0.0;
+    total_squared += sensor_squared[s];
+    total_points += sensor_points[s];
+  }
+  result.rms = total_points ? std::sqrt(total_squared / total_points) : 0.0;
+  if (!summary.IsSolutionUsable()) {
+    result.trusted = false;
+    result.failure = "the solver did not reach a usable solution: " + summary.message;
+  }
+  for (int s = 0; s < sensor_count && result.trusted; ++s) {
+    const Eigen::Isometry3d departure = result.sensors[s].pairwise_estimate.inverse() * result.sensors[s].reference_from_sensor;
+    const double moved = departure.translation().norm(), turned = rotationAngle(departure);
+    if (moved > options.max_departure_translation || turned > options.max_departure_rotation) {
+      std::ostringstream message;
+      message << "sensor '" << sensors[s].name << "' moved " << moved << " m and " << turned
+              << " rad away from its closed-form estimate: the data does not pin it down (too few poses or too many outliers)";
+      result.trusted = false;
+      result.failure = message.str();
+    }
+  }
+
+  // Standard deviations from the solver's covariance (residuals are already whitened).
+  ceres::Covariance::Options covariance_options;
+  ceres::Covariance covariance(covariance_options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (int s = 0; s < sensor_count; ++s) {
+    if (s == options.reference_sensor) continue;
+    blocks.emplace_back(sensor_state[s].rotation.coeffs().data(), sensor_state[s].rotation.coeffs().data());
+    blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
+  }
+  if (!blocks.empty() && covariance.Compute(blocks, &problem)) {
+    for (int s = 0; s < sensor_count; ++s) {
+      if (s == options.reference_sensor) continue;
+      Eigen::Matrix3d rotation_covariance, translation_covariance;
+      // The joint covariance of the listed blocks: one block, its 3x3 tangent-space covariance.
+      covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
+      covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(),
+                                    translation_covariance.data());
+      result.sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
+      // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
+      // rotation sigmas in radians of angle are twice the tangent's.
+      result.sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
+    }
+  }
+  return result;
+}
+
+}  // namespace vocal

@@ -1,0 +1,212 @@
+#include "vocal/simulation/simulated_sensor_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+namespace {
+constexpr double kMaxRange = 8.0;
+
+// The room with the view's target in it, and the sensor's origin and axes in the rig frame.
+struct SensorInRoom {
+  explicit SensorInRoom(const SimulatedRoomView& view)
+      : room(view.layout, view.reference_from_target, *view.target, view.person_holds_target),
+        pose(view.sensor->reference_from_sensor) {}
+  RoomHit cast(const Eigen::Vector3d& direction, const Eigen::Vector3d& origin = Eigen::Vector3d::Zero()) const {
+    return room.cast(pose * origin, pose.linear() * direction.normalized(), kMaxRange);
+  }
+  SimulatedRoom room;
+  Eigen::Isometry3d pose;
+};
+
+// A range return along `direction`, with a mixed pixel where the beam's footprint (`direction` +-
+// `footprint`) straddles an edge: half the time a range between the two surfaces, labelled mixed
+// unless it lies near the centre's surface.
+RoomHit rangeReturn(const SensorInRoom& sensor, const SimulatedRoomView& view, const Eigen::Vector3d& direction,
+                    const Eigen::Vector3d& footprint, std::mt19937* rng, const Eigen::Vector3d& origin = Eigen::Vector3d::Zero()) {
+  RoomHit centre = sensor.cast(direction, origin);
+  if (!view.mixed_pixels) return centre;
+  RoomHit other = centre;
+  for (const double sign : {-1.0, 1.0}) {
+    const RoomHit side = sensor.cast(direction.normalized() + sign * footprint, origin);
+    const double gap = std::abs((side.label == SurfaceLabel::kNone ? kMaxRange : side.range) -
+                                (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
+    const double other_gap = std::abs((other.label == SurfaceLabel::kNone ? kMaxRange : other.range) -
+                                      (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
+    if (gap > other_gap) other = side;
+  }
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  if (other.label == SurfaceLabel::kNone || centre.label == SurfaceLabel::kNone || std::abs(other.range - centre.range) < 0.1 ||
+      unit(*rng) < 0.5) {
+    return centre;
+  }
+  const double mixed = centre.range + unit(*rng) * (other.range - centre.range);
+  if (std::abs(mixed - centre.range) > 0.02) centre.label = SurfaceLabel::kMixed;
+  centre.range = mixed;
+  return centre;
+}
+
+double noisy(double range, double sigma, std::mt19937* rng) {
+  if (sigma <= 0.0) return range;
+  return range + std::normal_distribution<double>(0.0, sigma)(*rng);
+}
+
+// Grey level of the board at target-frame (x, y): checker squares centred on the board, white margin.
+double boardGrey(const TargetPattern& pattern, const Eigen::Vector2d& p) {
+  const double half_w = 0.5 * (pattern.cols + 1) * pattern.square_size, half_h = 0.5 * (pattern.rows + 1) * pattern.square_size;
+  if (std::abs(p.x()) >= half_w || std::abs(p.y()) >= half_h) return 235.0;
+  const int i = static_cast<int>(std::floor((p.x() + half_w) / pattern.square_size));
+  const int j = static_cast<int>(std::floor((p.y() + half_h) / pattern.square_size));
+  return (i + j) % 2 == 0 ? 20.0 : 235.0;
+}
+}  // namespace
+
+SimulatedRoomView boardHeldInFurnishedRoom(const SimulatedSensor& sensor, const TargetDescription& target) {
+  SimulatedRoomView view;
+  view.sensor = &sensor;
+  view.target = &target;
+  view.layout = RoomLayout::kFurnished;
+  view.person_holds_target = true;
+  view.mixed_pixels = true;
+  view.reference_from_target.translation() = Eigen::Vector3d(2.0, 0.0, 1.1);
+  view.reference_from_target.linear() = targetFacingRig();
+  return view;
+}
+
+std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
+  std::vector<float> ranges;
+  if (truth) *truth = {};
+  for (int step = 0; step <= 1080; ++step) {
+    const double azimuth = (-135.0 + 0.25 * step) * M_PI / 180.0;
+    const Eigen::Vector3d ray(std::cos(azimuth), std::sin(azimuth), 0.0);
+    const double footprint = 0.1 * M_PI / 180.0;
+    const RoomHit hit = rangeReturn(sensor, view, ray, footprint * Eigen::Vector3d(-ray.y(), ray.x(), 0.0), rng);
+    ranges.push_back(hit.label == SurfaceLabel::kNone ? std::numeric_limits<float>::infinity()
+                                                      : static_cast<float>(noisy(hit.range, view.range_noise, rng)));
+    if (truth) truth->labels.push_back(hit.label);
+  }
+  return ranges;
+}
+
+const std::vector<double> kVlp16VerticalOffsets = {0.0112, 0.0097, 0.0081, 0.0066, 0.0051, 0.0037, 0.0022, 0.0007,
+                                                   -0.0007, -0.0022, -0.0037, -0.0051, -0.0066, -0.0081, -0.0097, -0.0112};
+
+LidarModel parseLidarModel(const std::string& name, const std::string& what) {
+  if (name == "vlp16") return LidarModel::kVlp16;
+  if (name == "ouster64") return LidarModel::kOuster64;
+  if (name == "livox") return LidarModel::kLivox;
+  throw InputError(what + ": '" + name + "' is unknown: expected vlp16, ouster64 or livox");
+}
+
+std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
+  std::vector<Eigen::Vector3d> points;
+  if (truth) *truth = {};
+  const auto cast = [&](const Eigen::Vector3d& ray, const Eigen::Vector3d& footprint, int ring, double bias) {
+    const Eigen::Vector3d origin(0.0, 0.0, ring >= 0 && ring < static_cast<int>(view.ring_height.size()) ? view.ring_height[ring] : 0.0);
+    const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng, origin);
+    if (hit.label == SurfaceLabel::kNone) return;
+    const bool dark = hit.label == SurfaceLabel::kTarget && boardGrey(view.target->pattern, hit.on_target) < 128.0;
+    points.push_back(origin + (noisy(hit.range, view.range_noise, rng) + bias + (dark ? view.dark_range_offset : 0.0)) * ray);
+    if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
+  };
+  if (view.lidar_model == LidarModel::kLivox) {
+    // A rosette: the beam swings out from the axis and back (250 Hz) while the swing turns (sqrt(2) x 37 Hz),
+    // 100,000 points a second; a frame is 0.1 s of it from view.time on.
+    constexpr double kHalfAngle = 35.0 * M_PI / 180.0;
+    for (int i = 0; i < 10000; ++i) {
+      const double t = view.time + i * 1e-5;
+      const double off_axis = kHalfAngle * std::sin(2 * M_PI * 250.0 * t), around = 2 * M_PI * 37.0 * std::sqrt(2.0) * t;
+      const Eigen::Vector3d ray(std::cos(off_axis), std::sin(off_axis) * std::cos(around), std::sin(off_axis) * std::sin(around));
+      cast(ray, 0.0015 * ray.unitOrthogonal(), -1, 0.0);
+    }
+    return points;
+  }
+  const bool ouster = view.lidar_model == LidarModel::kOuster64;
+  const int rings = ouster ? 64 : 16, steps = ouster ? 1024 : 1800;
+  const double lowest = ouster ? -16.6 : -15.0, ring_step = ouster ? 33.2 / 63 : 2.0;
+  for (int ring = 0; ring < rings; ++ring) {
+    const double elevation = (lowest + ring_step * ring) * M_PI / 180.0;
+    const double bias = ring < static_cast<int>(view.ring_bias.size()) ? view.ring_bias[ring] : 0.0;
+    for (int step = 0; step < steps; ++step) {
+      const double azimuth = step * 2 * M_PI / steps - M_PI;
+      const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      // A beam's footprint is about 3 mrad wide.
+      cast(ray, 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0), ring, bias);
+    }
+  }
+  return points;
+}
+
+DepthImage simulateDepthImage(const SimulatedRoomView& view, const PinholeCamera& camera, std::mt19937* rng, SimulatedTruth* truth) {
+  const SensorInRoom sensor(view);
+  DepthImage depth(camera.width, camera.height, 0.0f);
+  if (truth) *truth = {}, truth->labels.assign(static_cast<std::size_t>(camera.width) * camera.height, SurfaceLabel::kNone);
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+      // The footprint: half a pixel either side.
+      const RoomHit hit = rangeReturn(sensor, view, ray, Eigen::Vector3d(0.5 / camera.fx, 0.0, 0.0) / ray.norm(), rng);
+      if (hit.label == SurfaceLabel::kNone) continue;
+      // Range noise along the ray, stored as depth (z).
+      depth(u, v) = static_cast<float>(noisy(hit.range, view.range_noise, rng) / ray.norm());
+      if (truth) truth->labels[static_cast<std::size_t>(v) * camera.width + u] = hit.label;
+    }
+  }
+  return depth;
+}
+
+CameraRays::CameraRays(const PinholeCamera& camera, const LensDistortion& distortion) : camera_(camera) {
+  rays_.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
+  for (int v = 0; v < camera.height; ++v) {
+    // Each subsample's ideal ray starts Newton from the same subsample of the pixel to the left.
+    Eigen::Vector2d previous[4];
+    for (int u = 0; u < camera.width; ++u) {
+      int sample = 0;
+      for (const double du : {-0.25, 0.25}) {
+        for (const double dv : {-0.25, 0.25}) {
+          const Eigen::Vector2d distorted((u + du - camera.cx) / camera.fx, (v + dv - camera.cy) / camera.fy);
+          const Eigen::Vector2d ideal = distortion.undistort(distorted, u == 0 ? distorted : previous[sample]);
+          previous[sample] = ideal;
+          rays_[(static_cast<std::size_t>(v) * camera.width + u) * 4 + sample++] = Eigen::Vector3d(ideal.x(), ideal.y(), 1.0);
+        }
+      }
+    }
+  }
+}
+
+ColorImage simulateCameraImage(const SimulatedRoomView& view, const CameraRays& rays, double noise_levels,
+                               std::mt19937* rng) {
+  const SensorInRoom sensor(view);
+  const PinholeCamera& camera = rays.camera();
+  ColorImage image(camera.width, camera.height);
+  std::normal_distribution<double> noise(0.0, std::max(noise_levels, 1e-12));
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      double grey = 0.0;
+      for (int sample = 0; sample < 4; ++sample) {
+        const RoomHit hit = sensor.cast(rays.ray(u, v, sample));
+        grey += 0.25 * (hit.label == SurfaceLabel::kTarget ? boardGrey(view.target->pattern, hit.on_target)
+                        : hit.label == SurfaceLabel::kNone   ? 60.0
+                        : hit.label == SurfaceLabel::kPerson ? 90.0
+                                                             : 120.0);
+      }
+      if (noise_levels > 0.0) grey += noise(*rng);
+      const auto level = static_cast<std::uint8_t>(std::clamp(std::lround(grey), 0L, 255L));
+      image(u, v) = Rgb8{level, level, level};
+    }
+  }
+  return image;
+}
+
+ColorImage simulateCameraImage(const SimulatedRoomView& view, const PinholeCamera& camera, double noise_levels,
+                               std::mt19937* rng, const LensDistortion& distortion) {
+  return simulateCameraImage(view, CameraRays(camera, distortion), noise_levels, rng);
+}
+
+}  // namespace vocal
