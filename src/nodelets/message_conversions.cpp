@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include "vocal/core/errors.h"
 
@@ -159,19 +160,10 @@ sensor_msgs::PointCloud2 toLidarPointCloud2(const std::vector<Eigen::Vector3d>& 
 geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& parent_from_child,
                                                    const std::string& parent, const std::string& child,
                                                    const ros::Time& stamp) {
-  geometry_msgs::TransformStamped msg;
+  geometry_msgs::TransformStamped msg = tf2::eigenToTransform(parent_from_child);
   msg.header.stamp = stamp;
   msg.header.frame_id = parent;
   msg.child_frame_id = child;
-  const Eigen::Vector3d t = parent_from_child.translation();
-  const Eigen::Quaterniond q(parent_from_child.rotation());
-  msg.transform.translation.x = t.x();
-  msg.transform.translation.y = t.y();
-  msg.transform.translation.z = t.z();
-  msg.transform.rotation.x = q.x();
-  msg.transform.rotation.y = q.y();
-  msg.transform.rotation.z = q.z();
-  msg.transform.rotation.w = q.w();
   return msg;
 }
 
