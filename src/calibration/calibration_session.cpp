@@ -189,14 +189,16 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::ringOffsets() const 
 std::vector<CalibrationSession::RingOffsetTrial> CalibrationSession::ringOffsetTrials() const {
   const std::vector<std::optional<RingOffsets>> offsets = estimatedRingOffsets();
   std::vector<RingOffsetTrial> trials;
+  std::optional<std::vector<TargetObservation>> with;  // every lidar's offsets applied: the same for each trial
   for (std::size_t s = 0; s < offsets.size(); ++s) {
     if (!offsets[s] || !offsets[s]->applied) continue;
+    if (!with) with = associateStillTarget(rig_.specs(), timedObservations(offsets), stillness_);
     std::vector<std::optional<RingOffsets>> without = offsets;
     without[s]->applied = false;
     RingOffsetTrial trial;
     trial.sensor = static_cast<int>(s);
     trial.without = associateStillTarget(rig_.specs(), timedObservations(without), stillness_);
-    trial.with = associateStillTarget(rig_.specs(), timedObservations(offsets), stillness_);
+    trial.with = *with;
     trials.push_back(std::move(trial));
   }
   return trials;

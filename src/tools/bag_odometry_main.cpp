@@ -23,6 +23,7 @@
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_config_yaml.h"
+#include "vocal/tools/bag_file.h"
 #include "vocal/tools/command_line.h"
 #include "vocal/tools/trajectory_report.h"
 
@@ -88,11 +89,7 @@ int run(const vocal::CommandLine& args) {
 
   const std::string path = args.positional()[0];
   rosbag::Bag bag;
-  try {
-    bag.open(path, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    throw vocal::InputError(path + ": cannot open bag (" + e.what() + ")");
-  }
+  vocal::openBag(&bag, path, rosbag::bagmode::Read);
   checkTopics(bag, path,
               {{rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}});
 

@@ -15,6 +15,7 @@
 #include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/simulation/simulated_sensor_data.h"
+#include "vocal/tools/bag_file.h"
 
 namespace vocal {
 
@@ -65,11 +66,7 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
     throw InputError("simulated session: the still time must be > 0 s and the moving time >= 0 s");
   }
   rosbag::Bag bag;
-  try {
-    bag.open(bag_path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw InputError(bag_path + ": cannot open bag for writing (" + e.what() + ")");
-  }
+  openBag(&bag, bag_path, rosbag::bagmode::Write);
   // The still poses: those of the rig simulator (spread tilts facing the rig).
   RigSimulationOptions poses;
   poses.target_poses = options.target_poses;
@@ -158,14 +155,6 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
 }
 
 namespace {
-void openForReading(rosbag::Bag* bag, const std::string& bag_path) {
-  try {
-    bag->open(bag_path, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    throw InputError(bag_path + ": cannot open bag (" + e.what() + ")");
-  }
-}
-
 // The first camera_info on `topic` that converts; false when none does (each bad one is reported when
 // the main pass reaches it).
 bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCamera* camera, LensDistortion* lens) {
@@ -188,7 +177,7 @@ bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCa
 BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
                                   const std::function<void(std::size_t)>& progress) {
   rosbag::Bag bag;
-  openForReading(&bag, bag_path);
+  openBag(&bag, bag_path, rosbag::bagmode::Read);
   const RigDescription& rig = session->rig();
   // Topic -> (sensor, what arrives there).
   enum class Kind { kImage, kInfo, kDepth, kCloud, kScan };
@@ -327,7 +316,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
 std::vector<CameraImage> readCameraImagesNear(const std::string& bag_path, const RigDescription& rig,
                                              const std::vector<CameraImageRequest>& requests) {
   rosbag::Bag bag;
-  openForReading(&bag, bag_path);
+  openBag(&bag, bag_path, rosbag::bagmode::Read);
   std::vector<CameraImage> images(requests.size());
   std::vector<sensor_msgs::Image::ConstPtr> nearest(requests.size());
   try {

@@ -18,6 +18,7 @@
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/yaml_file.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/tools/bag_file.h"
 
 namespace vocal {
 
@@ -139,11 +140,7 @@ StillPoseBagSummary writeStillPoseBag(const std::string& folder, const std::stri
   info.header.frame_id = options.camera_frame;
 
   rosbag::Bag bag;
-  try {
-    bag.open(bag_path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw InputError(bag_path + ": cannot open bag for writing (" + e.what() + ")");
-  }
+  openBag(&bag, bag_path, rosbag::bagmode::Write);
   StillPoseBagSummary summary;
   const double pose_seconds = options.still_seconds + options.moving_seconds;
   try {

@@ -5,6 +5,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/tools/bag_file.h"
 
 namespace vocal {
 
@@ -92,11 +93,7 @@ BagLayout parseBagLayout(const std::string& name) {
 TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_path, const TumBagOptions& options,
                           const std::function<void(std::size_t, std::size_t)>& progress) {
   rosbag::Bag bag;
-  try {
-    bag.open(bag_path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw InputError(bag_path + ": cannot open bag for writing (" + e.what() + ")");
-  }
+  openBag(&bag, bag_path, rosbag::bagmode::Write);
   TumBagSummary summary;
   try {
     writeFrames(sequence, options, &bag, progress, &summary);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -9,6 +10,24 @@
 #include "vocal/core/errors.h"
 
 namespace vocal {
+
+namespace {
+// The rig solved from every observation but those of target pose `left_out`; none when that fails or is
+// not trusted (a sensor seen only at that pose, or its remaining planes cannot fix it).
+std::optional<CalibrationResult> solveWithoutPose(const std::vector<SensorSpec>& sensors,
+                                                  const std::vector<TargetObservation>& observations,
+                                                  const CalibrationOptions& options, int left_out) {
+  std::vector<TargetObservation> rest;
+  for (const TargetObservation& o : observations)
+    if (o.target_pose != left_out) rest.push_back(o);
+  try {
+    CalibrationResult result = calibrateRig(sensors, rest, options);
+    if (result.trusted) return result;
+  } catch (const InputError&) {
+  }
+  return std::nullopt;
+}
+}  // namespace
 
 PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                  const CalibrationOptions& options, const CalibrationResult& full) {
@@ -19,20 +38,12 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
   // Per re-solve and sensor: how far it moved from the full solution (translation, rotation vector in the rig frame).
   std::vector<std::vector<Vector6d>> moves;
   for (const int left_out : poses) {
-    std::vector<TargetObservation> rest;
-    for (const TargetObservation& o : observations)
-      if (o.target_pose != left_out) rest.push_back(o);
-    CalibrationResult result;
-    try {
-      result = calibrateRig(sensors, rest, options);
-    } catch (const InputError&) {
-      continue;  // a sensor seen only at this pose, or its remaining planes cannot fix it
-    }
-    if (!result.trusted) continue;
+    const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, options, left_out);
+    if (!result) continue;
     std::vector<Vector6d> move(sensors.size());
     for (std::size_t s = 0; s < sensors.size(); ++s) {
       const Eigen::Isometry3d& all = full.sensors[s].reference_from_sensor;
-      const Eigen::Isometry3d& without = result.sensors[s].reference_from_sensor;
+      const Eigen::Isometry3d& without = result->sensors[s].reference_from_sensor;
       move[s].head<3>() = without.translation() - all.translation();
       const Eigen::AngleAxisd turn(without.rotation() * all.rotation().transpose());
       move[s].tail<3>() = turn.angle() * turn.axis();
@@ -65,28 +76,22 @@ HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::ve
   double squares = 0.0;
   std::size_t points = 0;
   for (const int held_out : poses) {
-    std::vector<TargetObservation> rest;
     std::vector<const TargetObservation*> others;
     const TargetObservation* own = nullptr;
     for (const TargetObservation& o : observations) {
-      if (o.target_pose != held_out) rest.push_back(o);
-      else if (o.sensor == sensor) own = &o;
+      if (o.target_pose != held_out) continue;
+      if (o.sensor == sensor) own = &o;
       else others.push_back(&o);
     }
     if (others.empty()) continue;
-    CalibrationResult result;
-    try {
-      result = calibrateRig(sensors, rest, options);
-    } catch (const InputError&) {
-      continue;
-    }
-    if (!result.trusted) continue;
+    const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, options, held_out);
+    if (!result) continue;
     std::vector<Eigen::Vector3d> board;
     for (const TargetObservation* o : others)
-      for (const Eigen::Vector3d& p : o->points) board.push_back(result.sensors[o->sensor].reference_from_sensor * p);
+      for (const Eigen::Vector3d& p : o->points) board.push_back(result->sensors[o->sensor].reference_from_sensor * p);
     if (board.size() < 3) continue;
     const PrincipalAxes plane = principalAxesOf(board);
-    const Eigen::Isometry3d& placed = result.sensors[sensor].reference_from_sensor;
+    const Eigen::Isometry3d& placed = result->sensors[sensor].reference_from_sensor;
     for (const Eigen::Vector3d& p : own->points) {
       const double distance = plane.axes.col(2).dot(placed * p - plane.centroid);
       squares += distance * distance;
