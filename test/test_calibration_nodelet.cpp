@@ -8,10 +8,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <mutex>
+#include <sstream>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nodelet/loader.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -22,6 +27,7 @@
 
 #include "test_support.h"
 #include "vocal/core/se3.h"
+#include "vocal/nodelets/message_conversions.h"
 #include "vocal/tools/calibration_bag.h"
 
 TEST(CalibrationNodelet, CalibratesAPlayedSession) {
@@ -111,6 +117,138 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   ASSERT_TRUE(fused);
   EXPECT_EQ(fused->header.frame_id, "base_link");
   EXPECT_GT(fused->width, 1000u);
+}
+
+// Every kind of bad message on every sensor's topics: each is dropped and counted against its sensor
+// in the diagnostics, the last problem is named there, and the nodelet (in this process's manager)
+// still answers. Messages that are odd but valid (NaN and inf depth, NaN ranges, no beams) are taken.
+TEST(CalibrationNodelet, BadMessagesAreDroppedAndCountedPerSensor) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_bad_messages");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  ros::NodeHandle nh;
+  nh.setParam("/bad/rig", folder + "/rig.yaml");
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/bad", "vocal/MsgCalibration", {}, {}));
+  std::mutex mutex;
+  diagnostic_msgs::DiagnosticStatus status;
+  ros::Subscriber diagnostics_sub =
+      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& s : m->status)
+          if (s.name.find("bad") != std::string::npos) {
+            std::lock_guard<std::mutex> lock(mutex);
+            status = s;
+          }
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+
+  std::map<std::string, ros::Publisher> publishers;
+  auto publish = [&](const std::string& topic, const auto& msg) {
+    using Msg = std::decay_t<decltype(msg)>;
+    if (!publishers.count(topic)) {
+      publishers[topic] = nh.advertise<Msg>(topic, 10);
+      const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(5.0);
+      while (publishers[topic].getNumSubscribers() == 0 && ros::WallTime::now() < deadline) ros::WallDuration(0.02).sleep();
+    }
+    publishers[topic].publish(msg);
+    ros::WallDuration(0.2).sleep();  // one message at a time through the nodelet, in order across topics
+  };
+  std::map<std::string, int> expected_drops;
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(32, 24);
+  // The laser last: its problem is the one the summary names at the end.
+  std::vector<vocal::RigSensorDescription> in_order = rig.sensors;
+  std::stable_partition(in_order.begin(), in_order.end(),
+                        [](const vocal::RigSensorDescription& d) { return d.spec.type != vocal::SensorType::kLaser2d; });
+  ASSERT_EQ(in_order.back().spec.type, vocal::SensorType::kLaser2d);
+  for (const vocal::RigSensorDescription& d : in_order) {
+    const std::string& name = d.spec.name;
+    const ros::Time t(100.0);
+    switch (d.spec.type) {
+      case vocal::SensorType::kCamera: {
+        sensor_msgs::CameraInfo uncalibrated = vocal::toCameraInfo(camera, d.spec.frame_id, t);
+        uncalibrated.K = {};
+        publish(d.camera_info_topic, uncalibrated);  // K = 0
+        const sensor_msgs::Image image = vocal::toMono8Image(vocal::ColorImage(32, 24), d.spec.frame_id, t);
+        publish(d.image_topic, image);  // no usable camera_info yet
+        publish(d.camera_info_topic, vocal::toCameraInfo(camera, d.spec.frame_id, t));
+        sensor_msgs::Image wrong_encoding = image;
+        wrong_encoding.encoding = "16UC1";
+        publish(d.image_topic, wrong_encoding);
+        sensor_msgs::Image truncated = image;
+        truncated.data.resize(10);
+        publish(d.image_topic, truncated);
+        expected_drops[name] = 4;
+        break;
+      }
+      case vocal::SensorType::kRgbd: {
+        sensor_msgs::CameraInfo binned = vocal::toCameraInfo(camera, d.spec.frame_id, t);
+        binned.binning_x = 2;
+        publish(d.camera_info_topic, binned);
+        publish(d.camera_info_topic, vocal::toCameraInfo(camera, d.spec.frame_id, t));
+        sensor_msgs::Image colour_as_depth = vocal::toRgb8Image(vocal::ColorImage(32, 24), d.spec.frame_id, t);
+        publish(d.depth_topic, colour_as_depth);
+        // NaN and inf depth are "no measurement": taken, not dropped.
+        vocal::DepthImage nan_depth(32, 24, std::numeric_limits<float>::quiet_NaN());
+        nan_depth(3, 3) = std::numeric_limits<float>::infinity();
+        publish(d.depth_topic, vocal::toDepth32FImage(nan_depth, d.spec.frame_id, t));
+        expected_drops[name] = 2;
+        break;
+      }
+      case vocal::SensorType::kLidar3d: {
+        sensor_msgs::PointCloud2 cloud = vocal::toLidarPointCloud2({Eigen::Vector3d(1, 2, 3)}, {0}, d.spec.frame_id, t);
+        sensor_msgs::PointCloud2 no_x = cloud;
+        no_x.fields.erase(no_x.fields.begin());
+        publish(d.cloud_topic, no_x);
+        sensor_msgs::PointCloud2 wrapping = cloud;  // width x point_step wraps in 32 bits (found by fuzzing)
+        wrapping.width = 65536, wrapping.point_step = 65536, wrapping.row_step = 16;
+        publish(d.cloud_topic, wrapping);
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        // Valid, but no point is finite, and a lidar's first cloud needs 1000 points to learn its ring spacing.
+        publish(d.cloud_topic, vocal::toLidarPointCloud2({Eigen::Vector3d(nan, 0, 0)}, {0}, d.spec.frame_id, t));
+        expected_drops[name] = 3;
+        break;
+      }
+      case vocal::SensorType::kLaser2d: {
+        sensor_msgs::LaserScan scan = vocal::toLaserScan({1.0f, 1.0f}, -0.5, 0.01, 10.0, d.spec.frame_id, t);
+        sensor_msgs::LaserScan no_increment = scan;
+        no_increment.angle_increment = 0.0f;
+        publish(d.scan_topic, no_increment);
+        sensor_msgs::LaserScan nan_ranges = scan;
+        nan_ranges.ranges = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()};
+        publish(d.scan_topic, nan_ranges);
+        publish(d.scan_topic, vocal::toLaserScan({}, -0.5, 0.01, 10.0, d.spec.frame_id, t));  // no beams
+        expected_drops[name] = 1;
+        break;
+      }
+    }
+  }
+  const std::string last_problem = in_order.back().scan_topic + ": angle_min must be finite and angle_increment finite and non-zero";
+  auto dropsAsExpected = [&] {
+    if (status.message != last_problem) return false;
+    for (const auto& drops : expected_drops) {
+      const std::string suffix = ", " + std::to_string(drops.second) + " dropped";
+      bool found = false;
+      for (const auto& kv : status.values)
+        if (kv.key == drops.first) found = kv.value.size() >= suffix.size() && kv.value.compare(kv.value.size() - suffix.size(), suffix.size(), suffix) == 0;
+      if (!found) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(vocal_test::waitUntil(mutex, 10.0, dropsAsExpected)) << [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::ostringstream seen;
+    seen << "summary '" << status.message << "'";
+    for (const auto& kv : status.values) seen << "; " << kv.key << ": " << kv.value;
+    return seen.str();
+  }();
+  // Still answering: calibrating from nothing says so.
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/bad/calibrate", calibrate));
+  EXPECT_FALSE(calibrate.response.success);
+  EXPECT_FALSE(calibrate.response.message.empty());
+  std::cout << "calibrate after bad messages: " << calibrate.response.message << "\n";
 }
 
 TEST(CalibrationNodelet, WithoutARigItStaysIdleAndSaysWhy) {

@@ -80,6 +80,12 @@ TEST(RigDescription, MistakesNameTheFileAndTheKey) {
                                    "sensors:\n  - {name: c, type: camera, frame_id: v, image_topic: /i, camera_info_topic: /c, "
                                    "pose: [0,0,0,0,0,0,1], crop_box: [0, -2, -1, 4, 2, 1]}\n"),
             file + ": sensors[0] 'c': 'crop_box' is for range sensors (rgbd, lidar3d, laser2d), not cameras");
+  // Found by fuzzing: a key that is a list escaped as a yaml-cpp exception.
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target + "[sensors]: 1\n"),
+            file + ": line 3: a key is a list or map, not a name");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
+                                   "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [.inf,0,0,0,0,0,1]}\n"),
+            file + ": sensors[0] 'l': 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
 }
 
 // A crop box is read, written back, and keeps the search inside it: a cloud whose only board lies

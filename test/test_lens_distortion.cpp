@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <random>
 
 #include <opencv2/calib3d.hpp>
@@ -80,4 +82,8 @@ TEST(LensDistortion, CameraInfoValuesAreCheckedAndNamed) {
             "/cam/camera_info: distortion_model equidistant takes 4 coefficients, D has 3");
   EXPECT_EQ(vocal_test::inputErrorOf([] { vocal::LensDistortion::fromCameraInfo("kannala", {0.1}, "/cam/camera_info"); }),
             "/cam/camera_info: distortion_model 'kannala' is not supported (plumb_bob, rational_polynomial or equidistant)");
+  // Found by fuzzing: four plumb_bob coefficients (k3 left out) skipped the finiteness check.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::LensDistortion::fromCameraInfo("plumb_bob", {nan, 0, 0, 0}, "/cam/camera_info"); }),
+            "/cam/camera_info: D has a coefficient that is not finite");
 }

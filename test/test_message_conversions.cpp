@@ -97,6 +97,17 @@ TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
             "/depth: depth is 2x2 but /rgb is 4x3 (depth must be registered to the colour image)");
 }
 
+// Found by fuzzing: width x point_step in 32 bits wrapped to 0 and passed the size check, then the
+// points were read far past the data.
+TEST(MessageConversions, CloudWhoseSizeWrapsIn32BitsIsRefused) {
+  sensor_msgs::PointCloud2 cloud = vocal::toLidarPointCloud2({Eigen::Vector3d(1, 2, 3)}, {0}, "velodyne", ros::Time(1));
+  cloud.width = 65536;
+  cloud.point_step = 65536;
+  cloud.row_step = 16;
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromPointCloud2(cloud, "/velodyne_points"); }),
+            "/velodyne_points: data holds 32 bytes, too few for 65536 points");
+}
+
 TEST(MessageConversions, PointCloudCarriesPositionsAndPackedColour) {
   const std::vector<vocal::ColoredPoint> points = {{Eigen::Vector3f(1, 2, 3), vocal::Rgb8{255, 128, 1}}};
   const sensor_msgs::PointCloud2 cloud = vocal::toPointCloud2(points, "odom", ros::Time(5));

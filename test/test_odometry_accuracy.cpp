@@ -407,6 +407,7 @@ TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
       {"levels: 2", "odometry config: iterations lists 3 values for 2 levels"},
       {"tracking_reference: sometimes", "tracking reference 'sometimes' is unknown: expected keyframe or frame"},
       {"keyframes_kept: 0", "odometry config: keyframes_kept must be in [1, 1000], got 0"},
+      {"[levels]: 2", "line 1: a key is a list or map, not a name"},  // found by fuzzing
   };
   for (const auto& [line, error] : cases) {
     vocal_test::writeText(path, line + "\n");

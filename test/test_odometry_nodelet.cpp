@@ -255,17 +255,31 @@ TEST_F(OdometryNodelet, BadInputIsDroppedAndNamedAndResetRestarts) {
   EXPECT_TRUE(statusMessageContains(std::string(T::kRgbInfo) + ": K has zero focal lengths"))
       << received_.odometry_status.message;
 
-  // A frame, then one from before it.
+  // A frame, then one from half a second before it: out of order, dropped.
   publish(2002.0, good, info);
   ros::WallDuration(0.5).sleep();
-  publish(1999.0, good, info);
-  EXPECT_TRUE(statusMessageContains("stamp 1999.000000000 is not after the previous frame's 2002.000000000"))
+  publish(2001.5, good, info);
+  EXPECT_TRUE(statusMessageContains("stamp 2001.500000000 is not after the previous frame's 2002.000000000 (out of "
+                                    "order; a jump back of more than 1 s restarts the odometry)"))
       << received_.odometry_status.message;
+
+  // A jump back of ten seconds (rosbag play --loop): the odometry restarts and tracks again.
+  ros::WallDuration(1.5).sleep();  // a diagnostics report after the dropped frame
+  std::string tracked_before;
+  {
+    std::lock_guard<std::mutex> lock(received_.mutex);
+    tracked_before = diagnosticValue(received_.odometry_status, "frames tracked");
+  }
+  publish(1992.0, good, info);
+  EXPECT_TRUE(vocal_test::waitUntil(received_.mutex, 10.0, [&] {
+    return diagnosticValue(received_.odometry_status, "restarts after stamps jumped back") == "1" &&
+           diagnosticValue(received_.odometry_status, "frames tracked") == std::to_string(std::stoi(tracked_before) + 1);
+  })) << received_.odometry_status.message;
 
   std::lock_guard<std::mutex> lock(received_.mutex);
   EXPECT_EQ(diagnosticValue(received_.odometry_status, "frames out of order"), "1");
   EXPECT_EQ(diagnosticValue(received_.odometry_status, "frames dropped"), "3");
-  EXPECT_EQ(diagnosticValue(received_.odometry_status, "resets"), "1");
+  EXPECT_EQ(diagnosticValue(received_.odometry_status, "resets"), "2");
 }
 
 // Frames arrive far faster than a 640x480 frame is tracked: the nodelet works on the newest one,

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <vector>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nodelet/loader.h>
@@ -169,6 +170,48 @@ TEST(Openni2DriverNodelet, AStreamWithoutAFieldOfViewGetsNominalIntrinsicsAndAWa
   EXPECT_EQ(level_message, "nominal or borrowed intrinsics: see below");
   ::unsetenv("VOCAL_VIRTUAL_OPENNI2_NO_FOV");
   EXPECT_TRUE(manager->unload("/nofov/driver"));
+}
+
+// A device that stops sending mid-stream (the virtual device told to stall after 20 frames, as one
+// pulled off its USB bus does): the stall is named in the diagnostics, the device is closed and
+// reopened, frames flow again to the same subscriber, and their stamps keep increasing.
+TEST(Openni2DriverNodelet, ADeviceThatStopsSendingIsNamedAndReopened) {
+  manager->unload("/camera/driver");  // one device: the virtual one is opened again below
+  ::setenv("VOCAL_VIRTUAL_OPENNI2_STALL_AFTER", "20", 1);
+  ros::NodeHandle nh;
+  nh.setParam("/stall/driver/stall_timeout", 1.0);
+  std::mutex mutex;
+  std::vector<ros::Time> stamps;
+  std::string stall_message, reopens = "0";
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::Subscriber rgb = nh.subscribe<sensor_msgs::Image>("/stall/rgb/image_raw", 50, [&](const sensor_msgs::Image::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    stamps.push_back(m->header.stamp);
+  });
+  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& s : m->status) {
+          if (s.name.find("stall/driver") == std::string::npos) continue;
+          if (s.message.find("no colour frame for") != std::string::npos) stall_message = s.message;
+          for (const auto& kv : s.values)
+            if (kv.key == "reopened after a stall") reopens = kv.value;
+        }
+      });
+  nodelet::M_string remappings;
+  nodelet::V_string arguments;
+  ASSERT_TRUE(manager->load("/stall/driver", "vocal/OpenNI2Driver", remappings, arguments));
+  // 20 frames, a stall, the reopened device's 20 frames.
+  EXPECT_TRUE(vocal_test::waitUntil(mutex, 30.0, [&] { return stamps.size() >= 30 && reopens != "0"; }))
+      << stamps.size() << " frames, reopened " << reopens << " times";
+  ::unsetenv("VOCAL_VIRTUAL_OPENNI2_STALL_AFTER");
+  EXPECT_TRUE(manager->unload("/stall/driver"));
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_EQ(stall_message.rfind("vocal://virtual/1: no colour frame for ", 0), 0u) << stall_message;
+  EXPECT_NE(stall_message.find(" s (unplugged, or its USB bus stalled): closed, reopening every 3 s"), std::string::npos)
+      << stall_message;
+  for (std::size_t i = 1; i < stamps.size(); ++i) EXPECT_GT(stamps[i], stamps[i - 1]) << "frame " << i;
 }
 
 int main(int argc, char** argv) {

@@ -64,6 +64,13 @@ TEST(CameraYaml, MissingKeyIsNamed) {
   std::ofstream(path) << "image_width: 640\nimage_height: 480\n";
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readCameraYaml(path); }),
             path + ": missing key 'camera_matrix'");
+  // Found by fuzzing: a file that is not a map (or a camera_matrix that is not) escaped as a yaml-cpp exception.
+  std::ofstream(path) << "- image_width\n";
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readCameraYaml(path); }),
+            path + ": expected a map of camera_info keys (image_width, camera_matrix, ...)");
+  std::ofstream(path) << "image_width: 640\nimage_height: 480\ncamera_matrix: [1, 2]\n";
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readCameraYaml(path); }),
+            path + ": camera_matrix must be a map with rows, cols and data");
 }
 
 TEST(RgbdFrame, SizeMismatchIsAnError) {

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -99,6 +100,22 @@ TEST(ToolsCli, BadInputGivesOneClearLine) {
   r = runTool("generate_synthetic_sequence " + folder + "/x --frames many");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "generate_synthetic_sequence: error: option --frames: 'many' is not an integer\n");
+
+  // A bag cut off mid-recording (no index at its end): named, with the way to recover it.
+  {
+    vocal::TumBagOptions options;
+    const std::string sequence = folder + "/seq";
+    ASSERT_EQ(runTool("generate_synthetic_sequence " + sequence + " --frames 6 --width 160 --height 120").exit_code, 0);
+    vocal::writeTumBag(vocal::TumSequence::open(sequence), folder + "/whole.bag", options);
+    std::ifstream whole(folder + "/whole.bag", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+    std::ofstream(folder + "/cut.bag", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  r = runTool("bag_odometry " + folder + "/cut.bag --output " + folder + "/cut.txt");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output.rfind("bag_odometry: error: " + folder + "/cut.bag: cannot open bag (", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("); if the recording was cut off, `rosbag reindex " + folder + "/cut.bag` recovers the messages it holds\n"),
+            std::string::npos) << r.output;
 
   r = runTool("evaluate_trajectory only_one_argument");
   EXPECT_EQ(r.exit_code, 2);

@@ -7,7 +7,9 @@
 //   colour 640x480 RGB888: (x mod 256, y mod 256, k mod 256).
 // Timestamps are (k + 1) * 33333 microseconds. Registration (depth to colour) and frame sync are accepted.
 // The environment variable VOCAL_VIRTUAL_OPENNI2_NO_FOV=color|depth|both makes those streams report a
-// field of view of 0, as recordings without it do.
+// field of view of 0, as recordings without it do; VOCAL_VIRTUAL_OPENNI2_STALL_AFTER=N makes every
+// stream stop sending after N frames, as a device pulled off its USB bus does (a stream opened anew,
+// as on reopening the device, sends N frames again).
 
 #include <atomic>
 #include <chrono>
@@ -40,6 +42,8 @@ class VirtualStream : public oni::driver::StreamBase {
   OniStatus start() override {
     if (running_) return ONI_STATUS_OK;
     running_ = true;
+    const char* stall = std::getenv("VOCAL_VIRTUAL_OPENNI2_STALL_AFTER");
+    stall_after_ = stall ? std::atoi(stall) : -1;
     thread_ = std::thread([this] { produce(); });
     return ONI_STATUS_OK;
   }
@@ -104,6 +108,7 @@ class VirtualStream : public oni::driver::StreamBase {
     for (int k = 0; running_; ++k) {
       next += std::chrono::microseconds(33333);
       std::this_thread::sleep_until(next);
+      if (stall_after_ >= 0 && k >= stall_after_) continue;  // unplugged: nothing more arrives
       OniFrame* frame = getServices().acquireFrame();
       if (!frame) continue;
       const int w = mode_.resolutionX, h = mode_.resolutionY;
@@ -140,6 +145,7 @@ class VirtualStream : public oni::driver::StreamBase {
   OniSensorType type_;
   OniVideoMode mode_;
   std::atomic<bool> running_{false};
+  int stall_after_ = -1;
   std::thread thread_;
 };
 

@@ -1,5 +1,6 @@
 #include "vocal/calibration/rig_description.h"
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <set>
@@ -32,7 +33,7 @@ T required(const YAML::Node& node, const std::string& key, const std::string& wh
 
 void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& known, const std::string& where) {
   for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = yamlKeyName(entry.first, where);
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
   }
 }
@@ -57,7 +58,7 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
   if (target.pattern.rows < 2 || target.pattern.cols < 2 || !(target.pattern.square_size > 0.0)) {
     throw InputError(where + ": rows and cols (inner corners) must be at least 2 and square_size positive");
   }
-  if (!(target.width > 0.0 && target.height > 0.0) || (target.pattern.cols + 1) * target.pattern.square_size > target.width + 1e-9 ||
+  if (!(target.width > 0.0 && target.height > 0.0 && std::isfinite(target.width) && std::isfinite(target.height)) || (target.pattern.cols + 1) * target.pattern.square_size > target.width + 1e-9 ||
       (target.pattern.rows + 1) * target.pattern.square_size > target.height + 1e-9) {
     throw InputError(where + ": the " + std::to_string(target.pattern.rows + 1) + "x" + std::to_string(target.pattern.cols + 1) +
                      " squares do not fit on the " + std::to_string(target.width) + " x " + std::to_string(target.height) +
@@ -75,7 +76,7 @@ Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
     v.clear();
   }
   const Eigen::Quaterniond q = v.size() == 7 ? Eigen::Quaterniond(v[6], v[3], v[4], v[5]) : Eigen::Quaterniond::Identity();
-  if (v.size() != 7 || !(std::abs(q.norm() - 1.0) < 1e-3)) {
+  if (v.size() != 7 || !(std::abs(q.norm() - 1.0) < 1e-3) || !Eigen::Vector3d(v[0], v[1], v[2]).allFinite()) {
     throw InputError(where + ": 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
   }
   return poseFromTranslationQuaternion(Eigen::Vector3d(v[0], v[1], v[2]), q);

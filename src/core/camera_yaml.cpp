@@ -27,6 +27,7 @@ T required(const YAML::Node& root, const std::string& path, const std::string& k
 
 PinholeCamera readCameraYaml(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "camera file");
+  if (!root.IsMap()) throw InputError(path + ": expected a map of camera_info keys (image_width, camera_matrix, ...)");
   PinholeCamera camera;
   camera.width = required<int>(root, path, "image_width");
   camera.height = required<int>(root, path, "image_height");
@@ -34,6 +35,7 @@ PinholeCamera readCameraYaml(const std::string& path) {
   if (!matrix) {
     throw InputError(path + ": missing key 'camera_matrix'");
   }
+  if (!matrix.IsMap()) throw InputError(path + ": camera_matrix must be a map with rows, cols and data");
   const auto k = required<std::vector<double>>(matrix, path, "data");
   if (k.size() != 9) {
     throw InputError(path + ": camera_matrix.data has " + std::to_string(k.size()) + " values, expected 9");

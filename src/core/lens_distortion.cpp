@@ -51,6 +51,8 @@ LensDistortion LensDistortion::fromCameraInfo(const std::string& model, const st
     throw InputError(what + ": distortion_model '" + model +
                      "' is not supported (plumb_bob, rational_polynomial or equidistant)");
   }
+  for (double k : d)
+    if (!std::isfinite(k)) throw InputError(what + ": D has a coefficient that is not finite");
   const std::size_t expected = coefficientCount(distortion.model);
   // plumb_bob with 4 coefficients (k3 left out) is common: k3 = 0.
   if (distortion.model == DistortionModel::kPlumbBob && d.size() == 4) {
@@ -62,8 +64,6 @@ LensDistortion LensDistortion::fromCameraInfo(const std::string& model, const st
     throw InputError(what + ": distortion_model " + model + " takes " + std::to_string(expected) + " coefficients, D has " +
                      std::to_string(d.size()));
   }
-  for (double k : d)
-    if (!std::isfinite(k)) throw InputError(what + ": D has a coefficient that is not finite");
   distortion.coefficients = d;
   return distortion;
 }

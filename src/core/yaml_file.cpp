@@ -14,4 +14,9 @@ YAML::Node loadYamlFile(const std::string& path, const std::string& what) {
   }
 }
 
+std::string yamlKeyName(const YAML::Node& key, const std::string& where) {
+  if (!key.IsScalar()) throw InputError(where + ": line " + std::to_string(key.Mark().line + 1) + ": a key is a list or map, not a name");
+  return key.Scalar();
+}
+
 }  // namespace vocal

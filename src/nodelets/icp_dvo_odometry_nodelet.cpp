@@ -202,11 +202,20 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     if (!setup_error_.empty()) throw InputError(setup_error_);
     auto clock = std::chrono::steady_clock::now();
     if (!last_stamp_.isZero() && rgb.header.stamp <= last_stamp_) {
-      ++frames_out_of_order_;
-      std::ostringstream message;
-      message << rgb_sub_.getTopic() << ": stamp " << rgb.header.stamp << " is not after the previous frame's "
-              << last_stamp_ << " (out of order or a restarted bag; call reset_odom to start again)";
-      throw InputError(message.str());
+      const double back = (last_stamp_ - rgb.header.stamp).toSec();
+      if (back <= kRestartAfterJumpBackSeconds) {
+        ++frames_out_of_order_;
+        std::ostringstream message;
+        message << rgb_sub_.getTopic() << ": stamp " << rgb.header.stamp << " is not after the previous frame's "
+                << last_stamp_ << " (out of order; a jump back of more than " << kRestartAfterJumpBackSeconds
+                << " s restarts the odometry)";
+        throw InputError(message.str());
+      }
+      // A looped or restarted bag, or a restarted camera: the old track means nothing for this stream.
+      ++time_jumps_back_;
+      NODELET_WARN_STREAM("IcpDvoOdometry: " << rgb_sub_.getTopic() << ": stamps jumped back " << back
+                                             << " s (a looped or restarted bag, or a restarted camera): the odometry restarts at the origin");
+      reset();
     }
     const PinholeCamera camera = fromCameraInfo(info, info_sub_.getTopic());
     if (camera.width != static_cast<int>(rgb.width) || camera.height != static_cast<int>(rgb.height)) {
@@ -302,7 +311,15 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     stamped.header = odom.header;
     stamped.pose = odom.pose.pose;
     path_.header = odom.header;
-    path_.poses.push_back(stamped);
+    // Bounded for a robot that runs for days: past kMaxPathPoses every other pose goes and from then on
+    // only every path_stride_-th is added, so the path still spans the whole run.
+    if (frames_on_path_++ % path_stride_ == 0) path_.poses.push_back(stamped);
+    if (path_.poses.size() >= kMaxPathPoses) {
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < path_.poses.size(); i += 2) path_.poses[kept++] = path_.poses[i];
+      path_.poses.resize(kept);
+      path_stride_ *= 2;
+    }
     if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
     if (!trusted) return;
 
@@ -329,15 +346,22 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
 
   bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
+    reset();
+    NODELET_INFO("IcpDvoOdometry: odometry reset; the next frame starts at the origin");
+    return true;
+  }
+
+  // With mutex_ held.
+  void reset() {
     if (odometry_) odometry_->reset();
     last_stamp_ = ros::Time();
     state_ = worst_since_report_ = TrackingState::kTracking;
     lost_frames_ = 0;
     path_.poses.clear();
+    frames_on_path_ = 0;
+    path_stride_ = 1;
     if (fused_map_) fused_map_->clear();
     ++resets_;
-    NODELET_INFO("IcpDvoOdometry: odometry reset; the next frame starts at the origin");
-    return true;
   }
 
   void watchdog(const ros::WallTimerEvent&) {
@@ -389,6 +413,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("frames dropped", frames_dropped_);
     status.add("frames out of order", frames_out_of_order_);
     status.add("resets", resets_);
+    status.add("restarts after stamps jumped back", time_jumps_back_);
+    status.add("path poses", path_.poses.size());
     status.add(rgb_sub_.getTopic() + " messages", rgb_count_.load());
     status.add(depth_sub_.getTopic() + " messages", depth_count_.load());
     status.add(info_sub_.getTopic() + " messages", info_count_.load());
@@ -434,9 +460,13 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::string backend_name_, last_problem_;
   ros::Time last_stamp_;
   nav_msgs::Path path_;
+  static constexpr std::size_t kMaxPathPoses = 4096;
+  std::size_t frames_on_path_ = 0, path_stride_ = 1;
+  // Further back than this is a new stream (a looped bag), nearer an out-of-order frame.
+  static constexpr double kRestartAfterJumpBackSeconds = 1.0;
   OdometryQuality quality_;
   std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
-              resets_ = 0, frames_received_at_watchdog_ = 0;
+              resets_ = 0, time_jumps_back_ = 0, frames_received_at_watchdog_ = 0;
   // Tracking loss: frames_lost_ counts every frame not tracked, of which these were predicted.
   std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0;
   TrackingState state_ = TrackingState::kTracking;

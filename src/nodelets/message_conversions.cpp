@@ -275,14 +275,15 @@ int integerAt(const std::uint8_t* p, std::uint8_t datatype) {
 }  // namespace
 
 std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what, std::vector<int>* rings) {
-  int offsets[3] = {-1, -1, -1};
+  // Offsets as given (any 32-bit value); -1 where the field is missing.
+  std::int64_t offsets[3] = {-1, -1, -1};
   std::uint8_t types[3] = {0, 0, 0};
   const char* names[] = {"x", "y", "z"};
   int ring_offset = -1;
   std::uint8_t ring_type = 0;
   for (const sensor_msgs::PointField& field : msg.fields) {
     for (int axis = 0; axis < 3; ++axis) {
-      if (field.name == names[axis]) offsets[axis] = static_cast<int>(field.offset), types[axis] = field.datatype;
+      if (field.name == names[axis]) offsets[axis] = field.offset, types[axis] = field.datatype;
     }
     const std::size_t ring_size = field.datatype <= sensor_msgs::PointField::UINT8 ? 1 : field.datatype <= sensor_msgs::PointField::UINT16 ? 2 : 4;
     if (field.name == "ring" && field.datatype >= sensor_msgs::PointField::INT8 && field.datatype <= sensor_msgs::PointField::UINT32 &&
@@ -301,15 +302,20 @@ std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg
   }
   if (msg.is_bigendian) throw InputError(what + ": big-endian clouds are not supported");
   const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
-  if (msg.height > 0 && (msg.row_step < msg.width * msg.point_step || msg.data.size() < static_cast<std::size_t>(msg.row_step) * msg.height)) {
+  // 64-bit products: 32-bit width x point_step wraps for a corrupt header and would pass the check.
+  if (msg.height > 0 && (msg.row_step < static_cast<std::size_t>(msg.width) * msg.point_step ||
+                         msg.data.size() < static_cast<std::size_t>(msg.row_step) * msg.height)) {
     throw InputError(what + ": data holds " + std::to_string(msg.data.size()) + " bytes, too few for " + std::to_string(count) +
                      " points");
   }
+  // Found by fuzzing: width 0 and a height of billions passed every check and spun through empty rows for seconds.
+  if (count == 0) return {};
   std::vector<Eigen::Vector3d> points;
   points.reserve(count);
   for (std::uint32_t row = 0; row < msg.height; ++row) {
     for (std::uint32_t column = 0; column < msg.width; ++column) {
-      const std::uint8_t* p = msg.data.data() + static_cast<std::size_t>(row) * msg.row_step + column * msg.point_step;
+      const std::uint8_t* p =
+          msg.data.data() + static_cast<std::size_t>(row) * msg.row_step + static_cast<std::size_t>(column) * msg.point_step;
       Eigen::Vector3d point;
       for (int axis = 0; axis < 3; ++axis) {
         if (types[axis] == sensor_msgs::PointField::FLOAT32) {
@@ -330,7 +336,13 @@ std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg
 
 std::vector<Eigen::Vector3d> fromLaserScan(const sensor_msgs::LaserScan& msg, const std::string& what) {
   if (!(msg.angle_increment != 0.0f) || !std::isfinite(msg.angle_increment) || !std::isfinite(msg.angle_min)) {
-    throw InputError(what + ": angle_increment must be finite and non-zero");
+    throw InputError(what + ": angle_min must be finite and angle_increment finite and non-zero");
+  }
+  // Beyond a few turns the angles are corrupt (and far enough out, not finite).
+  const double last_angle = msg.angle_min + static_cast<double>(msg.ranges.size()) * msg.angle_increment;
+  if (std::abs(msg.angle_min) > 8.0 * M_PI || std::abs(last_angle) > 8.0 * M_PI) {
+    throw InputError(what + ": angle_min " + std::to_string(msg.angle_min) + " and " + std::to_string(msg.ranges.size()) +
+                     " beams of angle_increment " + std::to_string(msg.angle_increment) + " span more than four turns");
   }
   std::vector<Eigen::Vector3d> points;
   for (std::size_t i = 0; i < msg.ranges.size(); ++i) {

@@ -2,8 +2,11 @@
 // with openni2_camera's topics and parameters. Streams start when someone subscribes and stop when
 // the last subscriber leaves. A thin adapter over Openni2Device (ROS-free, src/driver).
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstring>
+#include <iomanip>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -56,6 +59,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     rgb_frame_id_ = pnh.param<std::string>("rgb_frame_id", "camera_rgb_optical_frame");
     depth_frame_id_ = pnh.param<std::string>("depth_frame_id", "camera_depth_optical_frame");
     use_device_time_ = pnh.param("use_device_time", true);
+    stall_timeout_ = pnh.param("stall_timeout", 2.0);
     updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     updater_->setHardwareID("vocal_openni2_driver");
     updater_->add("device", this, &Openni2DriverNodelet::diagnose);
@@ -75,21 +79,38 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     depth_info_url_ = pnh.param<std::string>("depth_camera_info_url", "");
     // The device may be plugged in later: retry until it opens.
     open_timer_ = nh.createWallTimer(ros::WallDuration(3.0), [this](const ros::WallTimerEvent&) { openDevice(); });
+    stall_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { closeIfStalled(); });
     openDevice();
   }
 
   void openDevice() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (device_) return;
-    try {
-      device_ = std::make_unique<Openni2Device>(options_);
-    } catch (const InputError& e) {
-      if (problem_ != e.what()) NODELET_ERROR_STREAM("OpenNI2Driver: " << e.what() << "; retrying every 3 s");
-      problem_ = e.what();
-      return;
+    bool reopened = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (device_) return;
+      try {
+        device_ = std::make_unique<Openni2Device>(options_);
+      } catch (const InputError& e) {
+        if (problem_ != e.what()) NODELET_ERROR_STREAM("OpenNI2Driver: " << e.what() << "; retrying every 3 s");
+        problem_ = e.what();
+        return;
+      }
+      problem_.clear();
+      open_timer_.stop();
+      reopened = static_cast<bool>(rgb_info_);
+      if (reopened) {
+        ++reopens_;
+        NODELET_INFO_STREAM("OpenNI2Driver: reopened " << device_->info().name << " (" << device_->info().uri << ")");
+      } else {
+        advertise();
+      }
     }
-    problem_.clear();
-    open_timer_.stop();
+    // Subscribers that were there before the device stalled want their streams back.
+    if (reopened) updateStreams();
+  }
+
+  // The topics, once: a reopened device feeds the same publishers, so subscribers stay connected.
+  void advertise() {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle rgb_nh(nh, "rgb"), depth_nh(nh, "depth"), registered_nh(nh, "depth_registered");
     // openni2_camera's names: rgb_<serial>, depth_<serial>; a recording's file name stands in for the serial.
@@ -101,7 +122,8 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     image_transport::ImageTransport rgb_it(rgb_nh), depth_it(depth_nh), registered_it(registered_nh);
     rgb_pub_ = rgb_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
     depth_pub_ = depth_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
-    if (device_->registrationEnabled()) {
+    registered_ = device_->registrationEnabled();
+    if (registered_) {
       registered_pub_ = registered_it.advertiseCamera("image_raw", 1, connection, connection, connection, connection);
     }
     NODELET_INFO_STREAM("OpenNI2Driver: opened " << device_->info().name << " (" << device_->info().uri << ")"
@@ -116,15 +138,19 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     const bool want_depth = depth_pub_.getNumSubscribers() > 0 || registered_pub_.getNumSubscribers() > 0;
     try {
       if (want_color) {
+        if (!color_.on) color_.since_ns = steadyNanoseconds();
         device_->startColor([this](const Openni2ColorFrame& frame) { publishColor(frame); });
       } else {
         device_->stopColor();
       }
+      color_.on = want_color;
       if (want_depth) {
+        if (!depth_.on) depth_.since_ns = steadyNanoseconds();
         device_->startDepth([this](const Openni2DepthFrame& frame) { publishDepth(frame); });
       } else {
         device_->stopDepth();
       }
+      depth_.on = want_depth;
     } catch (const InputError& e) {
       problem_ = e.what();
       NODELET_ERROR_STREAM("OpenNI2Driver: " << e.what());
@@ -177,7 +203,44 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     return *camera;
   }
 
+  static std::int64_t steadyNanoseconds() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
+
+  // A stream that was started and sends nothing for stall_timeout: the device was unplugged or its USB
+  // bus stalled (OpenNI2 says nothing then). Close it and reopen it every 3 s, as on a late plug-in.
+  void closeIfStalled() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!device_ || !(stall_timeout_ > 0.0)) return;
+    const std::int64_t now = steadyNanoseconds();
+    for (const StreamWatch* watch : {&color_, &depth_}) {
+      if (!watch->on) continue;
+      const double silent = 1e-9 * (now - std::max(watch->since_ns, watch->last_frame_ns.load()));
+      if (silent < stall_timeout_) continue;
+      std::ostringstream message;
+      message << device_->info().uri << ": no " << (watch == &color_ ? "colour" : "depth") << " frame for " << std::fixed
+              << std::setprecision(1) << silent << " s (unplugged, or its USB bus stalled): closed, reopening every 3 s";
+      problem_ = message.str();
+      NODELET_ERROR_STREAM("OpenNI2Driver: " << problem_);
+      ++stalls_;
+      device_.reset();  // stops both streams (listeners first) and closes the device
+      color_.on = depth_.on = false;
+      {
+        // The reopened device's clock starts again, and its modes are asked of it again.
+        std::lock_guard<std::mutex> stamp_lock(stamp_mutex_);
+        have_offset_ = false;
+      }
+      {
+        std::lock_guard<std::mutex> note_lock(note_mutex_);
+        color_camera_.reset(), depth_camera_.reset();
+      }
+      open_timer_.start();
+      return;
+    }
+  }
+
   void publishColor(const Openni2ColorFrame& frame) {
+    color_.last_frame_ns = steadyNanoseconds();
     const ros::Time stamp = stampOf(frame.device_stamp);
     ++color_frames_;
     auto image = boost::make_shared<sensor_msgs::Image>(toRgb8Image(frame.image, rgb_frame_id_, stamp));
@@ -186,10 +249,11 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   }
 
   void publishDepth(const Openni2DepthFrame& frame) {
+    depth_.last_frame_ns = steadyNanoseconds();
     const ros::Time stamp = stampOf(frame.device_stamp);
     ++depth_frames_;
     // Registered depth lies in the colour camera's frame; unregistered depth in the depth camera's.
-    const bool registered = device_->registrationEnabled();
+    const bool registered = registered_;
     const std::string& frame_id = registered ? rgb_frame_id_ : depth_frame_id_;
     auto image = boost::make_shared<sensor_msgs::Image>();
     image->header.stamp = stamp;
@@ -220,6 +284,8 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     }
     status.add("colour frames", color_frames_.load());
     status.add("depth frames", depth_frames_.load());
+    status.add("stalls (no frame for stall_timeout)", stalls_);
+    status.add("reopened after a stall", reopens_);
     std::lock_guard<std::mutex> note_lock(note_mutex_);
     if (!color_intrinsics_note_.empty()) status.add("colour intrinsics", color_intrinsics_note_);
     if (!depth_intrinsics_note_.empty()) status.add("depth intrinsics", depth_intrinsics_note_);
@@ -231,6 +297,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   Openni2Options options_;
   std::string rgb_frame_id_, depth_frame_id_, rgb_info_url_, depth_info_url_, problem_;
   bool use_device_time_ = true;
+  bool registered_ = false;  // depth registered to colour: asked of the device when first opened
   std::mutex mutex_, stamp_mutex_, note_mutex_;
   std::optional<PinholeCamera> color_camera_, depth_camera_;  // under note_mutex_, once known
   std::string color_intrinsics_note_, depth_intrinsics_note_;  // why a stream's intrinsics are a fallback
@@ -238,7 +305,15 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   std::unique_ptr<camera_info_manager::CameraInfoManager> rgb_info_, depth_info_;
   image_transport::CameraPublisher rgb_pub_, depth_pub_, registered_pub_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::WallTimer diagnostics_timer_, open_timer_;
+  ros::WallTimer diagnostics_timer_, open_timer_, stall_timer_;
+  double stall_timeout_ = 2.0;  // seconds without a frame on a started stream
+  struct StreamWatch {
+    bool on = false;             // started, under mutex_
+    std::int64_t since_ns = 0;   // when it was started (steady clock), under mutex_
+    std::atomic<std::int64_t> last_frame_ns{0};  // set by OpenNI2's frame thread
+  };
+  StreamWatch color_, depth_;
+  std::size_t stalls_ = 0, reopens_ = 0;  // under mutex_
   bool have_offset_ = false;
   double device_offset_ = 0.0;
   std::atomic<std::size_t> color_frames_{0}, depth_frames_{0};

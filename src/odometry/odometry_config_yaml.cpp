@@ -68,7 +68,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
     throw InputError(path + ": expected a map of odometry settings");
   }
   for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = yamlKeyName(entry.first, path);
     const auto setter = setters.find(key);
     if (setter == setters.end()) {
       if (ignore_other_keys) continue;

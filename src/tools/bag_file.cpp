@@ -1,5 +1,7 @@
 #include "vocal/tools/bag_file.h"
 
+#include <sys/stat.h>
+
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -8,7 +10,14 @@ void openBag(rosbag::Bag* bag, const std::string& path, rosbag::BagMode mode) {
   try {
     bag->open(path, mode);
   } catch (const rosbag::BagException& e) {
-    throw InputError(path + (mode == rosbag::bagmode::Write ? ": cannot open bag for writing (" : ": cannot open bag (") + e.what() + ")");
+    if (mode == rosbag::bagmode::Write) throw InputError(path + ": cannot open bag for writing (" + e.what() + ")");
+    std::string message = path + ": cannot open bag (" + e.what() + ")";
+    // A bag whose index is missing: a recording cut off (full disk, rosbag record killed) or still being written.
+    struct stat info {};
+    if (::stat(path.c_str(), &info) == 0 && info.st_size > 0) {
+      message += "; if the recording was cut off, `rosbag reindex " + path + "` recovers the messages it holds";
+    }
+    throw InputError(message);
   }
 }
 
