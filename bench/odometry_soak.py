@@ -8,7 +8,9 @@ published as openni2_launch does (bgr8, 16UC1 millimetres, camera_info) at --rat
 then backward and again (0..N-1, N-2..1, ...) with stamps that keep increasing, so the camera's motion
 stays continuous for all --frames frames and the odometry never restarts. roslaunch vocal
 odometry.launch runs the nodelet in its own manager (its own master on --port); this script
-subscribes to /odom, /path and /fused_cloud (so the nodelet builds all of them) and /diagnostics.
+subscribes to /odom and /fused_cloud (so the nodelet publishes the map) and /diagnostics; the path's
+length comes from the diagnostics (a Python subscriber to /path would spend more CPU deserialising
+4,000 poses 30 times a second than the nodelet spends tracking).
 
 Every --sample-every frames it prints the manager's resident memory (VmRSS from /proc), the
 odometry rate and latency over the last window, the fused cloud's and the path's sizes and the
@@ -33,7 +35,7 @@ try:
     import cv2
     import rospy
     from diagnostic_msgs.msg import DiagnosticArray
-    from nav_msgs.msg import Odometry, Path
+    from nav_msgs.msg import Odometry
     from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 except ImportError as e:
     sys.exit(f"odometry_soak: {e} (scripts/install_dependencies installs python3-opencv and the message modules)")
@@ -108,7 +110,6 @@ class Listener:
         self.latencies = []  # seconds from publishing a frame to its odometry arriving
         self.published_at = {}
         self.fused_points = 0
-        self.path_poses = 0
         self.diagnostics = {}
 
     def on_odometry(self, msg):
@@ -122,10 +123,6 @@ class Listener:
     def on_fused_cloud(self, msg):
         with self.lock:
             self.fused_points = msg.width * msg.height
-
-    def on_path(self, msg):
-        with self.lock:
-            self.path_poses = len(msg.poses)
 
     def on_diagnostics(self, msg):
         for status in msg.status:
@@ -166,7 +163,6 @@ def main():
         listener = Listener()
         rospy.Subscriber("/odom", Odometry, listener.on_odometry, queue_size=100)
         rospy.Subscriber("/fused_cloud", PointCloud2, listener.on_fused_cloud, queue_size=1, buff_size=2 ** 26)
-        rospy.Subscriber("/path", Path, listener.on_path, queue_size=1, buff_size=2 ** 24)
         rospy.Subscriber("/diagnostics", DiagnosticArray, listener.on_diagnostics, queue_size=10)
         frame_id = "camera_rgb_optical_frame"
         rgb_pub = rospy.Publisher("/camera/rgb/image_rect_color", Image, queue_size=2)
@@ -207,7 +203,8 @@ def main():
                     listener.latencies = []
                     stale = stamp.to_nsec() - int(5e9)  # frames the nodelet skipped never get odometry
                     listener.published_at = {s: t for s, t in listener.published_at.items() if s > stale}
-                    fused, path, diag = listener.fused_points, listener.path_poses, dict(listener.diagnostics)
+                    fused, diag = listener.fused_points, dict(listener.diagnostics)
+                path = diag.get("path poses", "?")
                 rss = resident_mib(pid)
                 samples.append((k, rss, rate))
                 print(f"{k:>7} {rss:>9.1f} {rate:>8.1f} {latency:>11.1f} {fused:>10} {path:>6} "

@@ -174,6 +174,16 @@ TEST(VoxelCloudMap, FusesViewsOfOneSurfaceIntoOnePointPerVoxel) {
   small.add(patch, Eigen::Isometry3d::Identity());
   EXPECT_EQ(small.voxels(), 10u);
   EXPECT_EQ(small.droppedPoints(), patch.size() - 10 * 4);
+  // A later view elsewhere pushes out what the oldest add() put in (whole), not its own points.
+  std::vector<vocal::ColoredPoint> elsewhere = patch;
+  for (auto& p : elsewhere) p.position.x() += 5.0f;
+  vocal::VoxelCloudMap lru(0.04, 1000);
+  lru.add(patch, Eigen::Isometry3d::Identity());      // 625 voxels
+  lru.add(elsewhere, Eigen::Isometry3d::Identity());  // 625 more than the budget holds
+  EXPECT_EQ(lru.droppedPoints(), 0u);
+  EXPECT_EQ(lru.evictedVoxels(), 625u);
+  EXPECT_EQ(lru.voxels(), 625u);
+  for (const vocal::ColoredPoint& p : lru.points()) EXPECT_GT(p.position.x(), 4.0f);
   EXPECT_EQ(vocal_test::inputErrorOf([] { vocal::VoxelCloudMap(0.0, 10); }),
             "voxel cloud map: voxel size 0.000000 m must be positive");
 }

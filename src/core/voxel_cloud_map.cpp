@@ -1,5 +1,6 @@
 #include "vocal/core/voxel_cloud_map.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -29,11 +30,13 @@ VoxelCloudMap::VoxelCloudMap(double voxel_size, std::size_t max_voxels) : voxel_
 }
 
 void VoxelCloudMap::add(const std::vector<ColoredPoint>& points, const Eigen::Isometry3d& map_from_points) {
+  ++adds_;
   for (const ColoredPoint& point : points) {
     const Eigen::Vector3d p = map_from_points * point.position.cast<double>();
     const std::uint64_t key = voxelKey(p, voxel_size_);
     auto voxel = voxels_.find(key);
     if (voxel == voxels_.end()) {
+      if (voxels_.size() >= max_voxels_) evictOldest();
       if (voxels_.size() >= max_voxels_) {
         ++dropped_;
         continue;
@@ -43,6 +46,27 @@ void VoxelCloudMap::add(const std::vector<ColoredPoint>& points, const Eigen::Is
     voxel->second.position_sum += p;
     voxel->second.color_sum += Eigen::Vector3d(point.color.r, point.color.g, point.color.b);
     ++voxel->second.count;
+    voxel->second.last_add = adds_;
+  }
+}
+
+void VoxelCloudMap::evictOldest() {
+  std::vector<std::uint32_t> ages;
+  ages.reserve(voxels_.size());
+  for (const auto& entry : voxels_)
+    if (entry.second.last_add != adds_) ages.push_back(entry.second.last_add);
+  if (ages.empty()) return;
+  // The add() at which the oldest tenth of the budget ends; all voxels last touched up to it go.
+  const std::size_t wanted = std::min(ages.size(), std::max<std::size_t>(1, max_voxels_ / 10));
+  std::nth_element(ages.begin(), ages.begin() + (wanted - 1), ages.end());
+  const std::uint32_t cutoff = ages[wanted - 1];
+  for (auto it = voxels_.begin(); it != voxels_.end();) {
+    if (it->second.last_add <= cutoff && it->second.last_add != adds_) {
+      it = voxels_.erase(it);
+      ++evicted_;
+    } else {
+      ++it;
+    }
   }
 }
 
@@ -61,7 +85,7 @@ std::vector<ColoredPoint> VoxelCloudMap::points() const {
 
 void VoxelCloudMap::clear() {
   voxels_.clear();
-  dropped_ = 0;
+  dropped_ = evicted_ = 0;
 }
 
 }  // namespace vocal

@@ -93,6 +93,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     wait_for_transform_ = pnh.param("wait_for_transform", 0.2);
     cloud_stride_ = std::max(1, pnh.param("cloud_stride", 4));
     fused_cloud_every_ = std::max(1, pnh.param("fused_cloud_every", 10));
+    const double fused_cloud_period = pnh.param("fused_cloud_period", 1.0);
     const bool approx_sync = pnh.param("approx_sync", true);
     skip_to_newest_ = pnh.param("skip_to_newest", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 10));
@@ -102,7 +103,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       if (pnh.getParam("", parameters)) settings = toYaml(parameters);
       config_ = odometryConfigFromYaml(settings, "parameters of " + pnh.getNamespace(), OdometryConfig{}, true);
       fused_map_ = std::make_unique<VoxelCloudMap>(pnh.param("fused_cloud_voxel", 0.02),
-                                                   static_cast<std::size_t>(pnh.param("fused_cloud_max_voxels", 2000000)));
+                                                   static_cast<std::size_t>(pnh.param("fused_cloud_max_voxels", 500000)));
     } catch (const InputError& e) {
       setupError(e.what());
       return;
@@ -121,6 +122,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     updater_->add("odometry", this, &IcpDvoOdometryNodelet::diagnose);
     diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
     watchdog_timer_ = nh.createWallTimer(ros::WallDuration(5.0), &IcpDvoOdometryNodelet::watchdog, this);
+    // Publishing costs the whole map's size, so it runs off the tracking path at most once a period:
+    // a 10,000-frame soak fell from 30 to 19 Hz while every new keyframe published the growing map.
+    fused_cloud_timer_ = nh.createWallTimer(ros::WallDuration(std::max(0.05, fused_cloud_period)),
+                                            [this](const ros::WallTimerEvent&) { publishFusedCloud(); });
 
     image_transport::ImageTransport rgb_it(nh), depth_it(nh);
     const image_transport::TransportHints rgb_hints("raw", ros::TransportHints(), pnh, "rgb_image_transport");
@@ -337,11 +342,23 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       if (cloud_wanted) cloud_pub_.publish(toPointCloud2(points, camera_frame, rgb.header.stamp));
       if (map_frame) {
         fused_map_->add(points, odom_from_base * base_from_camera);
-        if (fused_cloud_pub_.getNumSubscribers() > 0)
-          fused_cloud_pub_.publish(toPointCloud2(fused_map_->points(), odom_frame_id_, rgb.header.stamp));
+        fused_map_stamp_ = rgb.header.stamp;  // published by publishFusedCloud
       }
     }
     stage_sums_.clouds += lapMilliseconds(&clock);
+  }
+
+  void publishFusedCloud() {
+    if (fused_cloud_pub_.getNumSubscribers() == 0) return;
+    std::vector<ColoredPoint> points;
+    ros::Time stamp;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!fused_map_ || fused_map_stamp_.isZero() || fused_map_stamp_ == published_fused_map_stamp_) return;
+      points = fused_map_->points();
+      stamp = published_fused_map_stamp_ = fused_map_stamp_;
+    }
+    fused_cloud_pub_.publish(toPointCloud2(points, odom_frame_id_, stamp));
   }
 
   bool resetOdometry(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -361,6 +378,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     frames_on_path_ = 0;
     path_stride_ = 1;
     if (fused_map_) fused_map_->clear();
+    fused_map_stamp_ = published_fused_map_stamp_ = ros::Time();
     ++resets_;
   }
 
@@ -429,6 +447,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("rgb inliers", quality_.rgb_inliers);
     status.add("condition", quality_.condition);
     status.add("fused cloud voxels", fused_map_ ? fused_map_->voxels() : 0);
+    status.add("fused cloud voxels evicted (oldest first, at fused_cloud_max_voxels)", fused_map_ ? fused_map_->evictedVoxels() : 0);
   }
 
   // Parameters.
@@ -437,6 +456,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   bool skip_to_newest_ = true;  // false: every synchronised frame, in order (slow playback, parity tests)
   double wait_for_transform_ = 0.2;
   int cloud_stride_ = 4, fused_cloud_every_ = 10;
+  ros::WallTimer fused_cloud_timer_;
+  ros::Time fused_map_stamp_, published_fused_map_stamp_;  // of the last frame added, and of the map last published
   OdometryConfig config_;
   std::string setup_error_;
 
