@@ -2,6 +2,7 @@
 """Soak: the IcpDvoOdometry nodelet on a long live stream, its memory and rate sampled as it runs.
 
   bench/odometry_soak.py [TUM_FOLDER] [--frames 10000] [--rate 30] [--sample-every 500] [--port P]
+                         [--fused-cloud-max-voxels N]
 
 The real frames of TUM_FOLDER (default ../shared/data/tum/rgbd_dataset_freiburg1_xyz_first300) are
 published as openni2_launch does (bgr8, 16UC1 millimetres, camera_info) at --rate, played forward
@@ -139,6 +140,9 @@ def main():
     parser.add_argument("--sample-every", type=int, default=500)
     parser.add_argument("--port", type=int, default=11418)
     parser.add_argument("--workdir", default="/tmp/vocal_odometry_soak")
+    parser.add_argument("--fused-cloud-max-voxels", type=int, default=None,
+                        help="the fused cloud's budget (the nodelet's default otherwise): a budget reached during "
+                             "warm-up separates the map's growth from any other")
     args = parser.parse_args()
     if not os.path.exists(os.path.join(args.folder, "rgb.txt")):
         sys.exit(f"odometry_soak: {args.folder} is not a TUM folder (rgb.txt missing): the soak needs real frames")
@@ -151,8 +155,14 @@ def main():
     env = ros_environment(args.port)
     os.environ.update(env)
     log = open(os.path.join(args.workdir, "roslaunch.log"), "w")
-    launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"], env=env, stdout=log,
-                              stderr=subprocess.STDOUT)
+    launch_args = []
+    if args.fused_cloud_max_voxels is not None:
+        config = os.path.join(args.workdir, "odometry.yaml")
+        with open(os.path.join(ROOT, "config", "odometry.yaml")) as default, open(config, "w") as f:
+            f.write(default.read() + f"\nfused_cloud_max_voxels: {args.fused_cloud_max_voxels}\n")
+        launch_args.append(f"config:={config}")
+    launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"] + launch_args, env=env,
+                              stdout=log, stderr=subprocess.STDOUT)
     try:
         if not wait_for_topic(env, "/odom", 60):
             sys.exit(f"odometry_soak: the nodelet did not advertise /odom within 60 s (see {args.workdir}/roslaunch.log)")
