@@ -58,7 +58,9 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
   if (target.pattern.rows < 2 || target.pattern.cols < 2 || !(target.pattern.square_size > 0.0)) {
     throw InputError(where + ": rows and cols (inner corners) must be at least 2 and square_size positive");
   }
-  if (!(target.width > 0.0 && target.height > 0.0 && std::isfinite(target.width) && std::isfinite(target.height)) || (target.pattern.cols + 1) * target.pattern.square_size > target.width + 1e-9 ||
+  const bool finite_size = std::isfinite(target.width) && std::isfinite(target.height);
+  if (!(target.width > 0.0 && target.height > 0.0 && finite_size) ||
+      (target.pattern.cols + 1) * target.pattern.square_size > target.width + 1e-9 ||
       (target.pattern.rows + 1) * target.pattern.square_size > target.height + 1e-9) {
     throw InputError(where + ": the " + std::to_string(target.pattern.rows + 1) + "x" + std::to_string(target.pattern.cols + 1) +
                      " squares do not fit on the " + std::to_string(target.width) + " x " + std::to_string(target.height) +
