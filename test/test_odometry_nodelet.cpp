@@ -412,6 +412,49 @@ TEST_F(OdometryNodelet, ACoveredLensIsReportedLostThenRecovers) {
   EXPECT_GE(std::stoi("0" + diagnosticValue(received_.odometry_status, "relocalisations")), 1);
   EXPECT_GE(std::stoi("0" + diagnosticValue(received_.odometry_status, "frames predicted")), max_predicted);
 }
+
+// The depth stream stops for three seconds while colour goes on (a driver that died, a cable): the
+// diagnostics name the silent topic (stream_timeout 2 s here); when depth is back, frames reach the
+// tracker again and the diagnostics stop naming it.
+TEST_F(OdometryNodelet, AStreamThatStopsIsNamedAndFramesFlowWhenItIsBack) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  const vocal::ColorImage color(160, 120, vocal::Rgb8{120, 120, 120});
+  const vocal::DepthImage depth(160, 120, 1.5f);
+  ros::Publisher rgb_pub = nh_.advertise<sensor_msgs::Image>(T::kRgbImage, 5);
+  ros::Publisher depth_pub = nh_.advertise<sensor_msgs::Image>(T::kDepthImage, 5);
+  ros::Publisher info_pub = nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, 5);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while ((rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0) &&
+         ros::WallTime::now() < deadline) {
+    ros::WallDuration(0.05).sleep();
+  }
+  double stamp = 3000.0;
+  auto publish = [&](bool with_depth) {
+    const ros::Time t(stamp);
+    stamp += 0.1;
+    if (with_depth) depth_pub.publish(vocal::toDepth32FImage(depth, T::kDepthFrame, t));
+    info_pub.publish(vocal::toCameraInfo(camera, T::kRgbFrame, t));
+    rgb_pub.publish(vocal::toRgb8Image(color, T::kRgbFrame, t));
+    ros::WallDuration(0.1).sleep();
+  };
+  const std::string silent = std::string(T::kDepthImage) + ": nothing for ";
+  for (int i = 0; i < 5; ++i) publish(true);
+  for (int i = 0; i < 30; ++i) publish(false);
+  EXPECT_TRUE(vocal_test::waitUntil(received_.mutex, 5.0, [&] {
+    return received_.odometry_status.message.rfind(silent, 0) == 0;
+  })) << received_.odometry_status.message;
+  std::string received_before;
+  {
+    std::lock_guard<std::mutex> lock(received_.mutex);
+    EXPECT_EQ(received_.odometry_status.message.find(T::kRgbImage), std::string::npos) << "colour kept arriving";
+    received_before = diagnosticValue(received_.odometry_status, "frames received");
+  }
+  for (int i = 0; i < 5; ++i) publish(true);
+  EXPECT_TRUE(vocal_test::waitUntil(received_.mutex, 5.0, [&] {
+    return received_.odometry_status.message.find(silent) == std::string::npos &&
+           std::stoi("0" + diagnosticValue(received_.odometry_status, "frames received")) >= std::stoi("0" + received_before) + 5;
+  })) << received_.odometry_status.message;
+}
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <iomanip>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -94,6 +95,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     cloud_stride_ = std::max(1, pnh.param("cloud_stride", 4));
     fused_cloud_every_ = std::max(1, pnh.param("fused_cloud_every", 10));
     const double fused_cloud_period = pnh.param("fused_cloud_period", 1.0);
+    stream_timeout_ = pnh.param("stream_timeout", 5.0);
     const bool approx_sync = pnh.param("approx_sync", true);
     skip_to_newest_ = pnh.param("skip_to_newest", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 10));
@@ -134,9 +136,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     depth_sub_.subscribe(depth_it, "depth/image", queue_size, depth_hints);
     info_sub_.subscribe(nh, "rgb/camera_info", queue_size);
     // Arrivals per topic, so a missing stream can be named.
-    rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_; });
-    depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_; });
-    info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_; });
+    rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_, rgb_arrival_ns_ = steadyNanoseconds(); });
+    depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_, depth_arrival_ns_ = steadyNanoseconds(); });
+    info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_, info_arrival_ns_ = steadyNanoseconds(); });
     // Frames are tracked on a worker thread, newest first: a frame that arrives while one is being
     // tracked replaces any frame still waiting (counted as skipped), so no queue and no latency grow
     // when the camera is faster than the estimator.
@@ -395,6 +397,26 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
                                                                                         << info_sub_.getTopic() << ": " << info_count_);
   }
 
+  static std::int64_t steadyNanoseconds() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
+
+  // "TOPIC: nothing for N s" for each input topic that once arrived and has been silent for stream_timeout.
+  std::string silentTopics() const {
+    const std::int64_t now = steadyNanoseconds();
+    const std::pair<std::string, std::int64_t> topics[] = {{rgb_sub_.getTopic(), rgb_arrival_ns_.load()},
+                                                           {depth_sub_.getTopic(), depth_arrival_ns_.load()},
+                                                           {info_sub_.getTopic(), info_arrival_ns_.load()}};
+    std::ostringstream message;
+    for (const auto& [topic, arrival] : topics) {
+      const double silent = 1e-9 * (now - arrival);
+      if (arrival == 0 || silent < stream_timeout_) continue;
+      message << (message.tellp() > 0 ? "; " : "") << topic << ": nothing for " << std::fixed << std::setprecision(1) << silent << " s";
+    }
+    if (message.tellp() > 0) message << " (stopped? frames resume when every stream is back)";
+    return message.str();
+  }
+
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
     std::lock_guard<std::mutex> lock(mutex_);
     using diagnostic_msgs::DiagnosticStatus;
@@ -403,6 +425,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
     } else if (received == 0) {
       status.summary(DiagnosticStatus::WARN, "no synchronised rgb/depth/camera_info frame received yet");
+    } else if (const std::string silent = silentTopics(); !silent.empty()) {
+      // A stream that stopped (a driver that died, a bag that ended): no frame can be tracked until it is back.
+      status.summary(DiagnosticStatus::WARN, silent);
     } else if (worst_since_report_ == TrackingState::kLost && state_ != TrackingState::kLost) {
       status.summary(DiagnosticStatus::ERROR, std::string("lost since the last report, now ") + trackingStateName(state_));
     } else if (state_ == TrackingState::kLost || state_ == TrackingState::kPredicted) {
@@ -505,6 +530,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::thread worker_;
   std::atomic<std::size_t> frames_received_{0}, frames_skipped_{0};
   std::atomic<std::size_t> rgb_count_{0}, depth_count_{0}, info_count_{0};
+  std::atomic<std::int64_t> rgb_arrival_ns_{0}, depth_arrival_ns_{0}, info_arrival_ns_{0};  // steady clock, 0: never
+  double stream_timeout_ = 5.0;  // seconds of silence on an input topic before the diagnostics name it
 };
 
 }  // namespace vocal
