@@ -19,6 +19,20 @@ namespace {
 // within a few centimetres and degrees of an earlier pose's plane now and then.)
 constexpr double kBackgroundRecurrence = 0.5;
 
+std::vector<Eigen::Vector3f> toFloats(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) out.push_back(p.cast<float>());
+  return out;
+}
+
+std::vector<Eigen::Vector3d> toDoubles(const std::vector<Eigen::Vector3f>& points) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) out.push_back(p.cast<double>());
+  return out;
+}
+
 // The median angle between neighbouring returns of a scan given in beam order.
 double beamSpacingOf(const std::vector<Eigen::Vector3d>& scan) {
   std::vector<double> steps;
@@ -91,10 +105,12 @@ bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch sear
   candidate_summaries_.push_back(std::move(summaries));
   chosen_.clear();
   const bool found = !search.candidates.empty();
-  RangeMessage message;
+  StoredRangeMessage message;
   message.sensor = sensor;
   message.stamp = stamp;
-  message.search = std::move(search);
+  for (const TargetCandidate& c : search.candidates) message.candidates.push_back({toFloats(c.points), toFloats(c.outline), c.mismatch});
+  message.rejection = std::move(search.rejection);
+  message.check = std::move(search.check);
   range_messages_.push_back(std::move(message));
   return found;
 }
@@ -312,9 +328,15 @@ const std::vector<int>& CalibrationSession::chosenCandidates() const {
 
 std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
   const std::vector<int>& chosen = chosenCandidates();
-  std::vector<RangeMessage> messages = range_messages_;
+  std::vector<RangeMessage> messages(range_messages_.size());
   for (std::size_t i = 0; i < messages.size(); ++i) {
+    const StoredRangeMessage& stored = range_messages_[i];
     RangeMessage& m = messages[i];
+    m.sensor = stored.sensor;
+    m.stamp = stored.stamp;
+    m.search.rejection = stored.rejection;
+    m.search.check = stored.check;
+    for (const StoredCandidate& c : stored.candidates) m.search.candidates.push_back({toDoubles(c.points), toDoubles(c.outline), c.mismatch});
     m.chosen = chosen[i];
     if (m.chosen >= 0) continue;
     const std::size_t found = m.search.candidates.size();
@@ -336,8 +358,8 @@ std::vector<TimedObservation> CalibrationSession::timedObservations(const std::v
     TimedObservation observation;
     observation.sensor = range_messages_[i].sensor;
     observation.stamp = range_messages_[i].stamp;
-    observation.points = range_messages_[i].search.candidates[chosen[i]].points;
-    observation.outline = range_messages_[i].search.candidates[chosen[i]].outline;
+    observation.points = toDoubles(range_messages_[i].candidates[chosen[i]].points);
+    observation.outline = toDoubles(range_messages_[i].candidates[chosen[i]].outline);
     if (const std::optional<RingOffsets>& rings = offsets[observation.sensor]; rings && rings->applied) {
       for (Eigen::Vector3d& p : observation.points) p = rings->corrected(p);
       for (Eigen::Vector3d& p : observation.outline) p = rings->corrected(p);
@@ -352,7 +374,7 @@ std::vector<SensorDataCounts> CalibrationSession::counts() const {
   std::vector<SensorDataCounts> counts = counts_;
   for (std::size_t i = 0; i < range_messages_.size(); ++i) {
     if (chosen[i] >= 0) ++counts[range_messages_[i].sensor].target_found;
-    else if (!range_messages_[i].search.candidates.empty()) ++counts[range_messages_[i].sensor].only_background;
+    else if (!range_messages_[i].candidates.empty()) ++counts[range_messages_[i].sensor].only_background;
   }
   return counts;
 }

@@ -132,7 +132,20 @@ class CalibrationSession {
   StillnessOptions stillness_;
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
-  std::vector<RangeMessage> range_messages_;
+  // A range message as kept until the solve: its candidates' points (most of a session's memory) in
+  // floats, whose micrometres at lidar range are far below any sensor's noise; converted back to
+  // RangeMessage / TimedObservation when asked for.
+  struct StoredCandidate {
+    std::vector<Eigen::Vector3f> points, outline;
+    double mismatch = 0.0;
+  };
+  struct StoredRangeMessage {
+    int sensor = -1;
+    double stamp = 0.0;
+    std::vector<StoredCandidate> candidates;
+    std::string rejection, check;  // TargetSearch's, when there are no candidates
+  };
+  std::vector<StoredRangeMessage> range_messages_;
   std::vector<std::vector<StaticBackground::Summary>> candidate_summaries_;  // per range message
   mutable std::vector<int> chosen_;  // chosenCandidates(), valid while its size matches range_messages_
   std::vector<StaticBackground> backgrounds_;  // per sensor
