@@ -104,6 +104,22 @@ class OdometryNodelet : public ::testing::Test {
     static_broadcaster_.sendTransform(vocal::toTransformStamped(baseFromCamera(), "base_link", T::kCameraFrame, ros::Time(0)));
   }
 
+  // Publishers of the frame topics the nodelets subscribe to, once every nodelet is connected.
+  struct FrameTopics {
+    ros::Publisher rgb, depth, info;
+  };
+  FrameTopics advertiseFrameTopics(int queue_size = 5) {
+    FrameTopics topics{nh_.advertise<sensor_msgs::Image>(T::kRgbImage, queue_size),
+                       nh_.advertise<sensor_msgs::Image>(T::kDepthImage, queue_size),
+                       nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, queue_size)};
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+    while ((topics.rgb.getNumSubscribers() == 0 || topics.depth.getNumSubscribers() == 0 || topics.info.getNumSubscribers() == 0) &&
+           ros::WallTime::now() < deadline) {
+      ros::WallDuration(0.05).sleep();
+    }
+    return topics;
+  }
+
   ros::NodeHandle nh_;
   Received received_;
   std::vector<ros::Subscriber> subscribers_;
@@ -220,14 +236,8 @@ TEST_F(OdometryNodelet, BadInputIsDroppedAndNamedAndResetRestarts) {
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
   vocal::ColorImage color(160, 120, vocal::Rgb8{120, 120, 120});
   vocal::DepthImage depth(160, 120, 1.5f);
-  ros::Publisher rgb_pub = nh_.advertise<sensor_msgs::Image>(T::kRgbImage, 5);
-  ros::Publisher depth_pub = nh_.advertise<sensor_msgs::Image>(T::kDepthImage, 5);
-  ros::Publisher info_pub = nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, 5);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
-  while ((rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0) &&
-         ros::WallTime::now() < deadline) {
-    ros::WallDuration(0.05).sleep();
-  }
+  const FrameTopics topics = advertiseFrameTopics();
+  const ros::Publisher &rgb_pub = topics.rgb, &depth_pub = topics.depth, &info_pub = topics.info;
   auto publish = [&](double stamp, sensor_msgs::Image rgb, sensor_msgs::CameraInfo info) {
     const ros::Time t(stamp);
     rgb.header.stamp = t;
@@ -296,14 +306,8 @@ TEST_F(OdometryNodelet, ABurstIsTrackedNewestFirstWithSkipsCounted) {
   std::vector<vocal::RgbdFrame> views;
   for (int i = 0; i < 2; ++i) views.push_back(vocal::renderSyntheticFrame(scene, camera, path[i], vocal::kinectLikeSensorModel(), i));
 
-  ros::Publisher rgb_pub = nh_.advertise<sensor_msgs::Image>(T::kRgbImage, 100);
-  ros::Publisher depth_pub = nh_.advertise<sensor_msgs::Image>(T::kDepthImage, 100);
-  ros::Publisher info_pub = nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, 100);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
-  while ((rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0) &&
-         ros::WallTime::now() < deadline) {
-    ros::WallDuration(0.05).sleep();
-  }
+  const FrameTopics topics = advertiseFrameTopics(100);
+  const ros::Publisher &rgb_pub = topics.rgb, &depth_pub = topics.depth, &info_pub = topics.info;
   const int burst = 30;
   const double first_stamp = 3000.0, period = 1.0 / 30;
   for (int i = 0; i < burst; ++i) {
@@ -420,14 +424,8 @@ TEST_F(OdometryNodelet, AStreamThatStopsIsNamedAndFramesFlowWhenItIsBack) {
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
   const vocal::ColorImage color(160, 120, vocal::Rgb8{120, 120, 120});
   const vocal::DepthImage depth(160, 120, 1.5f);
-  ros::Publisher rgb_pub = nh_.advertise<sensor_msgs::Image>(T::kRgbImage, 5);
-  ros::Publisher depth_pub = nh_.advertise<sensor_msgs::Image>(T::kDepthImage, 5);
-  ros::Publisher info_pub = nh_.advertise<sensor_msgs::CameraInfo>(T::kRgbInfo, 5);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
-  while ((rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0) &&
-         ros::WallTime::now() < deadline) {
-    ros::WallDuration(0.05).sleep();
-  }
+  const FrameTopics topics = advertiseFrameTopics();
+  const ros::Publisher &rgb_pub = topics.rgb, &depth_pub = topics.depth, &info_pub = topics.info;
   double stamp = 3000.0;
   auto publish = [&](bool with_depth) {
     const ros::Time t(stamp);

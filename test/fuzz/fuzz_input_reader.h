@@ -35,7 +35,8 @@ class FuzzInputReader {
   }
 
   std::string takeString(std::size_t max_length) {
-    const std::size_t n = std::min<std::size_t>(take<std::uint8_t>() % (max_length + 1), remaining());
+    const std::size_t wanted = take<std::uint8_t>() % (max_length + 1);  // before remaining(): it consumes a byte
+    const std::size_t n = std::min(wanted, remaining());
     std::string s(reinterpret_cast<const char*>(data_ + offset_), n);
     offset_ += n;
     return s;

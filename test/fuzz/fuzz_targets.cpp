@@ -20,6 +20,7 @@
 #include "vocal/core/tum_sequence.h"
 #include "vocal/core/tum_trajectory.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/nodelets/parameter_yaml.h"
 #include "vocal/odometry/odometry_config_yaml.h"
 
 namespace vocal_fuzz {
@@ -108,7 +109,8 @@ sensor_msgs::Image takeImage(FuzzInputReader& in, std::size_t max_data) {
   msg.is_bigendian = in.take<std::uint8_t>() & 1;
   msg.encoding = in.takeChoice({"rgb8", "bgr8", "rgba8", "bgra8", "mono8", "16UC1", "32FC1", "mono16", "8UC3", "yuv422",
                                 "bayer_rggb8", "64FC1"});
-  const std::size_t bytes = std::min<std::size_t>(in.take<std::uint32_t>() % (max_data + 1), in.remaining());
+  const std::size_t wanted = in.take<std::uint32_t>() % (max_data + 1);  // before remaining(): it consumes bytes
+  const std::size_t bytes = std::min(wanted, in.remaining());
   for (std::size_t i = 0; i < bytes; ++i) msg.data.push_back(in.take<std::uint8_t>());
   return msg;
 }
@@ -200,6 +202,50 @@ void laserScanMessage(const std::uint8_t* data, std::size_t size) {
   });
 }
 
+// A nodelet's private parameters as rosparam hands them over: any nesting of XmlRpc values, keys
+// mostly the odometry settings' names.
+XmlRpc::XmlRpcValue takeParameter(FuzzInputReader& in, int depth) {
+  switch (in.take<std::uint8_t>() % (depth < 3 ? 6 : 4)) {
+    case 0: return XmlRpc::XmlRpcValue(static_cast<bool>(in.take<std::uint8_t>() & 1));
+    case 1: return XmlRpc::XmlRpcValue(in.take<int>());
+    case 2: return XmlRpc::XmlRpcValue(in.take<double>());
+    case 3: return XmlRpc::XmlRpcValue(in.takeChoice({"fused", "icp", "rgb", "keyframe", "frame", "auto", "opencl", "nan", "1e400"}));
+    case 4: {
+      XmlRpc::XmlRpcValue list;
+      list.setSize(in.take<std::uint8_t>() % 5);
+      for (int i = 0; i < list.size(); ++i) list[i] = takeParameter(in, depth + 1);
+      return list;
+    }
+    default: {
+      XmlRpc::XmlRpcValue map;
+      map.begin();  // an empty struct, not an invalid value
+      const int entries = in.take<std::uint8_t>() % 6;
+      for (int i = 0; i < entries && in.remaining() > 0; ++i) {
+        const std::string key = in.takeChoice({"mode", "levels", "iterations", "icp_max_distance", "rgb_weight",
+                                               "rgb_min_gradient", "tracking_reference", "keyframes_kept", "backend",
+                                               "cpu_threads", "max_depth", "feature_initialisation", "frame_id"});
+        map[key] = takeParameter(in, depth + 1);
+      }
+      return map;
+    }
+  }
+}
+
+void odometryParameters(const std::uint8_t* data, std::size_t size) {
+  FuzzInputReader in(data, size);
+  XmlRpc::XmlRpcValue parameters;
+  parameters.begin();
+  while (in.remaining() > 0) {
+    const std::string key = in.takeChoice({"mode", "levels", "iterations", "icp_max_distance", "rgb_weight", "rgb_min_gradient",
+                                           "tracking_reference", "keyframes_kept", "backend", "cpu_threads", "max_depth",
+                                           "convergence_translation", "feature_initialisation", "frame_id", "approx_sync"});
+    parameters[key] = takeParameter(in, 1);
+  }
+  refusedOrTaken([&] {
+    vocal::odometryConfigFromYaml(vocal::toYaml(parameters), "parameters of /camera/icp_dvo_odometry", vocal::OdometryConfig{}, true);
+  });
+}
+
 }  // namespace
 
 const std::vector<FuzzTarget>& fuzzTargets() {
@@ -215,6 +261,8 @@ const std::vector<FuzzTarget>& fuzzTargets() {
        cameraInfoMessage},
       {"point_cloud2_message", "PointCloud2 with any fields, strides, sizes (fromPointCloud2)", pointCloud2Message},
       {"laser_scan_message", "LaserScan with NaN / inf / empty ranges (fromLaserScan)", laserScanMessage},
+      {"odometry_parameters", "the odometry nodelet's private parameters, any XmlRpc nesting (toYaml, odometryConfigFromYaml)",
+       odometryParameters},
   };
   return targets;
 }
