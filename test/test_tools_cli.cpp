@@ -14,6 +14,9 @@
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
 #include <yaml-cpp/yaml.h>
 
 #include "test_support.h"
@@ -202,6 +205,47 @@ TEST(ToolsCli, BagOdometryNamesAMissingStreamAndWritesNothing) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output.rfind("bag_odometry: error: " + folder + "/missing.bag: cannot open bag", 0), 0u) << r.output;
   EXPECT_FALSE(std::ifstream(output).good()) << "a failed run left " << output;
+}
+
+// A recording with one frame of the wrong encoding and one frame stamped before the previous (out of
+// order): both are named and counted, the other frames are tracked and written.
+TEST(ToolsCli, BagOdometryDropsBadFramesAndGoesOn) {
+  const std::string folder = vocal_test::makeTempFolder("cli_bag_odometry_hostile");
+  RunResult r = runTool("generate_synthetic_sequence " + folder + "/seq --frames 10 --width 160 --height 120 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  writeOpenNi2Bag(vocal::TumSequence::open(folder + "/seq"), folder + "/good.bag", true, true);
+  {
+    rosbag::Bag good, hostile;
+    good.open(folder + "/good.bag", rosbag::bagmode::Read);
+    hostile.open(folder + "/hostile.bag", rosbag::bagmode::Write);
+    std::map<std::string, int> seen;
+    ros::Time first_stamp;
+    for (const rosbag::MessageInstance& m : rosbag::View(good)) {
+      sensor_msgs::Image::Ptr image = m.instantiate<sensor_msgs::Image>();
+      if (!image) {
+        hostile.write(m.getTopic(), m.getTime(), m);
+        continue;
+      }
+      const int index = seen[m.getTopic()]++;
+      if (index == 0) first_stamp = image->header.stamp;
+      if (index == 3 && m.getTopic() == vocal::OpenNi2BagTopics::kRgbImage) image->encoding = "32FC1";
+      if (index == 6) image->header.stamp = first_stamp;  // colour and depth of frame 6 from before frame 1
+      hostile.write(m.getTopic(), m.getTime(), *image);
+    }
+  }
+  r = runTool("bag_odometry " + folder + "/hostile.bag --output " + folder + "/hostile.txt --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto metrics = parseMetrics(r.output);
+  EXPECT_EQ(metrics.at("images_out_of_order"), 2);
+  EXPECT_EQ(metrics.at("frames_dropped"), 1);
+  EXPECT_EQ(metrics.at("frames"), 8);
+  EXPECT_EQ(vocal::readTumTrajectory(folder + "/hostile.txt").size(), 8u);
+  // Without --quiet the problems are named.
+  r = runTool("bag_odometry " + folder + "/hostile.bag --output " + folder + "/hostile.txt");
+  EXPECT_NE(r.output.find("frame dropped: /camera/rgb/image_rect_color: encoding '32FC1' is not a colour image"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("/camera/rgb/image_rect_color at "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(": dropped (and any others, counted)"), std::string::npos) << r.output;
 }
 
 TEST(ToolsCli, TumOdometryWritesTrajectoryAndMetrics) {

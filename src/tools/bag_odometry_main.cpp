@@ -96,7 +96,8 @@ int run(const vocal::CommandLine& args) {
   std::unique_ptr<vocal::IcpDvoOdometry> odometry;
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
-  int failures = 0, relocalisations = 0;
+  int failures = 0, relocalisations = 0, dropped = 0;
+  std::string first_drop;
   CameraInfoMsg::ConstPtr info;
 
   auto track = [&](const ImageMsg& rgb, const ImageMsg& depth) {
@@ -129,17 +130,29 @@ int run(const vocal::CommandLine& args) {
   auto step = [&] {
     if (!quiet && (++done % 20 == 0 || done == total)) progress(done, total);
   };
+  // An image whose stamp is not after the last one kept on its topic (out of order, or a bag recorded
+  // over a looped playback) is dropped and counted: the pairing needs increasing stamps.
   std::vector<double> rgb_stamps, depth_stamps;
+  std::vector<long> rgb_kept, depth_kept;  // per message on the topic: its index among the kept, -1 if dropped
+  int out_of_order = 0;
   for (const rosbag::MessageInstance& m : view) {
-    if (m.getTopic() == rgb_topic) rgb_stamps.push_back(m.instantiate<ImageMsg>()->header.stamp.toSec());
-    if (m.getTopic() == depth_topic) depth_stamps.push_back(m.instantiate<ImageMsg>()->header.stamp.toSec());
-    step();
-  }
-  for (const auto* stamps : {&rgb_stamps, &depth_stamps}) {
-    if (!std::is_sorted(stamps->begin(), stamps->end())) {
-      throw vocal::InputError(path + ": " + (stamps == &rgb_stamps ? rgb_topic : depth_topic) +
-                              ": header stamps are not in order in the bag");
+    const bool is_rgb = m.getTopic() == rgb_topic;
+    if (is_rgb || m.getTopic() == depth_topic) {
+      std::vector<double>& stamps = is_rgb ? rgb_stamps : depth_stamps;
+      std::vector<long>& kept = is_rgb ? rgb_kept : depth_kept;
+      const double stamp = m.instantiate<ImageMsg>()->header.stamp.toSec();
+      if (stamps.empty() || stamp > stamps.back()) {
+        kept.push_back(static_cast<long>(stamps.size()));
+        stamps.push_back(stamp);
+      } else {
+        kept.push_back(-1);
+        if (out_of_order++ == 0 && !quiet) {
+          std::fprintf(stderr, "\n%s: %s at %.6f is not after the previous image's %.6f: dropped (and any others, counted)\n",
+                       path.c_str(), m.getTopic().c_str(), stamp, stamps.back());
+        }
+      }
     }
+    step();
   }
   const std::vector<vocal::StampMatch> pairs = vocal::associateStamps(rgb_stamps, depth_stamps, max_difference);
   const int unpaired = static_cast<int>(rgb_stamps.size() - pairs.size());
@@ -151,28 +164,37 @@ int run(const vocal::CommandLine& args) {
     if (m.getTopic() == info_topic) {
       info = m.instantiate<CameraInfoMsg>();
     } else if (m.getTopic() == rgb_topic) {
-      const std::size_t i = rgb_index++;
-      if (rgb_needed[i]) rgb_held[i] = m.instantiate<ImageMsg>();
+      const long i = rgb_kept[rgb_index++];
+      if (i >= 0 && rgb_needed[i]) rgb_held[i] = m.instantiate<ImageMsg>();
     } else {
-      const std::size_t i = depth_index++;
-      if (depth_needed[i]) depth_held[i] = m.instantiate<ImageMsg>();
+      const long i = depth_kept[depth_index++];
+      if (i >= 0 && depth_needed[i]) depth_held[i] = m.instantiate<ImageMsg>();
     }
     while (next_pair < pairs.size() && rgb_held.count(pairs[next_pair].first) && depth_held.count(pairs[next_pair].second)) {
       const vocal::StampMatch& pair = pairs[next_pair++];
-      track(*rgb_held[pair.first], *depth_held[pair.second]);
+      // A bad frame (encoding, size, camera_info) is named, counted and passed over; the rest go on.
+      try {
+        track(*rgb_held[pair.first], *depth_held[pair.second]);
+      } catch (const vocal::InputError& e) {
+        if (dropped++ == 0) first_drop = e.what();
+        if (!quiet && dropped <= 5) std::fprintf(stderr, "\nframe dropped: %s%s\n", e.what(), dropped == 5 ? " (further drops only counted)" : "");
+      }
       rgb_held.erase(rgb_held.begin(), rgb_held.upper_bound(pair.first));
       depth_held.erase(depth_held.begin(), depth_held.upper_bound(pair.second));
     }
     step();
   }
   if (!quiet) std::fprintf(stderr, "\n");
+  if (trajectory.empty() && dropped > 0) throw vocal::InputError("every frame was dropped; the first: " + first_drop);
   if (trajectory.empty()) {
     throw vocal::InputError(path + ": no colour image on " + rgb_topic + " has a depth image on " + depth_topic +
                             " within " + std::to_string(max_difference) + " s");
   }
   vocal::writeTumTrajectory(args.text("output", ""), trajectory);
-  std::printf("frames: %zu\nunpaired_colour_images: %d\ntracking_failures: %d\nrelocalisations: %d\nframes_per_second: %.2f\n",
-              trajectory.size(), unpaired, failures, relocalisations, trajectory.size() / std::max(tracking_seconds, 1e-9));
+  std::printf("frames: %zu\nunpaired_colour_images: %d\nimages_out_of_order: %d\nframes_dropped: %d\ntracking_failures: %d\n"
+              "relocalisations: %d\nframes_per_second: %.2f\n",
+              trajectory.size(), unpaired, out_of_order, dropped, failures, relocalisations,
+              trajectory.size() / std::max(tracking_seconds, 1e-9));
   if (!groundtruth.empty()) {
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(groundtruth, trajectory),
                                   vocal::computeRpe(groundtruth, trajectory, args.number("delta", 1.0)));
