@@ -86,6 +86,10 @@ TEST(RigDescription, MistakesNameTheFileAndTheKey) {
   EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
                                    "sensors:\n  - {name: l, type: lidar3d, frame_id: v, cloud_topic: /p, pose: [.inf,0,0,0,0,0,1]}\n"),
             file + ": sensors[0] 'l': 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
+  EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n"
+                               "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: .inf, height: 0.7}\n"
+                               "sensors: []\n"),
+            file + ": target: the 7x9 squares do not fit on the inf x 0.700000 m board");
 }
 
 // A crop box is read, written back, and keeps the search inside it: a cloud whose only board lies

@@ -108,6 +108,15 @@ TEST(MessageConversions, CloudWhoseSizeWrapsIn32BitsIsRefused) {
             "/velodyne_points: data holds 32 bytes, too few for 65536 points");
 }
 
+// A scan header whose angles run for more than four turns is corrupt, not a scan.
+TEST(MessageConversions, ScanWhoseAnglesSpanMoreThanFourTurnsIsRefused) {
+  const sensor_msgs::LaserScan scan = vocal::toLaserScan(std::vector<float>(100, 1.0f), 0.0, 1.0, 10.0, "laser", ros::Time(1));
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromLaserScan(scan, "/scan"); }),
+            "/scan: angle_min 0.000000 and 100 beams of angle_increment 1.000000 span more than four turns");
+  EXPECT_EQ(vocal::fromLaserScan(vocal::toLaserScan(std::vector<float>(10, 1.0f), 0.0, 1.0, 10.0, "laser", ros::Time(1)), "/scan").size(),
+            10u);
+}
+
 TEST(MessageConversions, PointCloudCarriesPositionsAndPackedColour) {
   const std::vector<vocal::ColoredPoint> points = {{Eigen::Vector3f(1, 2, 3), vocal::Rgb8{255, 128, 1}}};
   const sensor_msgs::PointCloud2 cloud = vocal::toPointCloud2(points, "odom", ros::Time(5));

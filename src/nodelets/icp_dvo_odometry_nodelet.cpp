@@ -39,6 +39,7 @@
 #include "vocal/core/errors.h"
 #include "vocal/core/lap_timer.h"
 #include "vocal/core/se3.h"
+#include "vocal/core/stream_silence.h"
 #include "vocal/core/voxel_cloud_map.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/nodelets/parameter_yaml.h"
@@ -124,8 +125,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     updater_->add("odometry", this, &IcpDvoOdometryNodelet::diagnose);
     diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { updater_->update(); });
     watchdog_timer_ = nh.createWallTimer(ros::WallDuration(5.0), &IcpDvoOdometryNodelet::watchdog, this);
-    // Publishing costs the whole map's size, so it runs off the tracking path at most once a period:
-    // a 10,000-frame soak fell from 30 to 19 Hz while every new keyframe published the growing map.
+    // Publishing costs the whole map's size, so a timer does it at most once a period (only the copy of
+    // the map's points holds the tracking lock): a 10,000-frame soak fell from 30 to 19 Hz while every
+    // new keyframe published the growing map.
     fused_cloud_timer_ = nh.createWallTimer(ros::WallDuration(std::max(0.05, fused_cloud_period)),
                                             [this](const ros::WallTimerEvent&) { publishFusedCloud(); });
 
@@ -136,9 +138,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     depth_sub_.subscribe(depth_it, "depth/image", queue_size, depth_hints);
     info_sub_.subscribe(nh, "rgb/camera_info", queue_size);
     // Arrivals per topic, so a missing stream can be named.
-    rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_, rgb_arrival_ns_ = steadyNanoseconds(); });
-    depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_, depth_arrival_ns_ = steadyNanoseconds(); });
-    info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_, info_arrival_ns_ = steadyNanoseconds(); });
+    rgb_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++rgb_count_, rgb_silence_.arrived(); });
+    depth_sub_.registerCallback([this](const ImageMsg::ConstPtr&) { ++depth_count_, depth_silence_.arrived(); });
+    info_sub_.registerCallback([this](const CameraInfoMsg::ConstPtr&) { ++info_count_, info_silence_.arrived(); });
     // Frames are tracked on a worker thread, newest first: a frame that arrives while one is being
     // tracked replaces any frame still waiting (counted as skipped), so no queue and no latency grow
     // when the camera is faster than the estimator.
@@ -397,20 +399,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
                                                                                         << info_sub_.getTopic() << ": " << info_count_);
   }
 
-  static std::int64_t steadyNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  }
-
   // "TOPIC: nothing for N s" for each input topic that once arrived and has been silent for stream_timeout.
   std::string silentTopics() const {
-    const std::int64_t now = steadyNanoseconds();
-    const std::pair<std::string, std::int64_t> topics[] = {{rgb_sub_.getTopic(), rgb_arrival_ns_.load()},
-                                                           {depth_sub_.getTopic(), depth_arrival_ns_.load()},
-                                                           {info_sub_.getTopic(), info_arrival_ns_.load()}};
+    const std::pair<std::string, const StreamSilence*> topics[] = {
+        {rgb_sub_.getTopic(), &rgb_silence_}, {depth_sub_.getTopic(), &depth_silence_}, {info_sub_.getTopic(), &info_silence_}};
     std::ostringstream message;
-    for (const auto& [topic, arrival] : topics) {
-      const double silent = 1e-9 * (now - arrival);
-      if (arrival == 0 || silent < stream_timeout_) continue;
+    for (const auto& [topic, silence] : topics) {
+      const double silent = silence->seconds();
+      if (!silence->heard() || silent < stream_timeout_) continue;
       message << (message.tellp() > 0 ? "; " : "") << topic << ": nothing for " << std::fixed << std::setprecision(1) << silent << " s";
     }
     if (message.tellp() > 0) message << " (stopped? frames resume when every stream is back)";
@@ -530,7 +526,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::thread worker_;
   std::atomic<std::size_t> frames_received_{0}, frames_skipped_{0};
   std::atomic<std::size_t> rgb_count_{0}, depth_count_{0}, info_count_{0};
-  std::atomic<std::int64_t> rgb_arrival_ns_{0}, depth_arrival_ns_{0}, info_arrival_ns_{0};  // steady clock, 0: never
+  StreamSilence rgb_silence_, depth_silence_, info_silence_;
   double stream_timeout_ = 5.0;  // seconds of silence on an input topic before the diagnostics name it
 };
 

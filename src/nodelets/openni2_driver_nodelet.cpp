@@ -2,9 +2,7 @@
 // with openni2_camera's topics and parameters. Streams start when someone subscribes and stop when
 // the last subscriber leaves. A thin adapter over Openni2Device (ROS-free, src/driver).
 
-#include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cstring>
 #include <iomanip>
 #include <memory>
@@ -22,6 +20,7 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/stream_silence.h"
 #include "vocal/driver/openni2_device.h"
 #include "vocal/nodelets/message_conversions.h"
 
@@ -138,14 +137,14 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     const bool want_depth = depth_pub_.getNumSubscribers() > 0 || registered_pub_.getNumSubscribers() > 0;
     try {
       if (want_color) {
-        if (!color_.on) color_.since_ns = steadyNanoseconds();
+        if (!color_.on) color_.silence.arrived();  // silence counts from the start
         device_->startColor([this](const Openni2ColorFrame& frame) { publishColor(frame); });
       } else {
         device_->stopColor();
       }
       color_.on = want_color;
       if (want_depth) {
-        if (!depth_.on) depth_.since_ns = steadyNanoseconds();
+        if (!depth_.on) depth_.silence.arrived();
         device_->startDepth([this](const Openni2DepthFrame& frame) { publishDepth(frame); });
       } else {
         device_->stopDepth();
@@ -203,19 +202,14 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
     return *camera;
   }
 
-  static std::int64_t steadyNanoseconds() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  }
-
   // A stream that was started and sends nothing for stall_timeout: the device was unplugged or its USB
   // bus stalled (OpenNI2 says nothing then). Close it and reopen it every 3 s, as on a late plug-in.
   void closeIfStalled() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!device_ || !(stall_timeout_ > 0.0)) return;
-    const std::int64_t now = steadyNanoseconds();
     for (const StreamWatch* watch : {&color_, &depth_}) {
       if (!watch->on) continue;
-      const double silent = 1e-9 * (now - std::max(watch->since_ns, watch->last_frame_ns.load()));
+      const double silent = watch->silence.seconds();
       if (silent < stall_timeout_) continue;
       std::ostringstream message;
       message << device_->info().uri << ": no " << (watch == &color_ ? "colour" : "depth") << " frame for " << std::fixed
@@ -240,7 +234,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   }
 
   void publishColor(const Openni2ColorFrame& frame) {
-    color_.last_frame_ns = steadyNanoseconds();
+    color_.silence.arrived();
     const ros::Time stamp = stampOf(frame.device_stamp);
     ++color_frames_;
     auto image = boost::make_shared<sensor_msgs::Image>(toRgb8Image(frame.image, rgb_frame_id_, stamp));
@@ -249,7 +243,7 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   }
 
   void publishDepth(const Openni2DepthFrame& frame) {
-    depth_.last_frame_ns = steadyNanoseconds();
+    depth_.silence.arrived();
     const ros::Time stamp = stampOf(frame.device_stamp);
     ++depth_frames_;
     // Registered depth lies in the colour camera's frame; unregistered depth in the depth camera's.
@@ -308,9 +302,8 @@ class Openni2DriverNodelet : public nodelet::Nodelet {
   ros::WallTimer diagnostics_timer_, open_timer_, stall_timer_;
   double stall_timeout_ = 2.0;  // seconds without a frame on a started stream
   struct StreamWatch {
-    bool on = false;             // started, under mutex_
-    std::int64_t since_ns = 0;   // when it was started (steady clock), under mutex_
-    std::atomic<std::int64_t> last_frame_ns{0};  // set by OpenNI2's frame thread
+    bool on = false;        // started, under mutex_
+    StreamSilence silence;  // since it was started or its last frame (marked by OpenNI2's frame thread)
   };
   StreamWatch color_, depth_;
   std::size_t stalls_ = 0, reopens_ = 0;  // under mutex_

@@ -202,6 +202,12 @@ void laserScanMessage(const std::uint8_t* data, std::size_t size) {
   });
 }
 
+// Odometry settings' names and a few of the nodelet's own: the keys parameters mostly take.
+const std::vector<std::string> kParameterNames = {
+    "mode", "levels", "iterations", "icp_max_distance", "rgb_weight", "rgb_min_gradient", "tracking_reference",
+    "keyframes_kept", "backend", "cpu_threads", "max_depth", "convergence_translation", "feature_initialisation",
+    "frame_id", "approx_sync"};
+
 // A nodelet's private parameters as rosparam hands them over: any nesting of XmlRpc values, keys
 // mostly the odometry settings' names.
 XmlRpc::XmlRpcValue takeParameter(FuzzInputReader& in, int depth) {
@@ -221,9 +227,7 @@ XmlRpc::XmlRpcValue takeParameter(FuzzInputReader& in, int depth) {
       map.begin();  // an empty struct, not an invalid value
       const int entries = in.take<std::uint8_t>() % 6;
       for (int i = 0; i < entries && in.remaining() > 0; ++i) {
-        const std::string key = in.takeChoice({"mode", "levels", "iterations", "icp_max_distance", "rgb_weight",
-                                               "rgb_min_gradient", "tracking_reference", "keyframes_kept", "backend",
-                                               "cpu_threads", "max_depth", "feature_initialisation", "frame_id"});
+        const std::string key = in.takeChoice(kParameterNames);
         map[key] = takeParameter(in, depth + 1);
       }
       return map;
@@ -236,9 +240,7 @@ void odometryParameters(const std::uint8_t* data, std::size_t size) {
   XmlRpc::XmlRpcValue parameters;
   parameters.begin();
   while (in.remaining() > 0) {
-    const std::string key = in.takeChoice({"mode", "levels", "iterations", "icp_max_distance", "rgb_weight", "rgb_min_gradient",
-                                           "tracking_reference", "keyframes_kept", "backend", "cpu_threads", "max_depth",
-                                           "convergence_translation", "feature_initialisation", "frame_id", "approx_sync"});
+    const std::string key = in.takeChoice(kParameterNames);
     parameters[key] = takeParameter(in, 1);
   }
   refusedOrTaken([&] {
