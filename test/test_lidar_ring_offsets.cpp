@@ -186,3 +186,32 @@ TEST(LidarRingOffsets, NeedsTwoRings) {
   EXPECT_EQ(vocal_test::inputErrorOf([] { vocal::RingOffsetEstimator estimator({0.0}); }),
             "lidar ring offsets: 1 ring(s) of returns; a spinning lidar has 2 or more");
 }
+
+// A scanning lidar without a ring field (a rotating head: 100 elevation rows 0.6 degrees apart in a
+// 6 x 5 x 3 m box room): the elevations cluster into 100 "rings" that are no lasers, so no offsets are
+// estimated for it (they came out at metres on a real one), and the verdict says why.
+TEST(LidarRingOffsets, AScannerWithoutRingsIsNotGivenOffsets) {
+  std::vector<Eigen::Vector3d> cloud;
+  for (int row = 0; row < 100; ++row) {
+    const double elevation = (-30.0 + 0.6 * row) * M_PI / 180.0;
+    for (int column = 0; column < 720; ++column) {
+      const double azimuth = column * 0.5 * M_PI / 180.0;
+      const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      // The nearest of the box's walls (x = +-3, y = +-2.5), floor (z = -1) and ceiling (z = 2).
+      double range = 1e9;
+      for (const auto& [axis, bound] : std::vector<std::pair<int, double>>{{0, 3.0}, {0, -3.0}, {1, 2.5}, {1, -2.5}, {2, -1.0}, {2, 2.0}}) {
+        if (ray[axis] * bound > 1e-9) range = std::min(range, bound / ray[axis]);
+      }
+      cloud.push_back(range * ray);
+    }
+  }
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(vocal::exampleRig(0, 1, 0, 0), vocal::TargetDescription(), true);
+  vocal::CalibrationSession session(rig);
+  for (int i = 0; i < 3; ++i) session.addCloud(0, i, cloud);
+  const std::optional<vocal::RingOffsets> offsets = session.ringOffsets()[0];
+  ASSERT_TRUE(offsets.has_value());
+  EXPECT_TRUE(offsets->elevations.empty());
+  EXPECT_FALSE(offsets->applied);
+  EXPECT_EQ(offsets->verdict, "not estimated: its clouds carry no ring field and show 100 elevation bands, more than a multi-beam "
+                              "lidar's 64: a scanning or rotating-head lidar, whose returns no laser's offset describes");
+}

@@ -494,3 +494,52 @@ TEST(ToolsCli, CalibrateRigFromARecordedSession) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "calibrate_rig: error: " + folder + "/session.bag: holds none of the rig's topics (/velodyne_points)\n");
 }
+
+// A camera on a pan-tilt head the rig YAML does not describe (it moves between still poses): calibrate_rig
+// names it NOT TRUSTED with the cause, solves the others without it (they stay within 1 cm / 0.01 rad),
+// keeps it out of the URDF and launch file, marks it in the YAML, and exits 1 so that a script notices.
+TEST(ToolsCli, CalibrateRigNamesASensorThatMovesAndPublishesOnlyTheRest) {
+  const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig_fault");
+  RunResult r = runTool("simulate_calibration_session " + folder + " --rgbd 1 --lidar 1 --laser 0 --camera 2 --poses 10 --faults moves:camera0:0.3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("NOT TRUSTED: sensor 'camera0': its board views lie "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("it moves between poses (is it on a joint"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("withheld: sensor 'camera0' is kept out of calibration.urdf and calibration.launch: not trusted: "), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("withheld: sensor 'camera1'"), std::string::npos) << r.output;
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const YAML::Node camera0 = result["sensors"][2], camera1 = result["sensors"][3];
+  EXPECT_EQ(camera0["name"].as<std::string>(), "camera0");
+  EXPECT_FALSE(camera0["trusted"].as<bool>());
+  EXPECT_TRUE(camera0["isolated"].as<bool>());
+  EXPECT_FALSE(camera0["published"].as<bool>());
+  EXPECT_EQ(camera0["not_trusted_because"].as<std::string>().rfind("its board views lie ", 0), 0u);
+  EXPECT_TRUE(camera1["trusted"].as<bool>());
+  EXPECT_TRUE(camera1["published"].as<bool>());
+  std::ifstream launch(folder + "/calibration.launch");
+  const std::string launch_text((std::istreambuf_iterator<char>(launch)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(launch_text.find("name=\"camera0_extrinsic\""), std::string::npos) << launch_text;
+  EXPECT_NE(launch_text.find("name=\"camera1_extrinsic\""), std::string::npos) << launch_text;
+  // The sensors the fault did not touch, against the truth.
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  for (const int s : {1, 3}) {
+    const std::vector<double> pose = truth["sensors"][s]["pose"].as<std::vector<double>>();
+    const std::vector<double> t = result["sensors"][s]["translation"].as<std::vector<double>>();
+    const std::vector<double> q = result["sensors"][s]["rotation"].as<std::vector<double>>();
+    const Eigen::Quaterniond truth_q(pose[6], pose[3], pose[4], pose[5]), solved_q(q[3], q[0], q[1], q[2]);
+    EXPECT_LT((Eigen::Vector3d(t[0], t[1], t[2]) - Eigen::Vector3d(pose[0], pose[1], pose[2])).norm(), 0.01) << s;
+    EXPECT_LT(truth_q.angularDistance(solved_q), 0.01) << s;
+  }
+  // --no-isolation: named, left in the graph.
+  r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --no-isolation");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("; kept in the graph (isolation is off)\n"), std::string::npos) << r.output;
+  r = runTool("simulate_calibration_session " + folder + " --faults moves:camera7:0.3");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --faults: 'moves:camera7:0.3': the rig has no sensor 'camera7'\n");
+  r = runTool("simulate_calibration_session " + folder + " --faults wobbles:camera0:0.3");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --faults: 'wobbles:camera0:0.3': expected KIND:SENSOR:AMOUNT, KIND one "
+                      "of moves, bumped, time-offset, focal\n");
+}

@@ -8,6 +8,7 @@
 #include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
+#include "vocal/calibration/solver/sensor_trust.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -129,6 +130,15 @@ std::vector<double> elevationsOfDriverRings(const std::vector<Eigen::Vector3d>& 
 }
 }  // namespace
 
+namespace {
+// Rings found by clustering elevations (no ring field) beyond this are bands of a scanning lidar, not
+// lasers: a multi-beam lidar without a ring field has at most 64 (128-beam ones publish the field).
+constexpr std::size_t kMostRingsFound = 64;
+
+// Whether a lidar's rings are its lasers': the driver's, or few enough found by elevation.
+bool ringsAreALidars(const ScanSpacing& spacing) { return spacing.rings_from_driver || spacing.rings.size() <= kMostRingsFound; }
+}  // namespace
+
 void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
   checkSensor(sensor, SensorType::kLidar3d, "point cloud");
   ScanSpacing& spacing = lidar_spacing_[sensor];
@@ -138,7 +148,7 @@ void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vecto
   // elevation at close range; a scanner without rings has none to cluster).
   if (rings.size() == cloud.size()) {
     std::vector<double> driver = elevationsOfDriverRings(cloud, rings);
-    if (driver.size() >= 2) spacing.rings = std::move(driver);
+    if (driver.size() >= 2) spacing.rings = std::move(driver), spacing.rings_from_driver = true;
   }
 }
 
@@ -168,7 +178,8 @@ bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
   if (type == SensorType::kLidar3d) {
     std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
     const ScanSpacing& spacing = lidar_spacing_[sensor];
-    if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2) offsets.emplace(spacing.rings, ring_offset_options_);
+    if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2 && ringsAreALidars(spacing))
+      offsets.emplace(spacing.rings, ring_offset_options_);
     if (offsets) {
       offsets->addPlanes(search.room_points);
       ring_offset_choice_[sensor].reset();  // decided on the clouds before this one
@@ -187,6 +198,11 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::estimatedRingOffsets
       // A lidar whose clouds came without rings: say so rather than nothing.
       offsets[s].emplace();
       offsets[s]->verdict = "not estimated: its clouds show no rings (a solid-state or non-repeating scan pattern, and no ring field)";
+    } else if (ring_offset_options_.enabled && lidar_spacing_[s].horizontal > 0.0 && !ringsAreALidars(lidar_spacing_[s])) {
+      offsets[s].emplace();
+      offsets[s]->verdict = "not estimated: its clouds carry no ring field and show " + std::to_string(lidar_spacing_[s].rings.size()) +
+                            " elevation bands, more than a multi-beam lidar's " + std::to_string(kMostRingsFound) +
+                            ": a scanning or rotating-head lidar, whose returns no laser's offset describes";
     }
   }
   return offsets;
@@ -403,7 +419,7 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
   if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
-  return calibrateRig(rig_.specs(), associated, calibrationOptions(options));
+  return calibrateRigWithTrust(rig_.specs(), associated, calibrationOptions(options));
 }
 
 }  // namespace vocal

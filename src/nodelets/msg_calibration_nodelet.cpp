@@ -224,15 +224,25 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         summary << "; " << specs[s].name << " ring offsets " << line << rings.verdict;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
+      bool any_distrusted = false;
+      for (std::size_t s = 0; s < specs.size(); ++s) {
+        if (result.sensors[s].distrust.empty()) continue;
+        summary << "; NOT TRUSTED: " << specs[s].name << ": " << result.sensors[s].distrust;
+        any_distrusted = true;
+      }
       const std::vector<std::string> withheld =
           withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr, tolerance_, publish_uncertain_);
       bool any_withheld = false;
       for (std::size_t s = 0; s < specs.size(); ++s) {
         if (withheld[s].empty()) continue;
-        summary << "; withheld from /tf_static: " << specs[s].name << " (" << withheld[s] << ")";
+        // A sensor not trusted was named with its cause above.
+        summary << "; withheld from /tf_static: " << specs[s].name << " ("
+                << (result.sensors[s].distrust.empty() ? withheld[s] : std::string("not trusted")) << ")";
         any_withheld = true;
       }
-      if (any_withheld && result.trusted) summary << "; calibrate again as the uncertain lines say, or set ~publish_uncertain to publish anyway";
+      if (any_withheld && result.trusted) {
+        summary << "; calibrate again as the NOT TRUSTED or uncertain lines say, or set ~publish_uncertain to publish anyway";
+      }
       if (!output_dir_.empty()) {
         writeCalibrationYaml(output_dir_ + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr,
                              &ring_offsets, &withheld);
@@ -257,7 +267,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       }
       fused_cloud_pub_.publish(toPointCloud2(fused, rig.reference_frame, now));
       last_result_ = summary.str();
-      response.success = result.trusted;
+      response.success = result.trusted && !any_distrusted;  // a script acting on success applies no sensor it cannot trust
       response.message = summary.str();
       NODELET_INFO_STREAM("MsgCalibration: " << summary.str());
     } catch (const InputError& e) {

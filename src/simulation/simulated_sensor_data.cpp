@@ -112,6 +112,7 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
     const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng, origin);
     if (hit.label == SurfaceLabel::kNone) return;
     const bool dark = hit.label == SurfaceLabel::kTarget && boardGrey(view.target->pattern, hit.on_target) < 128.0;
+    if (dark && view.dark_absorbs) return;
     points.push_back(origin + (noisy(hit.range, view.range_noise, rng) + bias + (dark ? view.dark_range_offset : 0.0)) * ray);
     if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
   };

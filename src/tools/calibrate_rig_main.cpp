@@ -44,6 +44,8 @@ const char kUsage[] =
     "  --no-ring-offsets   take a 3D lidar's ranges as they are (by default each ring's range offset is\n"
     "                      estimated from the room's planes, floor and walls, and its board returns corrected\n"
     "                      when the offsets are within +-3 cm and predict held-out still poses better than none)\n"
+    "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
+    "                      graph and the others solved without it, so that it moves none of them)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --quiet             no progress line\n";
@@ -184,6 +186,7 @@ int run(const vocal::CommandLine& args) {
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
   options.board_edges.enabled = args.has("edges");
+  options.trust.isolate = !args.has("no-isolation");
   // Before association: the lidars' board points depend on whether their offsets are applied.
   const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.chooseRingOffsets(options);
   const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
@@ -201,15 +204,16 @@ int run(const vocal::CommandLine& args) {
   printRingOffsets(rig, ring_offsets);
   const vocal::CalibrationResult result = session.calibrate(associated, options);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
-              "sigma t (mm) / r (mrad), rms (mm), observations (rejected)");
+              "sigma t (mm) / r (mrad), rms (mm), observations (rejected), off the others' board (mm / mrad)");
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorCalibration& c = result.sensors[s];
     const Eigen::Vector3d t = c.reference_from_sensor.translation();
     const Eigen::Quaterniond q(c.reference_from_sensor.rotation());
-    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f, %.2f, %d (%d)\n",
+    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f, %.2f, %d (%d), %.1f / %.1f%s\n",
                 rig.sensors[s].spec.name.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
                 1000 * c.standard_deviation.head<3>().norm(), 1000 * c.standard_deviation.tail<3>().norm(), 1000 * c.rms,
-                c.observations, c.rejected_observations);
+                c.observations, c.rejected_observations, 1000 * c.disagreement_distance, 1000 * c.disagreement_angle,
+                c.isolated ? " (isolated)" : "");
   }
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
@@ -223,6 +227,9 @@ int run(const vocal::CommandLine& args) {
   }
   for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
   if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", rig.sensors[s].spec.name.c_str(), result.sensors[s].distrust.c_str());
+  }
   if (args.has("report")) printReport(rig, session, associated, result, poses);
   const std::vector<vocal::SensorSpec> specs = rig.specs();
   const std::vector<std::string> withheld = vocal::withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr,
@@ -234,7 +241,7 @@ int run(const vocal::CommandLine& args) {
     any_withheld = true;
   }
   if (any_withheld && result.trusted) {
-    std::printf("  its values are in calibration.yaml; calibrate again as the uncertain line says, or pass --publish-uncertain to "
+    std::printf("  its values are in calibration.yaml; calibrate again as the NOT TRUSTED or uncertain line says, or pass --publish-uncertain to "
                 "publish them anyway\n");
   }
   if (args.has("output-dir")) {
@@ -252,5 +259,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

@@ -1,6 +1,8 @@
 #include "vocal/tools/calibration_bag.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <future>
 #include <map>
@@ -48,6 +50,66 @@ RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors,
   rig.reference_sensor = 0;
   return rig;
 }
+
+SimulatedSensorFault parseSimulatedSensorFault(const std::string& text, const std::vector<SimulatedSensor>& sensors, const std::string& what) {
+  const std::size_t first = text.find(':'), second = first == std::string::npos ? first : text.find(':', first + 1);
+  const std::string usage = what + ": '" + text + "': expected KIND:SENSOR:AMOUNT, KIND one of moves, bumped, time-offset, focal";
+  if (second == std::string::npos) throw InputError(usage);
+  const std::string kind = text.substr(0, first), name = text.substr(first + 1, second - first - 1), amount = text.substr(second + 1);
+  SimulatedSensorFault fault;
+  if (kind == "moves") fault.kind = SimulatedSensorFault::Kind::kMoves;
+  else if (kind == "bumped") fault.kind = SimulatedSensorFault::Kind::kBumped;
+  else if (kind == "time-offset") fault.kind = SimulatedSensorFault::Kind::kTimeOffset;
+  else if (kind == "focal") fault.kind = SimulatedSensorFault::Kind::kFocalScale;
+  else throw InputError(usage);
+  fault.sensor = -1;
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    if (sensors[s].spec.name == name) fault.sensor = static_cast<int>(s);
+  if (fault.sensor < 0) throw InputError(what + ": '" + text + "': the rig has no sensor '" + name + "'");
+  char* end = nullptr;
+  fault.amount = std::strtod(amount.c_str(), &end);
+  if (amount.empty() || *end != '\0' || !std::isfinite(fault.amount)) throw InputError(usage);
+  if (fault.kind == SimulatedSensorFault::Kind::kFocalScale && (sensors[fault.sensor].spec.type != SensorType::kCamera || !(fault.amount > 0.0))) {
+    throw InputError(what + ": '" + text + "': a focal scale applies to a camera and must be > 0");
+  }
+  return fault;
+}
+
+namespace {
+// Where a faulty sensor sits at still pose k of `poses` (kMoves, kBumped), as the session's ground truth has it otherwise.
+Eigen::Isometry3d faultyPlacement(const SimulatedSensor& sensor, const std::vector<SimulatedSensorFault>& faults, int sensor_index, int k,
+                                  int poses, std::uint32_t seed) {
+  Eigen::Isometry3d placed = sensor.reference_from_sensor;
+  for (const SimulatedSensorFault& fault : faults) {
+    if (fault.sensor != sensor_index) continue;
+    if (fault.kind == SimulatedSensorFault::Kind::kMoves) {
+      // A pan-tilt head: pan about the sensor's y (optical frames: down) and tilt about its x, about a
+      // pivot 8 cm behind it; a new draw per pose, the same for every message of the pose.
+      std::mt19937 rng(seed * 7919u + static_cast<std::uint32_t>(k) * 104729u + static_cast<std::uint32_t>(sensor_index));
+      std::uniform_real_distribution<double> turn(-fault.amount, fault.amount);
+      const Eigen::Vector3d pivot(0.0, 0.0, -0.08);
+      const Eigen::Matrix3d head = (Eigen::AngleAxisd(turn(rng), Eigen::Vector3d::UnitY()) *
+                                    Eigen::AngleAxisd(0.5 * turn(rng), Eigen::Vector3d::UnitX())).toRotationMatrix();
+      Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+      motion.linear() = head;
+      motion.translation() = pivot - head * pivot;
+      placed = placed * motion;
+    } else if (fault.kind == SimulatedSensorFault::Kind::kBumped && 2 * k >= poses) {
+      Eigen::Isometry3d bump = Eigen::Isometry3d::Identity();
+      bump.linear() = Eigen::AngleAxisd(fault.amount, Eigen::Vector3d(1.0, 1.0, 0.0).normalized()).toRotationMatrix();
+      bump.translation() = fault.amount * Eigen::Vector3d(1.0, -1.0, 1.0).normalized();
+      placed = placed * bump;
+    }
+  }
+  return placed;
+}
+
+double faultAmount(const std::vector<SimulatedSensorFault>& faults, int sensor_index, SimulatedSensorFault::Kind kind, double none) {
+  for (const SimulatedSensorFault& fault : faults)
+    if (fault.sensor == sensor_index && fault.kind == kind) return fault.amount;
+  return none;
+}
+}  // namespace
 
 SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
                                                      const SimulatedSessionOptions& options, const std::string& bag_path) {
@@ -118,13 +180,21 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.lidar_model = options.lidar_model;
       if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;
       view.dark_range_offset = lidar ? options.dark_range_offset : 0.0;
+      view.dark_absorbs = lidar && options.dark_absorbs;
       view.time = time;
-      view.sensor = &sensors[s];
+      SimulatedSensor placed = sensors[s];
+      placed.reference_from_sensor = faultyPlacement(sensors[s], options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
+      view.sensor = &placed;
       const RigSensorDescription& d = rig.sensors[s];
-      const ros::Time stamp(1000.0 + time);
+      const ros::Time stamp(1000.0 + time + faultAmount(options.faults, static_cast<int>(s), SimulatedSensorFault::Kind::kTimeOffset, 0.0));
       switch (d.spec.type) {
         case SensorType::kCamera:
-          bag.write(d.camera_info_topic, stamp, toCameraInfo(image_camera, d.spec.frame_id, stamp, lenses[lens_of[s]]));
+        {
+          PinholeCamera told = image_camera;  // what camera_info says: wrong with a focal-scale fault
+          const double scale = faultAmount(options.faults, static_cast<int>(s), SimulatedSensorFault::Kind::kFocalScale, 1.0);
+          told.fx *= scale, told.fy *= scale;
+          bag.write(d.camera_info_topic, stamp, toCameraInfo(told, d.spec.frame_id, stamp, lenses[lens_of[s]]));
+        }
           bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, rays[lens_of[s]], options.image_noise, &rng), d.spec.frame_id, stamp));
           summary.messages += 2;
           break;

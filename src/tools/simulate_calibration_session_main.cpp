@@ -46,6 +46,12 @@ const char kUsage[] =
     "  --board-width M --board-height M   the board (default 0.9 x 0.7)\n"
     "  --pattern-cols N --pattern-rows N --square M   its checkerboard's inner corners and squares\n"
     "                      (default 8 x 6, 0.06 m; the columns run along the width)\n"
+    "  --faults F[,F...]   faults of one sensor each, for checking that calibrate_rig flags them:\n"
+    "                      moves:SENSOR:RAD (on a pan-tilt head the rig does not describe, turned by up to RAD\n"
+    "                      at each still pose), bumped:SENSOR:M (moved M metres and M rad half way through),\n"
+    "                      time-offset:SENSOR:S (its stamps S seconds late), focal:SENSOR:SCALE (a camera's\n"
+    "                      camera_info focal length times SCALE); ground_truth.yaml keeps the mount as built\n"
+    "  --dark-absorbs      lidar beams on the board's dark squares return nothing\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
@@ -112,6 +118,13 @@ int run(const vocal::CommandLine& args) {
   options.dark_range_offset = args.number("dark-range-offset", 0.0);
   options.mixed_pixels = args.has("mixed-pixels");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
+  options.dark_absorbs = args.has("dark-absorbs");
+  const std::string faults = args.text("faults", "");
+  for (std::size_t begin = 0; !faults.empty() && begin <= faults.size();) {
+    const std::size_t end = std::min(faults.find(',', begin), faults.size());
+    options.faults.push_back(vocal::parseSimulatedSensorFault(faults.substr(begin, end - begin), sensors, "option --faults"));
+    begin = end + 1;
+  }
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
@@ -128,6 +141,6 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square"},
-                        {"person", "mixed-pixels", "vertical-offsets"}, 1);
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults"},
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs"}, 1);
 }

@@ -49,6 +49,7 @@ struct SimulatedRoomView {
   // Metres a lidar return reads too long on the board's dark squares (low reflectivity: a real lidar's
   // range depends on the return's intensity).
   double dark_range_offset = 0.0;
+  bool dark_absorbs = false;  // a lidar's returns on the board's dark squares are lost (too little light back)
 };
 
 // A VLP-16's per-laser vertical offsets (its manual's vert_correction), metres, by ascending elevation.

@@ -21,6 +21,23 @@ namespace vocal {
 RigDescription describeSimulatedRig(const std::vector<SimulatedSensor>& sensors, const TargetDescription& target,
                                     bool with_all_poses);
 
+// A fault of one sensor in a simulated session; the ground truth stays its mount as described.
+struct SimulatedSensorFault {
+  enum class Kind {
+    kMoves,       // on a joint the rig does not describe: turned by up to `amount` rad (a pan-tilt head, its pivot
+                  // 8 cm behind the sensor) to a new place at each still pose
+    kBumped,      // moved once, half way through the session: `amount` metres and `amount` rad
+    kTimeOffset,  // its stamps `amount` seconds late (a clock not synchronised)
+    kFocalScale,  // a camera's camera_info gives its focal length times `amount` (wrong intrinsics)
+  };
+  Kind kind = Kind::kMoves;
+  int sensor = 0;
+  double amount = 0.0;
+};
+// "moves:SENSOR:RAD", "bumped:SENSOR:AMOUNT", "time-offset:SENSOR:S", "focal:SENSOR:SCALE" with a sensor
+// named in `sensors`; throws InputError naming `what` otherwise.
+SimulatedSensorFault parseSimulatedSensorFault(const std::string& text, const std::vector<SimulatedSensor>& sensors, const std::string& what);
+
 struct SimulatedSessionOptions {
   int target_poses = 12;
   double turn_range = -1.0;  // radians the target turns left / right at most (< 0: as far as it tilts)
@@ -45,6 +62,9 @@ struct SimulatedSessionOptions {
   // Camera i's lens is camera_lenses[i % size] (none when empty): images rendered through it,
   // camera_info carries it.
   std::vector<LensDistortion> camera_lenses;
+  // Faults of real sessions, each on one sensor (bench/calibration_faults.py): what MSG-Cal must flag.
+  std::vector<SimulatedSensorFault> faults;
+  bool dark_absorbs = false;  // lidar beams on the board's dark squares return nothing (low reflectivity)
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;
   std::uint32_t seed = 1;

@@ -48,6 +48,8 @@ std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors,
       withheld[s] = "the calibration is not trusted (" + result.failure + ")";
     } else if (static_cast<int>(s) == reference_sensor || publish_uncertain) {
       continue;
+    } else if (s < result.sensors.size() && !result.sensors[s].distrust.empty()) {
+      withheld[s] = "not trusted: " + result.sensors[s].distrust;
     } else if (!spread || s >= spread->standard_deviation.size()) {
       withheld[s] = "uncertain: its spread across still poses could not be computed, so nothing says the result holds";
     } else if (spreadIsOver(spread->standard_deviation[s], tolerance)) {
@@ -74,15 +76,28 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     const SensorCalibration& c = result.sensors[s];
     const Eigen::Vector3d t = c.reference_from_sensor.translation();
     const Eigen::Quaterniond q(c.reference_from_sensor.rotation());
-    const Vector6d& sd = c.standard_deviation;
+    // Honest: the larger of the solver's sigma (every point's error independent) and the spread across
+    // still poses (errors a pose's points share), axis by axis.
+    const bool has_spread = spread && s < spread->standard_deviation.size();
+    const Vector6d sd = has_spread ? c.standard_deviation.cwiseMax(spread->standard_deviation[s]) : c.standard_deviation;
     file << "  - name: " << sensors[s].name << "\n"
          << "    type: " << sensorTypeName(sensors[s].type) << "\n"
          << "    frame_id: " << sensors[s].frame_id << "\n"
          << "    parent: " << reference_frame << "\n"
          << "    translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
          << "    rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
-         << "    translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]\n"
-         << "    rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n";
+         << "    translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]"
+         << (has_spread ? "  # m, the larger of the solver's and the spread across still poses\n" : "  # m, the solver's\n")
+         << "    rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n"
+         << "    solver_translation_stddev: [" << c.standard_deviation[0] << ", " << c.standard_deviation[1] << ", " << c.standard_deviation[2] << "]\n"
+         << "    solver_rotation_stddev: [" << c.standard_deviation[3] << ", " << c.standard_deviation[4] << ", " << c.standard_deviation[5] << "]\n"
+         << "    trusted: " << (c.distrust.empty() && result.trusted ? "true" : "false") << "\n";
+    if (!c.distrust.empty()) file << "    not_trusted_because: " << quoted(c.distrust) << "\n";
+    if (c.isolated) file << "    isolated: true  # kept out of the graph: the others were solved without it\n";
+    if (c.compared_poses > 0) {
+      file << "    disagreement: {distance_m: " << c.disagreement_distance << ", angle_rad: " << c.disagreement_angle
+           << ", poses: " << c.compared_poses << "}  # median, its board views against the board the others solved\n";
+    }
     if (withheld) {
       const std::string why = withheldReason(withheld, s);
       file << "    published: " << (why.empty() ? "true" : "false") << "\n";

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -216,6 +218,103 @@ void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vecto
                               sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
   }
 }
+
+// An observation's residuals on its pose's plane (or, with board edges, its board), for a sensor whose
+// state is `sensor`. Huber on each whitened block: down-weighted once its residuals pass huber_sigmas
+// standard deviations on average.
+void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o, SensorType type, const CalibrationOptions& options,
+                             SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards) {
+  const BoardEdgeOptions& edges = options.board_edges;
+  PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
+  SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
+  if (!o.plane_measurements.empty()) {
+    for (const PlaneMeasurement& measurement : o.plane_measurements) {
+      addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
+                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board);
+      if (board) addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board);
+    }
+    return;
+  }
+  const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
+  addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
+                                                  new ceres::HuberLoss(threshold), sensor, plane, board);
+  if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board);
+}
+
+ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.num_threads = 2;
+  return solver_options;
+}
+
+// One sensor fitted alone to solved boards held constant: its observations at poses with a board, from
+// `sensor`'s current state. The problem, for its covariance; none when no observation has a board.
+std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservation*>& its, SensorType type, const CalibrationOptions& options,
+                                         SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards) {
+  auto alone = std::make_unique<ceres::Problem>();
+  for (const TargetObservation* o : its) {
+    if (!planes->count(o->target_pose)) continue;
+    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards);
+  }
+  if (alone->NumResidualBlocks() == 0) return nullptr;
+  alone->SetManifold(sensor->rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  std::vector<double*> blocks;
+  alone->GetParameterBlocks(&blocks);
+  for (double* block : blocks)
+    if (block != sensor->rotation.coeffs().data() && block != sensor->translation.data()) alone->SetParameterBlockConstant(block);
+  ceres::Solver::Options solver_options = solverOptions(options);
+  solver_options.linear_solver_type = ceres::DENSE_QR;  // one sensor: 6 unknowns
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, alone.get(), &summary);
+  return alone;
+}
+
+// Each listed sensor's standard deviations from `problem`'s covariance; left at zero when it cannot be
+// computed (a rank-deficient problem).
+void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& listed, std::vector<SensorState>& sensor_state,
+                           CalibrationResult* result) {
+  ceres::Covariance::Options covariance_options;
+  ceres::Covariance covariance(covariance_options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (const int s : listed) {
+    blocks.emplace_back(sensor_state[s].rotation.coeffs().data(), sensor_state[s].rotation.coeffs().data());
+    blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
+  }
+  if (blocks.empty() || !covariance.Compute(blocks, problem)) return;
+  for (const int s : listed) {
+    Eigen::Matrix3d rotation_covariance, translation_covariance;
+    // The joint covariance of the listed blocks: one block, its 3x3 tangent-space covariance.
+    covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
+    covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(), translation_covariance.data());
+    result->sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
+    // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
+    // rotation sigmas in radians of angle are twice the tangent's.
+    result->sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
+  }
+}
+
+// The slope of a line through (range, distance) pairs and its standard error; both 0 for fewer than 4
+// pairs or ranges that hardly differ.
+void fitScale(const std::vector<std::pair<double, double>>& pairs, double* slope, double* sigma) {
+  *slope = *sigma = 0.0;
+  const double n = static_cast<double>(pairs.size());
+  if (pairs.size() < 4) return;
+  double mean_r = 0.0, mean_d = 0.0;
+  for (const auto& [r, d] : pairs) mean_r += r / n, mean_d += d / n;
+  double srr = 0.0, srd = 0.0;
+  for (const auto& [r, d] : pairs) srr += (r - mean_r) * (r - mean_r), srd += (r - mean_r) * (d - mean_d);
+  if (srr < 1e-4 * n) return;  // ranges within a centimetre of each other: no slope to see
+  *slope = srd / srr;
+  double left = 0.0;
+  for (const auto& [r, d] : pairs) left += std::pow(d - mean_d - *slope * (r - mean_r), 2);
+  *sigma = std::sqrt(left / (n - 2.0) / srr);
+}
 }  // namespace
 
 CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
@@ -229,6 +328,17 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   if (edges.enabled && !(edges.width > 0.0 && edges.height > 0.0)) {
     throw InputError("calibration: board edges need the board's width and height (got " + std::to_string(edges.width) + " x " +
                      std::to_string(edges.height) + " m)");
+  }
+  std::vector<bool> isolated(sensor_count, false);
+  for (const int s : options.isolated_sensors) {
+    if (s < 0 || s >= sensor_count) {
+      throw InputError("calibration: isolated sensor index " + std::to_string(s) + " is not one of the " + std::to_string(sensor_count) +
+                       " sensors");
+    }
+    if (s == options.reference_sensor) {
+      throw InputError("calibration: the reference sensor '" + sensors[s].name + "' cannot be kept out of the graph");
+    }
+    isolated[s] = true;
   }
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
@@ -250,7 +360,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
   std::set<std::pair<int, int>> rejected;
   if (options.consensus_filter) {
-    rejected = rejectInconsistentObservations(planes, options.consensus, &centres);
+    // Isolated sensors cast no votes: they are out because they disagree with the rest.
+    std::vector<std::map<int, Plane>> voting = planes;
+    for (int s = 0; s < sensor_count; ++s)
+      if (isolated[s]) voting[s].clear();
+    rejected = rejectInconsistentObservations(voting, options.consensus, &centres);
     for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
   for (int s = 0; s < sensor_count; ++s) {
@@ -282,12 +396,15 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int added = 1; added < plane_sensors; ++added) {
     int best_parent = -1, best_child = -1;
     std::size_t best_shared = 0;
+    // An isolated sensor is placed from the others but places none of them, after every other.
     for (int a = 0; a < sensor_count; ++a) {
-      if (!placed[a]) continue;
+      if (!placed[a] || isolated[a]) continue;
       for (int b = 0; b < sensor_count; ++b) {
         if (placed[b] || isLaser(b)) continue;
         const std::size_t shared = sharedPoses(a, b).size();
-        if (shared > best_shared) best_shared = shared, best_parent = a, best_child = b;
+        if (shared == 0) continue;
+        const bool first = best_child < 0 || (isolated[best_child] && !isolated[b]);
+        if (first || (isolated[best_child] == isolated[b] && shared > best_shared)) best_shared = shared, best_parent = a, best_child = b;
       }
     }
     if (best_child < 0) {
@@ -314,9 +431,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     placed[best_child] = true;
   }
 
-  // Target planes in the rig frame, from the placed plane-seeing sensors.
+  // Target planes in the rig frame, from the placed plane-seeing sensors in the graph.
   std::map<int, Plane> rig_planes;
   for (int s = 0; s < sensor_count; ++s) {
+    if (isolated[s]) continue;
     for (const auto& entry : planes[s]) {
       if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
     }
@@ -326,7 +444,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::map<int, Eigen::Isometry3d> rig_boards;
   std::vector<int> board_sources;
   for (int s = 0; s < sensor_count && edges.enabled; ++s)
-    if (!isLaser(s)) board_sources.push_back(s);
+    if (!isLaser(s) && !isolated[s]) board_sources.push_back(s);
   std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return sensors[s].type == SensorType::kCamera; });
   for (int s : board_sources) {
     for (const auto& entry : planes[s]) {
@@ -370,29 +488,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
 
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
-    if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers saw it: one line fixes no plane
-    if (rejected.count({o.sensor, o.target_pose})) continue;
-    SensorState& sensor = sensor_state[o.sensor];
-    PlaneState* plane = edges.enabled ? nullptr : &plane_state[o.target_pose];
-    SensorState* board = edges.enabled ? &board_state.at(o.target_pose) : nullptr;
-    // Huber on each whitened block: down-weighted once its residuals pass huber_sigmas standard
-    // deviations on average.
-    if (!o.plane_measurements.empty()) {
-      for (const PlaneMeasurement& measurement : o.plane_measurements) {
-        addPlaneResidual<PlaneMeasurementResidual, 3>(&problem, PlaneMeasurementResidual(measurement),
-                                                      new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), &sensor, plane, board);
-        if (board) addOutlineResiduals(&problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, &sensor, board);
-      }
-      continue;
-    }
-    const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
-    addPlaneResidual<ObservationOnPlaneResidual, 4>(
-        &problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, sensors[o.sensor].type)),
-        new ceres::HuberLoss(threshold), &sensor, plane, board);
-    if (board) addOutlineResiduals(&problem, o.outline, edges.range_sigma, edges, &sensor, board);
+    if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers (or isolated sensors) saw it: no plane
+    if (rejected.count({o.sensor, o.target_pose}) || isolated[o.sensor]) continue;
+    addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state);
   }
   for (int s = 0; s < sensor_count; ++s) {
-    problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+    if (problem.HasParameterBlock(sensor_state[s].rotation.coeffs().data()))  // not an isolated sensor's
+      problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   }
   if (!edges.enabled) {
     for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
@@ -404,16 +506,19 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
 
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-14;
-  solver_options.num_threads = 2;
+  const ceres::Solver::Options solver_options = solverOptions(options);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
-
+  // Each isolated sensor alone against the boards the others solved (held constant).
+  std::vector<std::unique_ptr<ceres::Problem>> isolated_problems(sensor_count);
+  for (int s = 0; s < sensor_count; ++s) {
+    if (!isolated[s]) continue;
+    std::vector<const TargetObservation*> its;
+    for (const TargetObservation& o : observations)
+      if (o.sensor == s && !rejected.count({o.sensor, o.target_pose})) its.push_back(&o);
+    // None: it shares no pose the others fixed, and its closed form stays.
+    isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state);
+  }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes
     const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
     plane_state[entry.first] = {normal, -normal.dot(entry.second.translation)};
@@ -421,6 +526,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
 
   CalibrationResult result;
   result.warnings = warnings;
+  for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
+  for (const auto& entry : board_state) {
+    Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
+    board.linear() = entry.second.rotation.normalized().toRotationMatrix();
+    board.translation() = entry.second.translation;
+    result.boards[entry.first] = board;
+  }
   result.sensors.resize(sensor_count);
   for (int s = 0; s < sensor_count; ++s) {
     SensorCalibration& out = result.sensors[s];
@@ -430,15 +542,24 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     out.pairwise_estimate = initial[s];
     out.observations = observation_count[s];
   }
+  // Per pose, how many sensors in the graph fixed its plane: an observation is compared with the board
+  // the others put there only where another did.
+  std::map<int, int> plane_sources;
+  for (int s = 0; s < sensor_count; ++s)
+    if (!isolated[s])
+      for (const auto& entry : planes[s]) ++plane_sources[entry.first];
   // Each observation's distance to its solved plane, once; sensor and overall RMS over the kept ones.
   std::vector<double> sensor_squared(sensor_count, 0.0);
   std::vector<std::size_t> sensor_points(sensor_count, 0);
+  std::vector<std::vector<double>> distances(sensor_count), angles(sensor_count);
+  std::vector<std::vector<std::pair<double, double>>> ranged(sensor_count);  // (range, signed distance) per compared view
   for (const TargetObservation& o : observations) {
     ObservationResidual residual;
     residual.sensor = o.sensor;
     residual.target_pose = o.target_pose;
     residual.rejected = rejected.count({o.sensor, o.target_pose}) > 0;
     residual.rms = std::numeric_limits<double>::quiet_NaN();  // no plane was solved for this pose
+    residual.plane_distance = residual.plane_angle = std::numeric_limits<double>::quiet_NaN();
     const auto plane = plane_state.find(o.target_pose);
     if (plane != plane_state.end() && !o.points.empty()) {
       const Eigen::Isometry3d& pose = result.sensors[o.sensor].reference_from_sensor;
@@ -449,6 +570,16 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
         sensor_squared[o.sensor] += squared;
         sensor_points[o.sensor] += o.points.size();
       }
+      // Against the board the others fixed: its own count among the sources when it is in the graph
+      // (a 2D laser fixes none).
+      const bool own_source = !isolated[o.sensor] && !isLaser(o.sensor) && planes[o.sensor].count(o.target_pose);
+      if (plane_sources[o.target_pose] - (own_source ? 1 : 0) > 0) {
+        const ViewDisagreement view = viewDisagreement(o, sensors[o.sensor].type, pose, Plane{plane->second.normal, plane->second.offset});
+        residual.range = view.range, residual.plane_distance = view.distance, residual.plane_angle = view.angle;
+        distances[o.sensor].push_back(std::abs(residual.plane_distance));
+        if (!isLaser(o.sensor)) ranged[o.sensor].emplace_back(residual.range, residual.plane_distance);
+        if (!std::isnan(residual.plane_angle)) angles[o.sensor].push_back(residual.plane_angle);
+      }
     }
     if (residual.rejected) ++result.sensors[o.sensor].rejected_observations;
     result.observations.push_back(residual);
@@ -456,7 +587,14 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   double total_squared = 0.0;
   std::size_t total_points = 0;
   for (int s = 0; s < sensor_count; ++s) {
-    result.sensors[s].rms = sensor_points[s] ? std::sqrt(sensor_squared[s] / sensor_points[s]) : 0.0;
+    SensorCalibration& out = result.sensors[s];
+    out.rms = sensor_points[s] ? std::sqrt(sensor_squared[s] / sensor_points[s]) : 0.0;
+    out.isolated = isolated[s];
+    out.compared_poses = static_cast<int>(distances[s].size());
+    if (!distances[s].empty()) out.disagreement_distance = median(distances[s]);
+    if (!angles[s].empty()) out.disagreement_angle = median(angles[s]);
+    fitScale(ranged[s], &out.disagreement_scale, &out.disagreement_scale_sigma);
+    if (isolated[s]) continue;  // the graph's rms is over the sensors in it
     total_squared += sensor_squared[s];
     total_points += sensor_points[s];
   }
@@ -465,42 +603,73 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     result.trusted = false;
     result.failure = "the solver did not reach a usable solution: " + summary.message;
   }
-  for (int s = 0; s < sensor_count && result.trusted; ++s) {
-    const Eigen::Isometry3d departure = result.sensors[s].pairwise_estimate.inverse() * result.sensors[s].reference_from_sensor;
-    const double moved = departure.translation().norm(), turned = rotationAngle(departure);
-    if (moved > options.max_departure_translation || turned > options.max_departure_rotation) {
+  for (int s = 0; s < sensor_count; ++s) {
+    SensorCalibration& out = result.sensors[s];
+    const Eigen::Isometry3d departure = out.pairwise_estimate.inverse() * out.reference_from_sensor;
+    out.departure_translation = departure.translation().norm();
+    out.departure_rotation = rotationAngle(departure);
+    // An isolated sensor's run-away moves none of the others: it is its own verdict (sensor_trust.h).
+    if (!result.trusted || isolated[s]) continue;
+    if (out.departure_translation > options.max_departure_translation || out.departure_rotation > options.max_departure_rotation) {
       std::ostringstream message;
-      message << "sensor '" << sensors[s].name << "' moved " << moved << " m and " << turned
+      message << "sensor '" << sensors[s].name << "' moved " << out.departure_translation << " m and " << out.departure_rotation
               << " rad away from its closed-form estimate: the data does not pin it down (too few poses or too many outliers)";
       result.trusted = false;
       result.failure = message.str();
     }
   }
 
-  // Standard deviations from the solver's covariance (residuals are already whitened).
-  ceres::Covariance::Options covariance_options;
-  ceres::Covariance covariance(covariance_options);
-  std::vector<std::pair<const double*, const double*>> blocks;
-  for (int s = 0; s < sensor_count; ++s) {
-    if (s == options.reference_sensor) continue;
-    blocks.emplace_back(sensor_state[s].rotation.coeffs().data(), sensor_state[s].rotation.coeffs().data());
-    blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
-  }
-  if (!blocks.empty() && covariance.Compute(blocks, &problem)) {
-    for (int s = 0; s < sensor_count; ++s) {
-      if (s == options.reference_sensor) continue;
-      Eigen::Matrix3d rotation_covariance, translation_covariance;
-      // The joint covariance of the listed blocks: one block, its 3x3 tangent-space covariance.
-      covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
-      covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(),
-                                    translation_covariance.data());
-      result.sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
-      // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
-      // rotation sigmas in radians of angle are twice the tangent's.
-      result.sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
-    }
-  }
+  // Standard deviations from the solver's covariance (residuals are already whitened): the graph's sensors
+  // from the graph, each isolated one from its own fit.
+  std::vector<int> in_graph;
+  for (int s = 0; s < sensor_count; ++s)
+    if (s != options.reference_sensor && !isolated[s]) in_graph.push_back(s);
+  setStandardDeviations(&problem, in_graph, sensor_state, &result);
+  for (int s = 0; s < sensor_count; ++s)
+    if (isolated_problems[s]) setStandardDeviations(isolated_problems[s].get(), {s}, sensor_state, &result);
   return result;
+}
+
+ViewDisagreement viewDisagreement(const TargetObservation& o, SensorType type, const Eigen::Isometry3d& rig_from_sensor, const Plane& board) {
+  ViewDisagreement view;
+  const Eigen::Vector3d centre = boardCentreSeen(o);
+  view.range = centre.norm();
+  // The board's normal turned towards the sensor: a view beyond the board is then positive.
+  const double side = board.signedDistance(rig_from_sensor.translation()) < 0.0 ? -1.0 : 1.0;
+  view.distance = -side * board.signedDistance(rig_from_sensor * centre);
+  const auto unsignedAngle = [&](const Eigen::Vector3d& direction_in_sensor) {
+    return std::abs(board.normal.dot(rig_from_sensor.linear() * direction_in_sensor));
+  };
+  if (!o.plane_measurements.empty()) {
+    view.angle = std::acos(std::min(1.0, unsignedAngle(o.plane_measurements.front().sensor_from_pattern.linear().col(2))));
+  } else if (type == SensorType::kLaser2d) {
+    if (o.points.size() >= 2) view.angle = std::asin(std::min(1.0, unsignedAngle(principalAxesOf(o.points).axes.col(0))));
+  } else if (o.points.size() >= 3) {
+    view.angle = std::acos(std::min(1.0, unsignedAngle(fitPlane(o.points, "observation").plane.normal)));
+  }
+  return view;
+}
+
+std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& its,
+                                                         const CalibrationResult& solved, const CalibrationOptions& options) {
+  if (its.empty()) return std::nullopt;
+  const int s = its.front().sensor;
+  SensorState state{Eigen::Quaterniond(solved.sensors.at(s).reference_from_sensor.rotation()),
+                    solved.sensors.at(s).reference_from_sensor.translation()};
+  std::map<int, PlaneState> planes;
+  std::map<int, SensorState> boards;
+  for (const auto& [pose, plane] : solved.board_planes) planes[pose] = {plane.normal, plane.offset};
+  for (const auto& [pose, board] : solved.boards) boards[pose] = {Eigen::Quaterniond(board.rotation()), board.translation()};
+  std::vector<const TargetObservation*> pointers;
+  for (const TargetObservation& o : its) {
+    if (o.sensor != s) throw InputError("calibration: fitting one sensor alone, but the observations name two");
+    if (options.board_edges.enabled ? boards.count(o.target_pose) : planes.count(o.target_pose)) pointers.push_back(&o);
+  }
+  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards)) return std::nullopt;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = state.rotation.normalized().toRotationMatrix();
+  pose.translation() = state.translation;
+  return pose;
 }
 
 }  // namespace vocal

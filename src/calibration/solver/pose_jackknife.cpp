@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/sensor_trust.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -37,8 +38,9 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
   jackknife.poses = static_cast<int>(poses.size());
   // Per re-solve and sensor: how far it moved from the full solution (translation, rotation vector in the rig frame).
   std::vector<std::vector<Vector6d>> moves;
+  const CalibrationOptions same_graph = withIsolatedSensors(options, full);  // the sensors `full` kept out stay out
   for (const int left_out : poses) {
-    const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, options, left_out);
+    const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, same_graph, left_out);
     if (!result) continue;
     std::vector<Vector6d> move(sensors.size());
     for (std::size_t s = 0; s < sensors.size(); ++s) {

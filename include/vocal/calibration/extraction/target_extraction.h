@@ -47,6 +47,7 @@ struct ScanSpacing {
   // A spinning lidar's ring elevations (radians, ascending; rings of 20 returns or more) when
   // estimateScanSpacing found its cloud to be one; empty otherwise.
   std::vector<double> rings;
+  bool rings_from_driver = false;  // the cloud's ring field gave them (else: found by elevation)
 };
 
 struct TargetExtractionOptions {

@@ -19,9 +19,14 @@
 // 2018 and velo2cam): the board's position within its plane is then fixed even when the normals span
 // too little to fix the sensors' translation.
 
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/consensus_filter.h"
 #include "vocal/calibration/solver/observability.h"
 #include "vocal/core/se3.h"
@@ -36,6 +41,19 @@ struct BoardEdgeOptions {
   double range_sigma = 0.01;   // metres: a range sensor's edge point (its step along the line, the beam's width)
   double camera_sigma = 0.002; // metres: a camera view's board outline (PnP, the print's place on the board)
   double loss_sigmas = 2.0;    // Cauchy scale: a hand over an edge ends a line early
+};
+
+// When a sensor's result is trusted (sensor_trust.h, calibrateRigWithTrust; calibrateRig itself only measures).
+struct SensorTrustOptions {
+  bool isolate = true;  // take the sensors that disagree out of the graph (false: only name them)
+  // A sensor disagrees when the median over its poses of its board view's distance from (m) or angle to
+  // (rad) the board the others solved is over these. Sensors 2 cm / 0.02 rad off put their views of a
+  // board 1.5-3 m away 2-6 cm and 0.02 rad from the others'; noise and real lidars' ring biases a few mm.
+  double max_distance = 0.015;
+  double max_angle = 0.02;
+  // ... or its views' distance grows with range by more than this share (and three standard errors): 1 %
+  // at 1.6 m is as far off as 1.6 cm.
+  double max_scale = 0.01;
 };
 
 struct CalibrationOptions {
@@ -53,6 +71,11 @@ struct CalibrationOptions {
   bool consensus_filter = true;
   ConsensusOptions consensus;
   BoardEdgeOptions board_edges;
+  // Sensors kept out of the graph (sensor_trust.h isolates those that disagree with the rest): the rig is
+  // solved without them, then each is fitted alone to the boards the others solved, so it moves none of
+  // them. Never the reference sensor.
+  std::vector<int> isolated_sensors;
+  SensorTrustOptions trust;
 };
 
 struct SensorCalibration {
@@ -63,6 +86,21 @@ struct SensorCalibration {
   double rms = 0.0;                                // point-to-plane, metres
   int observations = 0;
   int rejected_observations = 0;  // by the consensus filter
+  // How far the sensor's board views lie from where the other sensors' views put the board (the solved
+  // board; for an isolated sensor, solved without it): medians over the poses it shares with another
+  // plane-seeing sensor, of the distance at the centre of its view (m) and the angle between its board
+  // normal (a 2D laser: its line) and the board's (rad). Zero with no shared pose (`compared_poses` 0).
+  double disagreement_distance = 0.0;
+  double disagreement_angle = 0.0;
+  int compared_poses = 0;
+  // Its views' distance from the others' board as a share of their range (a line through the views, the
+  // slope): a scale error - wrong focal length or square size - that the sensor's translation along its
+  // view cannot take up once the board stands at several distances; and the slope's standard error.
+  double disagreement_scale = 0.0, disagreement_scale_sigma = 0.0;
+  bool isolated = false;  // kept out of the graph (CalibrationOptions::isolated_sensors)
+  // Departure from the chained closed form (the run-away check): metres and radians.
+  double departure_translation = 0.0, departure_rotation = 0.0;
+  std::string distrust;   // why this sensor's result is not trusted, for the user (empty: trusted); sensor_trust.h
 };
 
 // How well one observation fits the solution, so bad ones can be found.
@@ -72,6 +110,11 @@ struct ObservationResidual {
   double rms = 0.0;       // metres, its points' distance to the solved target plane; NaN when every
                           // observation of its pose was rejected (no plane was solved)
   bool rejected = false;  // by the consensus filter (rms then measured against the solution anyway)
+  // Its view against the board the other sensors solved (SensorCalibration::disagreement_*): distance
+  // at its view's centre along the board's normal (m; positive: its view lies beyond the others' board,
+  // seen from the sensor) and angle (rad); NaN when no other sensor fixed that pose's board.
+  double plane_distance = 0.0, plane_angle = 0.0;
+  double range = 0.0;  // metres from the sensor to its view's centre
 };
 
 struct CalibrationResult {
@@ -79,13 +122,34 @@ struct CalibrationResult {
   std::vector<ObservationResidual> observations;  // in the order of the input
   double rms = 0.0;  // over every point
   std::vector<ObservabilityWarning> warnings;  // weakly constrained DoF, checked before solving
-  bool trusted = true;   // false: the solver failed or ran away from the closed form (see failure)
+  // The target as solved, rig frame, per target pose: its plane, and with board edges its full pose.
+  std::map<int, Plane> board_planes;
+  std::map<int, Eigen::Isometry3d> boards;
+  bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
 };
 
+// One view against a board (rig frame) with the sensor at `rig_from_sensor`: the distance at the view's
+// centre along the board's normal (m; positive: the view lies beyond the board, seen from the sensor),
+// the angle between the view's normal (a 2D laser: its line) and the board's (rad; NaN when the view
+// has too few points), and the range to the view's centre (m).
+struct ViewDisagreement {
+  double distance = 0.0;
+  double angle = std::numeric_limits<double>::quiet_NaN();
+  double range = 0.0;
+};
+ViewDisagreement viewDisagreement(const TargetObservation& view, SensorType type, const Eigen::Isometry3d& rig_from_sensor, const Plane& board);
+
+// One sensor's pose fitted alone to the boards `solved` holds (constant), from its observations `its` (all
+// of one sensor) at poses with a solved board, starting from its pose in `solved`: how a part of a
+// session places it (sensor_trust.h: before and after a bump). None when no observation has a board.
+std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& its,
+                                                         const CalibrationResult& solved, const CalibrationOptions& options);
+
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
 // rest (the sensor graph is not connected), or its planes cannot fix its pose (with board edges: its
-// planes and the board's centres), or board edges are enabled without the board's size.
+// planes and the board's centres), or board edges are enabled without the board's size; and for an
+// isolated sensor that is the reference or not a sensor of the rig.
 CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                const CalibrationOptions& options = {});
 

@@ -1,0 +1,235 @@
+#include "vocal/calibration/solver/sensor_trust.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "vocal/calibration/point_statistics.h"
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+namespace {
+bool scaleIsSignificant(const SensorCalibration& sensor, const SensorTrustOptions& trust) {
+  return std::abs(sensor.disagreement_scale) > std::max(trust.max_scale, 3.0 * sensor.disagreement_scale_sigma);
+}
+
+// One compared view of a sensor: its pose and disagreement.
+struct ComparedView {
+  int pose = 0;
+  double distance = 0.0;  // signed, m
+  double angle = 0.0;     // rad (NaN for a view whose orientation was not measured)
+  double range = 0.0;     // m
+  bool off = false;       // over either threshold
+};
+
+std::vector<ComparedView> comparedViews(const CalibrationResult& result, int sensor, const SensorTrustOptions& trust) {
+  std::vector<ComparedView> views;
+  for (const ObservationResidual& o : result.observations) {
+    if (o.sensor != sensor || std::isnan(o.plane_distance)) continue;
+    ComparedView v{o.target_pose, o.plane_distance, o.plane_angle, o.range};
+    v.off = std::abs(v.distance) > trust.max_distance || (!std::isnan(v.angle) && v.angle > trust.max_angle);
+    views.push_back(v);
+  }
+  std::sort(views.begin(), views.end(), [](const ComparedView& a, const ComparedView& b) { return a.pose < b.pose; });
+  return views;
+}
+
+// The likely cause of a disagreement, in words a user acts on (a change at one pose is found apart:
+// placementChange).
+std::string disagreementCause(const SensorSpec& spec, const SensorCalibration& sensor, const std::vector<ComparedView>& views,
+                              const SensorTrustOptions& trust, int other_sources) {
+  int off = 0;
+  std::vector<double> angles;
+  for (const ComparedView& v : views) {
+    off += v.off;
+    if (!std::isnan(v.angle)) angles.push_back(v.angle);
+  }
+  char text[400];
+  const bool angles_agree = angles.empty() || median(angles) <= trust.max_angle;
+  if (scaleIsSignificant(sensor, trust)) {
+    std::snprintf(text, sizeof(text),
+                  "the board's distance from it reads %.1f %% too %s (+-%.1f %%) against the others': a scale error - %s",
+                  100.0 * std::abs(sensor.disagreement_scale), sensor.disagreement_scale > 0.0 ? "long" : "short",
+                  100.0 * sensor.disagreement_scale_sigma,
+                  spec.type == SensorType::kCamera ? "check its camera_info (focal length) and the target's square size in the rig YAML"
+                                                   : "check the sensor's range calibration (depth units, range scale)");
+    return text;
+  }
+  if (spec.type != SensorType::kCamera && angles_agree && off * 10 >= static_cast<int>(views.size()) * 8) {
+    std::vector<double> distances;
+    int positive = 0;
+    for (const ComparedView& v : views) distances.push_back(v.distance), positive += v.distance > 0.0;
+    const int n = static_cast<int>(views.size());
+    if (positive * 10 >= n * 9 || positive * 10 <= n) {
+      const double offset = median(distances);
+      std::snprintf(text, sizeof(text),
+                    "its board is at the right angle but %.0f mm %s than the others put it at every pose: a range offset (the "
+                    "sensor's own range calibration, dark squares reading long) or a wrong target size in the rig YAML",
+                    1000.0 * std::abs(offset), offset > 0.0 ? "farther" : "nearer");
+      return text;
+    }
+  }
+  std::snprintf(text, sizeof(text),
+                "%d of %zu still poses disagree, in no pattern: it moves between poses (is it on a joint - a pan-tilt head, an arm - "
+                "or loosely mounted?) or the segment taken for the board is not the board (set a crop_box, check the target size)%s",
+                off, views.size(), other_sources <= 1 ? "; with only one other sensor to compare with, either of the two may be at fault" : "");
+  return text;
+}
+
+// Plane-seeing sensors in the graph other than `sensor`.
+int otherPlaneSources(const std::vector<SensorSpec>& sensors, const CalibrationResult& result, int sensor) {
+  int count = 0;
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    count += static_cast<int>(s) != sensor && !result.sensors[s].isolated && sensors[s].type != SensorType::kLaser2d;
+  return count;
+}
+
+// Where a sensor's placement changed once during the session (a bump): its pose fitted alone to the solved
+// boards from the poses before and from those after each split. Found when the two parts place it beyond
+// the thresholds apart and each part alone fits its views far better than one placement fits them all
+// (their squared disagreements, in thresholds, at least four times smaller together): noise and poses
+// that constrain a part poorly move the placements, not the fit.
+struct PlacementChange {
+  int pose = -1;  // the first pose after the change; -1: none
+  double translation = 0.0, rotation = 0.0;  // between the two parts' placements
+  double improvement = 0.0;                  // one placement's misfit over the two parts'
+};
+
+// The views' squared disagreement with the boards, in thresholds, with the sensor at `pose`.
+double misfit(const std::vector<TargetObservation>& views, std::size_t begin, std::size_t end, SensorType type,
+              const Eigen::Isometry3d& pose, const CalibrationResult& result, const SensorTrustOptions& trust) {
+  double sum = 0.0;
+  for (std::size_t i = begin; i < end; ++i) {
+    const ViewDisagreement v = viewDisagreement(views[i], type, pose, result.board_planes.at(views[i].target_pose));
+    sum += std::pow(v.distance / trust.max_distance, 2) + (std::isnan(v.angle) ? 0.0 : std::pow(v.angle / trust.max_angle, 2));
+  }
+  return sum;
+}
+
+PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                                const CalibrationResult& result, const CalibrationOptions& options, int sensor) {
+  std::vector<TargetObservation> its;
+  for (const TargetObservation& o : observations)
+    if (o.sensor == sensor && result.board_planes.count(o.target_pose)) its.push_back(o);
+  std::sort(its.begin(), its.end(), [](const TargetObservation& a, const TargetObservation& b) { return a.target_pose < b.target_pose; });
+  PlacementChange change;
+  constexpr std::size_t kLeast = 4;  // poses in each part
+  if (its.size() < 2 * kLeast) return change;
+  const SensorTrustOptions& trust = options.trust;
+  const SensorType type = sensors[sensor].type;
+  const double whole = misfit(its, 0, its.size(), type, result.sensors[sensor].reference_from_sensor, result, trust);
+  double best = 0.0;
+  for (std::size_t split = kLeast; split + kLeast <= its.size(); ++split) {
+    const std::vector<TargetObservation> before(its.begin(), its.begin() + split), after(its.begin() + split, its.end());
+    const std::optional<Eigen::Isometry3d> a = fitSensorToSolvedBoards(sensors, before, result, options);
+    const std::optional<Eigen::Isometry3d> b = fitSensorToSolvedBoards(sensors, after, result, options);
+    if (!a || !b) continue;
+    const double parts = misfit(its, 0, split, type, *a, result, trust) + misfit(its, split, its.size(), type, *b, result, trust);
+    const double improvement = whole / std::max(parts, 1e-12);
+    const Eigen::Isometry3d apart = a->inverse() * *b;
+    const double moved = std::max(apart.translation().norm() / trust.max_distance, rotationAngle(apart) / trust.max_angle);
+    if (moved > 1.0 && improvement > 4.0 && improvement > best) {
+      best = improvement;
+      change.pose = its[split].target_pose, change.translation = apart.translation().norm(), change.rotation = rotationAngle(apart);
+      change.improvement = improvement;
+    }
+  }
+  return change;
+}
+}  // namespace
+
+double disagreementRatio(const SensorCalibration& sensor, const SensorTrustOptions& trust) {
+  if (sensor.compared_poses == 0) return 0.0;
+  const double ratio = std::max(sensor.disagreement_distance / trust.max_distance, sensor.disagreement_angle / trust.max_angle);
+  return std::max(ratio, scaleIsSignificant(sensor, trust) ? std::abs(sensor.disagreement_scale) / trust.max_scale : 0.0);
+}
+
+CalibrationOptions withIsolatedSensors(CalibrationOptions options, const CalibrationResult& result) {
+  options.isolated_sensors.clear();
+  for (std::size_t s = 0; s < result.sensors.size(); ++s)
+    if (result.sensors[s].isolated) options.isolated_sensors.push_back(static_cast<int>(s));
+  return options;
+}
+
+CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                                        const CalibrationOptions& options) {
+  const SensorTrustOptions& trust = options.trust;
+  const CalibrationResult full = calibrateRig(sensors, observations, options);
+  CalibrationResult result = full;
+  const int sensor_count = static_cast<int>(sensors.size());
+  std::vector<std::string> kept_in(sensor_count);  // per sensor: why it could not be taken out
+  std::vector<PlacementChange> changes(sensor_count);
+  // Each round solves the rig once without each sensor still in it: a sensor is at fault when it
+  // disagrees with the others solved without it (or moved part-way), and of those, the one whose
+  // removal leaves the rest agreeing best is taken out. Judging each against the rest solved without it
+  // matters: a sensor with many points (a lidar) pulls the boards to itself, and then the sensors that
+  // are right seem to disagree.
+  for (int round = 0; round < sensor_count; ++round) {
+    int pick = -1;
+    double pick_rest = 0.0, pick_own = 0.0;
+    CalibrationResult pick_result;
+    PlacementChange pick_change;
+    for (int s = 0; s < sensor_count; ++s) {
+      if (s == options.reference_sensor || result.sensors[s].isolated || !kept_in[s].empty()) continue;
+      CalibrationOptions trial_options = withIsolatedSensors(options, result);
+      trial_options.isolated_sensors.push_back(s);
+      CalibrationResult trial;
+      try {
+        trial = calibrateRig(sensors, observations, trial_options);
+      } catch (const InputError& e) {
+        kept_in[s] = std::string("it cannot be taken out of the graph (") + e.what() + ")";
+        continue;
+      }
+      if (!trial.trusted) continue;
+      const double own = disagreementRatio(trial.sensors[s], trust);
+      const PlacementChange change = placementChange(sensors, observations, trial, options, s);
+      if (own <= 1.0 && change.pose < 0) continue;
+      double rest = 0.0;
+      for (int other = 0; other < sensor_count; ++other) {
+        if (other != s && other != options.reference_sensor && !trial.sensors[other].isolated)
+          rest = std::max(rest, disagreementRatio(trial.sensors[other], trust));
+      }
+      if (pick < 0 || rest < pick_rest || (rest == pick_rest && own > pick_own)) {
+        pick = s, pick_rest = rest, pick_own = own, pick_result = std::move(trial), pick_change = change;
+      }
+    }
+    if (pick < 0) break;
+    result = std::move(pick_result);
+    changes[pick] = pick_change;
+  }
+  for (int s = 0; s < sensor_count; ++s) {
+    SensorCalibration& sensor = result.sensors[s];
+    if (s == options.reference_sensor) continue;
+    const std::string placement = !trust.isolate     ? std::string("; kept in the graph (isolation is off)")
+                                  : sensor.isolated   ? std::string("; taken out of the graph, the others solved without it")
+                                  : !kept_in[s].empty() ? "; " + kept_in[s]
+                                                        : std::string("; kept in the graph (the rest agree no better without it)");
+    if (changes[s].pose >= 0) {
+      char line[400];
+      std::snprintf(line, sizeof(line),
+                    "its placement from the still poses before pose %d and from those after differ by %.0f mm / %.0f mrad, and each "
+                    "part fits its own views %.0fx better than one placement fits all: it moved part-way through the session (bumped, or "
+                    "a loose mount); fix it and record again",
+                    changes[s].pose, 1000.0 * changes[s].translation, 1000.0 * changes[s].rotation, changes[s].improvement);
+      sensor.distrust = line + placement;
+      continue;
+    }
+    if (disagreementRatio(sensor, trust) <= 1.0) continue;  // never isolated: a full solve's ratio is not over
+    char head[200];
+    std::snprintf(head, sizeof(head), "its board views lie %.0f mm / %.0f mrad from where the other sensors put the board (median of %d poses)",
+                  1000.0 * sensor.disagreement_distance, 1000.0 * sensor.disagreement_angle, sensor.compared_poses);
+    sensor.distrust = std::string(head) + "; " +
+                      disagreementCause(sensors[s], sensor, comparedViews(result, s, trust), trust, otherPlaneSources(sensors, result, s)) +
+                      placement;
+  }
+  if (trust.isolate) return result;
+  // Only named: the verdicts found with each sensor judged against the rest, on the solve with every sensor.
+  CalibrationResult named = full;
+  for (int s = 0; s < sensor_count; ++s) named.sensors[s].distrust = result.sensors[s].distrust;
+  return named;
+}
+
+}  // namespace vocal
