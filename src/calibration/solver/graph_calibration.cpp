@@ -603,16 +603,14 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     result.trusted = false;
     result.failure = "the solver did not reach a usable solution: " + summary.message;
   }
-  for (int s = 0; s < sensor_count; ++s) {
-    SensorCalibration& out = result.sensors[s];
-    const Eigen::Isometry3d departure = out.pairwise_estimate.inverse() * out.reference_from_sensor;
-    out.departure_translation = departure.translation().norm();
-    out.departure_rotation = rotationAngle(departure);
-    // An isolated sensor's run-away moves none of the others: it is its own verdict (sensor_trust.h).
-    if (!result.trusted || isolated[s]) continue;
-    if (out.departure_translation > options.max_departure_translation || out.departure_rotation > options.max_departure_rotation) {
+  // An isolated sensor's run-away moves none of the others: it is judged on its own (sensor_trust.h).
+  for (int s = 0; s < sensor_count && result.trusted; ++s) {
+    if (isolated[s]) continue;
+    const Eigen::Isometry3d departure = result.sensors[s].pairwise_estimate.inverse() * result.sensors[s].reference_from_sensor;
+    const double moved = departure.translation().norm(), turned = rotationAngle(departure);
+    if (moved > options.max_departure_translation || turned > options.max_departure_rotation) {
       std::ostringstream message;
-      message << "sensor '" << sensors[s].name << "' moved " << out.departure_translation << " m and " << out.departure_rotation
+      message << "sensor '" << sensors[s].name << "' moved " << moved << " m and " << turned
               << " rad away from its closed-form estimate: the data does not pin it down (too few poses or too many outliers)";
       result.trusted = false;
       result.failure = message.str();
@@ -637,15 +635,15 @@ ViewDisagreement viewDisagreement(const TargetObservation& o, SensorType type, c
   // The board's normal turned towards the sensor: a view beyond the board is then positive.
   const double side = board.signedDistance(rig_from_sensor.translation()) < 0.0 ? -1.0 : 1.0;
   view.distance = -side * board.signedDistance(rig_from_sensor * centre);
-  const auto unsignedAngle = [&](const Eigen::Vector3d& direction_in_sensor) {
+  const auto alongNormal = [&](const Eigen::Vector3d& direction_in_sensor) {  // |cos| of its angle to the board's normal
     return std::abs(board.normal.dot(rig_from_sensor.linear() * direction_in_sensor));
   };
   if (!o.plane_measurements.empty()) {
-    view.angle = std::acos(std::min(1.0, unsignedAngle(o.plane_measurements.front().sensor_from_pattern.linear().col(2))));
+    view.angle = std::acos(std::min(1.0, alongNormal(o.plane_measurements.front().sensor_from_pattern.linear().col(2))));
   } else if (type == SensorType::kLaser2d) {
-    if (o.points.size() >= 2) view.angle = std::asin(std::min(1.0, unsignedAngle(principalAxesOf(o.points).axes.col(0))));
+    if (o.points.size() >= 2) view.angle = std::asin(std::min(1.0, alongNormal(principalAxesOf(o.points).axes.col(0))));
   } else if (o.points.size() >= 3) {
-    view.angle = std::acos(std::min(1.0, unsignedAngle(fitPlane(o.points, "observation").plane.normal)));
+    view.angle = std::acos(std::min(1.0, alongNormal(fitPlane(o.points, "observation").plane.normal)));
   }
   return view;
 }

@@ -49,7 +49,7 @@ std::string disagreementCause(const SensorSpec& spec, const SensorCalibration& s
   }
   char text[400];
   const bool angles_agree = angles.empty() || median(angles) <= trust.max_angle;
-  if (scaleIsSignificant(sensor, trust)) {
+  if (scaleIsSignificant(sensor, trust) && angles_agree) {  // a scale leaves each view's angle right
     std::snprintf(text, sizeof(text),
                   "the board's distance from it reads %.1f %% too %s (+-%.1f %%) against the others': a scale error - %s",
                   100.0 * std::abs(sensor.disagreement_scale), sensor.disagreement_scale > 0.0 ? "long" : "short",
@@ -57,6 +57,10 @@ std::string disagreementCause(const SensorSpec& spec, const SensorCalibration& s
                   spec.type == SensorType::kCamera ? "check its camera_info (focal length) and the target's square size in the rig YAML"
                                                    : "check the sensor's range calibration (depth units, range scale)");
     return text;
+  }
+  if (spec.type == SensorType::kLidar3d && !angles_agree && sensor.disagreement_distance <= trust.max_distance) {
+    return "its board views stand where the others put the board but tilted against it: range biases that differ from ring to ring "
+           "tilt each view (calibrate with its ring offsets, where it sees walls and floor all round, or check its ring offset verdict)";
   }
   if (spec.type != SensorType::kCamera && angles_agree && off * 10 >= static_cast<int>(views.size()) * 8) {
     std::vector<double> distances;

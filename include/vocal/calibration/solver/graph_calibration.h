@@ -98,8 +98,6 @@ struct SensorCalibration {
   // view cannot take up once the board stands at several distances; and the slope's standard error.
   double disagreement_scale = 0.0, disagreement_scale_sigma = 0.0;
   bool isolated = false;  // kept out of the graph (CalibrationOptions::isolated_sensors)
-  // Departure from the chained closed form (the run-away check): metres and radians.
-  double departure_translation = 0.0, departure_rotation = 0.0;
   std::string distrust;   // why this sensor's result is not trusted, for the user (empty: trusted); sensor_trust.h
 };
 
