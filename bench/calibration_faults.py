@@ -36,6 +36,9 @@ FAULTS = [
     ("rig YAML: board and squares 5 % too large", "", 1.05, ["lidar0", "laser0", "camera0", "camera1"]),
     ("lidar0: dark squares return nothing", "--dark-absorbs", None, ["lidar0"]),
     ("lidar0: +5 cm range offset on every ring", "--range-offset 0.05", None, ["lidar0"]),
+    ("the board on a stand (two posts, feet), no one holding it", "--stand", None, []),
+    ("lidar0 scan cropped to 1 m around the board", "--crop-lidar 1.0", None, ["lidar0"]),
+    ("stand, dark squares return nothing, lidar0 cropped", "--stand --dark-absorbs --crop-lidar 1.0", None, ["lidar0"]),
 ]
 
 
@@ -63,7 +66,8 @@ def main():
             continue
         folder = os.path.join(args.work, f"seed{args.seed}_" + re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_"))
         if not os.path.exists(f"{folder}/session.bag"):
-            code, output, _ = run(f"{TOOLS}/simulate_calibration_session {folder} {MUST_SHOW} --rate 3 --seed {args.seed} {flags}")
+            session = MUST_SHOW.replace(" --person", "") if "--stand" in flags else MUST_SHOW  # a stand holds it instead
+            code, output, _ = run(f"{TOOLS}/simulate_calibration_session {folder} {session} --rate 3 --seed {args.seed} {flags}")
             if code != 0:
                 print(f"{name}: simulation failed: {output}", file=sys.stderr)
                 continue

@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "test_support.h"
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 #include "vocal/tools/calibration_bag.h"
 
 namespace {
@@ -242,4 +245,41 @@ TEST(CalibrationSession, RecordedBagCalibratesEveryTypeOfSensor) {
   // Data of the wrong type for a sensor is refused by name.
   EXPECT_EQ(vocal_test::inputErrorOf([&] { session.addScan(session.sensorIndex("lidar0"), 1.0, {}); }),
             "sensor 'lidar0' is a lidar3d sensor: it takes no 2D scan");
+}
+
+// A lidar scan cropped to the region around a board on a stand whose black squares return nothing (a few
+// hundred returns) still gives its spacing
+// when the driver's ring field says which ring each return is on; without it a whole scan is needed,
+// and the message says both.
+TEST(CalibrationSession, ACroppedLidarScanIsEnoughWithARingField) {
+  const vocal::SimulatedSensor lidar = vocal::exampleRig(0, 1, 0, 0)[0];
+  const vocal::TargetDescription target;
+  const vocal::RigDescription rig = vocal::describeSimulatedRig({lidar}, target, true);
+  vocal::SimulatedRoomView view = vocal::boardHeldInFurnishedRoom(lidar, target);
+  view.person_holds_target = false;
+  view.board_on_stand = true;
+  view.dark_absorbs = true;  // the board's black squares return nothing, as on a real one
+  std::mt19937 rng(3);
+  vocal::SimulatedTruth truth;
+  const std::vector<Eigen::Vector3d> whole = vocal::simulateLidarCloud(view, &rng, &truth);
+  // The returns within 0.8 m of the board's centre.
+  const Eigen::Vector3d board = lidar.reference_from_sensor.inverse() * view.reference_from_target.translation();
+  std::vector<Eigen::Vector3d> cropped;
+  std::vector<int> rings;
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    if ((whole[i] - board).norm() > 0.8) continue;
+    cropped.push_back(whole[i]);
+    rings.push_back(truth.rings[i]);
+  }
+  ASSERT_GT(cropped.size(), 200u);
+  ASSERT_LT(cropped.size(), 1000u);
+  vocal::CalibrationSession with_rings(rig), without_rings(rig);
+  with_rings.prepareCloud(0, cropped, rings);
+  EXPECT_TRUE(with_rings.hasSpacing(0));
+  without_rings.prepareCloud(0, cropped);
+  EXPECT_FALSE(without_rings.hasSpacing(0));
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { without_rings.extractCloud(0, cropped); }),
+            "sensor 'lidar0': a cloud of " + std::to_string(cropped.size()) +
+                " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more, 200 with a ring field)");
+  EXPECT_TRUE(with_rings.take(0, 0.0, with_rings.extractCloud(0, cropped))) << "the board in the cropped scan";
 }

@@ -181,3 +181,28 @@ TEST(SensorTrust, TheReferenceCannotBeKeptOutOfTheGraph) {
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(rig.specs, rig.simulated.observations, rig.options); }),
             "calibration: isolated sensor index 7 is not one of the 5 sensors");
 }
+
+// A sensor that never saw the target (a wrong topic, a crop box beside the board): the others are
+// calibrated without it, and it is named rather than the whole calibration refused.
+TEST(SensorTrust, ASensorThatNeverSawTheTargetIsNamedAndTheRestCalibrated) {
+  Rig rig = healthyRig();
+  std::vector<vocal::TargetObservation> without;
+  for (const vocal::TargetObservation& o : rig.simulated.observations)
+    if (o.sensor != kCamera1) without.push_back(o);
+  rig.simulated.observations = without;
+  const vocal::CalibrationResult result = calibrate(rig);
+  ASSERT_TRUE(result.trusted) << result.failure;
+  EXPECT_TRUE(result.sensors[kCamera1].isolated);
+  EXPECT_EQ(result.sensors[kCamera1].distrust,
+            "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a placeholder); the others "
+            "were solved without it");
+  expectOthersWithin1cm(rig, result, kCamera1);
+  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
+  EXPECT_EQ(spread.solved, spread.poses);
+  // The reference itself cannot be left out.
+  std::vector<vocal::TargetObservation> no_reference;
+  for (const vocal::TargetObservation& o : rig.simulated.observations)
+    if (o.sensor != kRgbd) no_reference.push_back(o);
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRigWithTrust(rig.specs, no_reference, rig.options); }),
+            "calibration: sensor 'rgbd0' never sees the target: its pose is unconstrained in all 6 DoF");
+}

@@ -134,6 +134,8 @@ namespace {
 // Rings found by clustering elevations (no ring field) beyond this are bands of a scanning lidar, not
 // lasers: a multi-beam lidar without a ring field has at most 64 (128-beam ones publish the field).
 constexpr std::size_t kMostRingsFound = 64;
+// Returns a lidar's first cloud needs for its spacing: without a ring field, and with one.
+constexpr std::size_t kLeastReturns = 1000, kLeastCroppedReturns = 200;
 
 // Whether a lidar's rings are its lasers': the driver's, or few enough found by elevation.
 bool ringsAreALidars(const ScanSpacing& spacing) { return spacing.rings_from_driver || spacing.rings.size() <= kMostRingsFound; }
@@ -142,7 +144,10 @@ bool ringsAreALidars(const ScanSpacing& spacing) { return spacing.rings_from_dri
 void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings) {
   checkSensor(sensor, SensorType::kLidar3d, "point cloud");
   ScanSpacing& spacing = lidar_spacing_[sensor];
-  if (spacing.horizontal > 0.0 || cloud.size() < 1000) return;
+  // Enough returns to see the spacing: a whole scan, or a scan cropped around the board when the
+  // driver's ring field says which ring each return is on.
+  const std::size_t least = rings.size() == cloud.size() ? kLeastCroppedReturns : kLeastReturns;
+  if (spacing.horizontal > 0.0 || cloud.size() < least) return;
   spacing = estimateScanSpacing(cloud);
   // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
   // elevation at close range; a scanner without rings has none to cluster).
@@ -157,7 +162,8 @@ CalibrationSession::Extraction CalibrationSession::extractCloud(int sensor, cons
   const ScanSpacing& spacing = lidar_spacing_[sensor];
   if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
     throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
-                     " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more)");
+                     " points shows no ring or row spacing (a lidar's first cloud needs " + std::to_string(kLeastReturns) +
+                     " points or more, " + std::to_string(kLeastCroppedReturns) + " with a ring field)");
   }
   Extraction extraction;
   extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
@@ -416,10 +422,18 @@ CalibrationOptions CalibrationSession::calibrationOptions(CalibrationOptions opt
 
 CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservation>& associated,
                                                 CalibrationOptions options) const {
-  // A sensor that saw the target but was never still with it: say why, rather than "never sees the target".
+  // A sensor that saw the target but was never still with it: say why, rather than "never saw the target".
   const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
-  if (!unassociated.empty()) throw InputError("calibration: " + unassociated);
-  return calibrateRigWithTrust(rig_.specs(), associated, calibrationOptions(options));
+  const int reference = rig_.reference_sensor;
+  const std::string& reference_name = rig_.sensors[reference].spec.name;
+  if (!unassociated.empty() && unassociated.rfind("sensor '" + reference_name + "' ", 0) == 0) throw InputError("calibration: " + unassociated);
+  CalibrationResult result = calibrateRigWithTrust(rig_.specs(), associated, calibrationOptions(options));
+  for (std::size_t s = 0; s < rig_.sensors.size() && !unassociated.empty(); ++s) {
+    if (unassociated.rfind("sensor '" + rig_.sensors[s].spec.name + "' ", 0) == 0) {
+      result.sensors[s].distrust = "it " + unassociated.substr(unassociated.find("' ") + 2) + "; not calibrated, the others were solved without it";
+    }
+  }
+  return result;
 }
 
 }  // namespace vocal

@@ -60,7 +60,7 @@ const char* surfaceLabelName(SurfaceLabel label) {
 }
 
 SimulatedRoom::SimulatedRoom(RoomLayout layout, const Eigen::Isometry3d& reference_from_target,
-                             const TargetDescription& target, bool person_holds_target)
+                             const TargetDescription& target, bool person_holds_target, bool on_stand)
     : layout_(layout),
       reference_from_target_(reference_from_target),
       target_from_reference_(reference_from_target.inverse()),
@@ -80,11 +80,36 @@ SimulatedRoom::SimulatedRoom(RoomLayout layout, const Eigen::Isometry3d& referen
     furniture({-2.2, 1.2, 0.0}, {-1.4, 3.0, 0.45});
     if (person_holds_target) addPerson();
   }
+  if (on_stand) addStand();
 }
 
 void SimulatedRoom::addBox(const Eigen::Isometry3d& reference_from_box, const Eigen::Vector3d& half,
                            SurfaceLabel label) {
   boxes_.push_back({reference_from_box.inverse(), reference_from_box.translation(), half, half.norm(), label});
+}
+
+void SimulatedRoom::addStand() {
+  const Eigen::Matrix3d& R = reference_from_target_.linear();
+  const Eigen::Vector3d centre = reference_from_target_.translation();
+  // The board's edge axis nearer the vertical, pointing up; the other runs along its lower edge.
+  const bool y_up = std::abs(R(2, 1)) >= std::abs(R(2, 0));
+  Eigen::Vector3d up = y_up ? R.col(1) : R.col(0), along = y_up ? R.col(0) : R.col(1);
+  if (up.z() < 0.0) up = -up;
+  const double half_up = y_up ? half_height_ : half_width_, half_along = y_up ? half_width_ : half_height_;
+  Eigen::Vector3d behind = -R.col(2);  // the target's z faces the rig
+  behind.z() = 0.0;
+  behind = behind.norm() > 1e-6 ? behind.normalized() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(behind);
+  for (const double sign : {-1.0, 1.0}) {
+    // A post from 5 cm above the lower corner (held by a clamp), 3 cm behind the board, to the floor.
+    const Eigen::Vector3d top = centre - (half_up - 0.05) * up + sign * (half_along - 0.08) * along + 0.03 * behind;
+    if (top.z() <= 0.05) continue;
+    const Eigen::Vector3d foot(top.x(), top.y(), 0.0);
+    addBox(boxPose(0.5 * (top + foot)), {0.02, 0.02, 0.5 * top.z()}, SurfaceLabel::kFurniture);
+    Eigen::Matrix3d frame;
+    frame << behind, across, Eigen::Vector3d::UnitZ();
+    addBox(boxPose(foot + Eigen::Vector3d(0.0, 0.0, 0.02), frame), {0.3, 0.03, 0.02}, SurfaceLabel::kFurniture);
+  }
 }
 
 void SimulatedRoom::addPerson() {

@@ -14,7 +14,7 @@ constexpr double kMaxRange = 8.0;
 // The room with the view's target in it, and the sensor's origin and axes in the rig frame.
 struct SensorInRoom {
   explicit SensorInRoom(const SimulatedRoomView& view)
-      : room(view.layout, view.reference_from_target, *view.target, view.person_holds_target),
+      : room(view.layout, view.reference_from_target, *view.target, view.person_holds_target, view.board_on_stand),
         pose(view.sensor->reference_from_sensor) {}
   RoomHit cast(const Eigen::Vector3d& direction, const Eigen::Vector3d& origin = Eigen::Vector3d::Zero()) const {
     return room.cast(pose * origin, pose.linear() * direction.normalized(), kMaxRange);

@@ -104,6 +104,23 @@ Eigen::Isometry3d faultyPlacement(const SimulatedSensor& sensor, const std::vect
   return placed;
 }
 
+// Keeps the returns (sensor frame) within `radius` of any still pose's board centre.
+void cropAroundBoards(std::vector<Eigen::Vector3d>* cloud, std::vector<int>* rings, const Eigen::Isometry3d& rig_from_sensor,
+                      const std::vector<Eigen::Isometry3d>& boards, double radius) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < cloud->size(); ++i) {
+    const Eigen::Vector3d p = rig_from_sensor * (*cloud)[i];
+    bool near = false;
+    for (const Eigen::Isometry3d& board : boards) near = near || (p - board.translation()).norm() <= radius;
+    if (!near) continue;
+    (*cloud)[kept] = (*cloud)[i];
+    if (i < rings->size()) (*rings)[kept] = (*rings)[i];
+    ++kept;
+  }
+  cloud->resize(kept);
+  if (rings->size() > kept) rings->resize(kept);
+}
+
 double faultAmount(const std::vector<SimulatedSensorFault>& faults, int sensor_index, SimulatedSensorFault::Kind kind, double none) {
   for (const SimulatedSensorFault& fault : faults)
     if (fault.sensor == sensor_index && fault.kind == kind) return fault.amount;
@@ -181,6 +198,7 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;
       view.dark_range_offset = lidar ? options.dark_range_offset : 0.0;
       view.dark_absorbs = lidar && options.dark_absorbs;
+      view.board_on_stand = options.board_on_stand;
       view.time = time;
       SimulatedSensor placed = sensors[s];
       placed.reference_from_sensor = faultyPlacement(sensors[s], options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
@@ -205,7 +223,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
           break;
         case SensorType::kLidar3d: {
           SimulatedTruth truth;
-          const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
+          std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
+          if (options.lidar_crop > 0.0) cropAroundBoards(&cloud, &truth.rings, placed.reference_from_sensor, summary.reference_from_target,
+                                                         options.lidar_crop);
           bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
           ++summary.messages;
           break;

@@ -52,6 +52,8 @@ const char kUsage[] =
     "                      time-offset:SENSOR:S (its stamps S seconds late), focal:SENSOR:SCALE (a camera's\n"
     "                      camera_info focal length times SCALE); ground_truth.yaml keeps the mount as built\n"
     "  --dark-absorbs      lidar beams on the board's dark squares return nothing\n"
+    "  --stand             the board stands on two posts with feet, carried with it (no one holds it)\n"
+    "  --crop-lidar M      each lidar cloud cropped to the returns within M metres of a still pose's board\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
@@ -119,6 +121,9 @@ int run(const vocal::CommandLine& args) {
   options.mixed_pixels = args.has("mixed-pixels");
   options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   options.dark_absorbs = args.has("dark-absorbs");
+  options.board_on_stand = args.has("stand");
+  options.lidar_crop = args.number("crop-lidar", 0.0);
+  if (options.lidar_crop < 0.0) throw vocal::InputError("option --crop-lidar: metres must be >= 0");
   const std::string faults = args.text("faults", "");
   for (std::size_t begin = 0; !faults.empty() && begin <= faults.size();) {
     const std::size_t end = std::min(faults.find(',', begin), faults.size());
@@ -141,6 +146,6 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square", "faults"},
-                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs"}, 1);
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar"},
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand"}, 1);
 }

@@ -6,6 +6,8 @@
 //              table, a shelf and a sofa - static surfaces a plane extractor can take for the board -
 //              and optionally a person holding the target by its sides (legs, torso, head behind it,
 //              arms to its edges, hands over them), who moves with it.
+//   either may have the target on a stand: two posts from its lower corners to the floor, feet across
+//   them, carried with it (what an extractor may take for the board, or the board's edge).
 
 #include <limits>
 #include <vector>
@@ -30,8 +32,9 @@ enum class RoomLayout { kPlain, kFurnished };
 class SimulatedRoom {
  public:
   // The target (a width x height rectangle in its x-y plane) at its pose in the rig frame.
+  // `on_stand`: the target stands on two posts down to the floor, each on a foot across it (any layout).
   SimulatedRoom(RoomLayout layout, const Eigen::Isometry3d& reference_from_target, const TargetDescription& target,
-                bool person_holds_target);
+                bool person_holds_target, bool on_stand = false);
 
   // The nearest surface along a ray (rig frame, unit direction) within max_range; label kNone if none.
   RoomHit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double max_range = 8.0) const;
@@ -45,6 +48,7 @@ class SimulatedRoom {
   };
   void addBox(const Eigen::Isometry3d& reference_from_box, const Eigen::Vector3d& half, SurfaceLabel label);
   void addPerson();
+  void addStand();
 
   RoomLayout layout_;
   Eigen::Isometry3d reference_from_target_, target_from_reference_;

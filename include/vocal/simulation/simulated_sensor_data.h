@@ -36,6 +36,7 @@ struct SimulatedRoomView {
   double range_noise = 0.0;  // metres along each ray
   RoomLayout layout = RoomLayout::kPlain;
   bool person_holds_target = false;  // furnished rooms only
+  bool board_on_stand = false;       // the target on two posts with feet (SimulatedRoom)
   std::vector<double> ring_bias;     // metres added to each lidar ring's ranges (none when empty)
   // Where a beam's footprint straddles a range edge, half the returns lie between the two surfaces
   // (what lidars and time-of-flight depth cameras do at a board's edges).

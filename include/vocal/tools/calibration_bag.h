@@ -65,6 +65,10 @@ struct SimulatedSessionOptions {
   // Faults of real sessions, each on one sensor (bench/calibration_faults.py): what MSG-Cal must flag.
   std::vector<SimulatedSensorFault> faults;
   bool dark_absorbs = false;  // lidar beams on the board's dark squares return nothing (low reflectivity)
+  bool board_on_stand = false;  // the board on a stand (two posts, feet), carried with it, instead of held
+  // Metres: each lidar cloud cropped to the returns within this of a still pose's board centre (a driver
+  // or filter that keeps only the region where the board was; 0: the whole scan).
+  double lidar_crop = 0.0;
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;
   std::uint32_t seed = 1;

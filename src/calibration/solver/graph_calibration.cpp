@@ -368,7 +368,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
   for (int s = 0; s < sensor_count; ++s) {
-    if (observation_count[s] == 0) {
+    if (observation_count[s] == 0 && !isolated[s]) {  // an isolated one is absent: left at the identity
       throw InputError("calibration: sensor '" + sensors[s].name + "' never sees the target: its pose is unconstrained in all 6 DoF");
     }
   }
@@ -392,7 +392,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   placed[options.reference_sensor] = true;
   initial[options.reference_sensor] = options.reference_pose;
   int plane_sensors = 0;
-  for (int s = 0; s < sensor_count; ++s) plane_sensors += !isLaser(s);
+  const auto absent = [&](int s) { return observation_count[s] == 0; };  // isolated (else thrown above), never seen
+  for (int s = 0; s < sensor_count; ++s) plane_sensors += !isLaser(s) && !absent(s);
   for (int added = 1; added < plane_sensors; ++added) {
     int best_parent = -1, best_child = -1;
     std::size_t best_shared = 0;
@@ -455,7 +456,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   // 2D lasers: their scan points on those planes.
   for (int s = 0; s < sensor_count; ++s) {
-    if (!isLaser(s)) continue;
+    if (!isLaser(s) || absent(s)) continue;
     std::vector<Plane> seen_planes;
     std::vector<std::vector<Eigen::Vector3d>> scans;
     ScanEnds scan_ends;

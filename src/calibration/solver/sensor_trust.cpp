@@ -161,9 +161,17 @@ CalibrationOptions withIsolatedSensors(CalibrationOptions options, const Calibra
 CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                         const CalibrationOptions& options) {
   const SensorTrustOptions& trust = options.trust;
-  const CalibrationResult full = calibrateRig(sensors, observations, options);
-  CalibrationResult result = full;
   const int sensor_count = static_cast<int>(sensors.size());
+  // A sensor that never saw the target in a still pose is left out, the rest calibrated without it (the
+  // reference cannot be: calibrateRig says so).
+  std::vector<bool> unseen(sensor_count, true);
+  for (const TargetObservation& o : observations)
+    if (o.sensor >= 0 && o.sensor < sensor_count) unseen[o.sensor] = false;
+  CalibrationOptions seen_options = options;
+  for (int s = 0; s < sensor_count; ++s)
+    if (unseen[s] && s != options.reference_sensor) seen_options.isolated_sensors.push_back(s);
+  const CalibrationResult full = calibrateRig(sensors, observations, seen_options);
+  CalibrationResult result = full;
   std::vector<std::string> kept_in(sensor_count);  // per sensor: why it could not be taken out
   std::vector<PlacementChange> changes(sensor_count);
   // Each round solves the rig once without each sensor still in it: a sensor is at fault when it
@@ -178,7 +186,7 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     PlacementChange pick_change;
     for (int s = 0; s < sensor_count; ++s) {
       if (s == options.reference_sensor || result.sensors[s].isolated || !kept_in[s].empty()) continue;
-      CalibrationOptions trial_options = withIsolatedSensors(options, result);
+      CalibrationOptions trial_options = withIsolatedSensors(seen_options, result);
       trial_options.isolated_sensors.push_back(s);
       CalibrationResult trial;
       try {
@@ -207,6 +215,11 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
   for (int s = 0; s < sensor_count; ++s) {
     SensorCalibration& sensor = result.sensors[s];
     if (s == options.reference_sensor) continue;
+    if (unseen[s]) {
+      sensor.distrust = "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a placeholder); "
+                        "the others were solved without it";
+      continue;
+    }
     const std::string placement = !trust.isolate     ? std::string("; kept in the graph (isolation is off)")
                                   : sensor.isolated   ? std::string("; taken out of the graph, the others solved without it")
                                   : !kept_in[s].empty() ? "; " + kept_in[s]
