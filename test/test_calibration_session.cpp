@@ -4,10 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
+#include <optional>
 #include <random>
 
 #include "test_support.h"
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/output/calibration_output.h"
+#include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/core/se3.h"
 #include "vocal/simulation/simulated_sensor_data.h"
@@ -283,3 +288,72 @@ TEST(CalibrationSession, ACroppedLidarScanIsEnoughWithARingField) {
                 " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more, 200 with a ring field)");
   EXPECT_TRUE(with_rings.take(0, 0.0, with_rings.extractCloud(0, cropped))) << "the board in the cropped scan";
 }
+
+// The session-level faults of the fault matrix (bench/calibration_faults.py) on a small recorded rig: an
+// RGB-D reference, a VLP-16-like lidar, a 2D laser and a camera, 12 still poses. Whatever each fault
+// does, no sensor may come out wrong (beyond 2 cm / 0.02 rad) and unflagged (trusted and its spread
+// within the tolerance), and the sensors it does not touch stay within 1 cm / 0.01 rad.
+struct SessionFault {
+  const char* name;
+  std::function<void(vocal::SimulatedSessionOptions*, vocal::RigDescription*)> apply;
+  std::vector<std::string> touched;
+};
+
+class CalibrationSessionFault : public ::testing::TestWithParam<SessionFault> {};
+
+TEST_P(CalibrationSessionFault, EverySensorIsRightOrFlagged) {
+  const SessionFault& fault = GetParam();
+  const std::string folder = vocal_test::makeTempFolder(std::string("session_fault_") + fault.name);
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::TargetDescription target;
+  vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 12;
+  options.depth_width = 160;
+  options.depth_height = 120;
+  options.lidar_noise = 0.01;
+  options.seed = 5;
+  vocal::RigDescription told = rig;  // what the user's rig YAML says
+  fault.apply(&options, &told);
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  vocal::CalibrationSession session(told);
+  vocal::readCalibrationBag(folder + "/session.bag", &session);
+  vocal::CalibrationOptions calibration;
+  session.chooseRingOffsets(calibration);
+  const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
+  const vocal::CalibrationResult result = session.calibrate(associated, calibration);
+  std::optional<vocal::PoseJackknife> spread;
+  try {
+    spread = vocal::jackknifeOverPoses(told.specs(), associated, session.calibrationOptions(calibration), result);
+  } catch (const vocal::InputError&) {
+  }
+  const std::vector<std::string> withheld =
+      vocal::withheldSensors(told.specs(), 0, result, spread ? &*spread : nullptr, vocal::SpreadTolerance(), false);
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
+    const double t = error.translation().norm(), r = vocal::rotationAngle(error);
+    const std::string& name = sensors[s].spec.name;
+    std::printf("%s: %s %.1f mm / %.1f mrad%s\n", fault.name, name.c_str(), 1000 * t, 1000 * r, withheld[s].empty() ? "" : ", withheld");
+    if (t > 0.02 || r > 0.02) EXPECT_NE(withheld[s], "") << name << " is wrong and not flagged";
+    if (std::find(fault.touched.begin(), fault.touched.end(), name) == fault.touched.end()) {
+      EXPECT_LT(t, 0.01) << name;
+      EXPECT_LT(r, 0.01) << name;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Faults, CalibrationSessionFault,
+    ::testing::Values(
+        SessionFault{"laser_stamps_late", [](auto* o, auto*) { o->faults.push_back({vocal::SimulatedSensorFault::Kind::kTimeOffset, 2, 0.2}); },
+                     {"laser0"}},
+        SessionFault{"board_size_wrong",
+                     [](auto*, vocal::RigDescription* rig) {
+                       rig->target.width *= 1.05, rig->target.height *= 1.05, rig->target.pattern.square_size *= 1.05;
+                     },
+                     {"lidar0", "laser0", "camera0"}},
+        SessionFault{"dark_squares_absorb", [](auto* o, auto*) { o->dark_absorbs = true; }, {"lidar0"}},
+        SessionFault{"board_on_a_stand", [](auto* o, auto*) { o->board_on_stand = true; }, {}},
+        SessionFault{"lidar_cropped", [](auto* o, auto*) { o->lidar_crop = 1.0; }, {"lidar0"}},
+        SessionFault{"lidar_range_offset", [](auto* o, auto*) { o->lidar_range_offset = 0.05; }, {"lidar0"}}),
+    [](const ::testing::TestParamInfo<SessionFault>& info) { return std::string(info.param.name); });
