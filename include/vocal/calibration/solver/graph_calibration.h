@@ -48,7 +48,8 @@ struct SensorTrustOptions {
   bool isolate = true;  // take the sensors that disagree out of the graph (false: only name them)
   // A sensor disagrees when the median over its poses of its board view's distance from (m) or angle to
   // (rad) the board the others solved is over these. Sensors 2 cm / 0.02 rad off put their views of a
-  // board 1.5-3 m away 2-6 cm and 0.02 rad from the others'; noise and real lidars' ring biases a few mm.
+  // board 1.5-3 m away 2-6 cm and 0.02 rad from the others'; noise and a real lidar's ring biases a few mm
+  // and up to 10 mrad (the real office's VLP-16: 1 mm / 9 mrad).
   double max_distance = 0.015;
   double max_angle = 0.02;
   // ... or its views' distance grows with range by more than this share (and three standard errors): 1 %

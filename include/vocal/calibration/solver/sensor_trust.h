@@ -14,12 +14,15 @@ namespace vocal {
 // How far over the thresholds a sensor's disagreement is (> 1: it disagrees), from its SensorCalibration.
 double disagreementRatio(const SensorCalibration& sensor, const SensorTrustOptions& trust);
 
-
-// calibrateRig, then while a sensor (not the reference) disagrees by options.trust: the one that disagrees most is
-// isolated (CalibrationOptions::isolated_sensors) and the rig re-solved, kept when the sensor still
-// disagrees with the rest solved without it. Every sensor that disagrees in the end gets
-// SensorCalibration::distrust: what it disagrees by, whether it was taken out of the graph, and its most
-// likely cause in words a user acts on. Throws as calibrateRig does for the first solve.
+// calibrateRig with every sensor judged against the rest solved without it. A sensor that never saw the
+// target in a still pose is left out (not the reference). Then, round by round: the rig solved once
+// without each sensor still in the graph; a sensor is at fault when it disagrees (options.trust) with the
+// rest solved without it, or when its placement from the poses before some pose and from those after
+// differ (a bump); of those, the one whose removal leaves the rest agreeing best is taken out
+// (CalibrationOptions::isolated_sensors). Every sensor at fault gets SensorCalibration::distrust: what it
+// disagrees by, its most likely cause in words a user acts on, and whether it was taken out. With
+// options.trust.isolate false the verdicts are the same and the result is the solve with every sensor.
+// Throws as calibrateRig does for the first solve.
 CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                         const CalibrationOptions& options);
 
