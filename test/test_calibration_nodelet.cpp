@@ -261,6 +261,67 @@ TEST(CalibrationNodelet, WithoutARigItStaysIdleAndSaysWhy) {
   EXPECT_EQ(calibrate.response.message, "parameter '/no_rig/rig' (the rig description YAML) is not set");
 }
 
+// A camera on a pan-tilt head the rig does not describe, played live: the reply names it NOT TRUSTED and
+// success is false (a script acting on it applies nothing it cannot trust); the others reach /tf_static
+// within 1 cm, the moving camera does not.
+TEST(CalibrationNodelet, ASensorThatMovesStaysOffTfStatic) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_fault");
+  std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 0, 2);
+  for (vocal::SimulatedSensor& s : sensors) s.spec.name = "fault_" + s.spec.name, s.spec.frame_id = "fault_" + s.spec.frame_id;
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 10;
+  options.depth_width = 160;
+  options.depth_height = 120;
+  options.seed = 5;
+  options.faults.push_back({vocal::SimulatedSensorFault::Kind::kMoves, 2, 0.3});  // fault_camera0
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+
+  ros::NodeHandle nh;
+  nh.setParam("/calibration_fault/rig", folder + "/rig.yaml");
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/calibration_fault", "vocal/MsgCalibration", {}, {}));
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const pid_t player = ::fork();
+  ASSERT_GE(player, 0);
+  if (player == 0) {
+    const std::string bag = folder + "/session.bag";
+    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
+    std::perror("exec rosbag");
+    ::_exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(player, &status, 0), player);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+  ros::WallDuration(1.0).sleep();  // the last messages through extraction
+
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/calibration_fault/calibrate", calibrate));
+  std::cout << calibrate.response.message << "\n";
+  EXPECT_FALSE(calibrate.response.success) << calibrate.response.message;
+  EXPECT_NE(calibrate.response.message.find("; NOT TRUSTED: fault_camera0: its board views lie "), std::string::npos)
+      << calibrate.response.message;
+  EXPECT_NE(calibrate.response.message.find("; withheld from /tf_static: fault_camera0 (not trusted)"), std::string::npos)
+      << calibrate.response.message;
+  for (const int s : {1, 3}) {
+    geometry_msgs::TransformStamped t;
+    try {
+      t = tf_buffer.lookupTransform("base_link", sensors[s].spec.frame_id, ros::Time(0), ros::Duration(5.0));
+    } catch (const tf2::TransformException& e) {
+      FAIL() << sensors[s].spec.name << ": " << e.what();
+    }
+    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * tf2::transformToEigen(t);
+    EXPECT_LT(error.translation().norm(), 0.01) << sensors[s].spec.name;
+    EXPECT_LT(vocal::rotationAngle(error), 0.01) << sensors[s].spec.name;
+  }
+  EXPECT_FALSE(tf_buffer.canTransform("base_link", sensors[2].spec.frame_id, ros::Time(0), ros::Duration(1.0)))
+      << "the moving camera reached /tf_static";
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_calibration_nodelet");

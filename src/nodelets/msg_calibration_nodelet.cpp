@@ -52,6 +52,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     board_edges_ = pnh.param("board_edges", false);
     ring_offsets_.enabled = pnh.param("ring_offsets", true);
     publish_uncertain_ = pnh.param("publish_uncertain", false);
+    isolate_ = pnh.param("isolate", true);
     for (auto [name, value] : {std::pair<const char*, double*>{"tolerance_translation", &tolerance_.translation}, {"tolerance_rotation", &tolerance_.rotation}}) {
       const double given = pnh.param(name, *value);
       if (given > 0.0) *value = given;
@@ -171,6 +172,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
       options.board_edges.enabled = board_edges_;
+      options.trust.isolate = isolate_;
       const RigDescription rig = session_->rig();  // a copy: ~reset may replace the session meanwhile
       const std::vector<SensorSpec> specs = rig.specs();
       const CalibrationOptions solved_with = session_->calibrationOptions(options);
@@ -315,7 +317,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
   RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
-  bool publish_uncertain_ = false;  // ~publish_uncertain: uncertain sensors go to /tf_static too
+  bool publish_uncertain_ = false;  // ~publish_uncertain: uncertain and untrusted sensors go to /tf_static too
+  bool isolate_ = true;             // ~isolate: a sensor that disagrees with the rest is solved out of the graph
   SpreadTolerance tolerance_;  // beyond it a sensor's spread across poses is reported as uncertain
   std::mutex mutex_;
   std::unique_ptr<CalibrationSession> session_;
