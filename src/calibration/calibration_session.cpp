@@ -128,9 +128,7 @@ std::vector<double> elevationsOfDriverRings(const std::vector<Eigen::Vector3d>& 
   std::sort(elevations.begin(), elevations.end());
   return elevations;
 }
-}  // namespace
 
-namespace {
 // Rings found by clustering elevations (no ring field) beyond this are bands of a scanning lidar, not
 // lasers: a multi-beam lidar without a ring field has at most 64 (128-beam ones publish the field).
 constexpr std::size_t kMostRingsFound = 64;
