@@ -30,6 +30,22 @@
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/tools/calibration_bag.h"
 
+// Plays a recorded session with rosbag play (once the nodelet subscribes) and gives extraction a second
+// for the last messages.
+void playSession(const std::string& bag) {
+  const pid_t player = ::fork();
+  ASSERT_GE(player, 0);
+  if (player == 0) {
+    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
+    std::perror("exec rosbag");
+    ::_exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(player, &status, 0), player);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+  ros::WallDuration(1.0).sleep();
+}
+
 TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   const std::string folder = vocal_test::makeTempFolder("calibration_nodelet");
   const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
@@ -63,18 +79,7 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  const pid_t player = ::fork();
-  ASSERT_GE(player, 0);
-  if (player == 0) {
-    const std::string bag = folder + "/session.bag";
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
-    std::perror("exec rosbag");
-    ::_exit(127);
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(player, &status, 0), player);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
-  ros::WallDuration(1.0).sleep();  // the last messages through extraction
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
 
   std_srvs::Trigger calibrate;
   ASSERT_TRUE(ros::service::call("/calibration/calibrate", calibrate));
@@ -286,18 +291,7 @@ TEST(CalibrationNodelet, ASensorThatMovesStaysOffTfStatic) {
   tf2_ros::TransformListener tf_listener(tf_buffer, nh);
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  const pid_t player = ::fork();
-  ASSERT_GE(player, 0);
-  if (player == 0) {
-    const std::string bag = folder + "/session.bag";
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
-    std::perror("exec rosbag");
-    ::_exit(127);
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(player, &status, 0), player);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
-  ros::WallDuration(1.0).sleep();  // the last messages through extraction
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
 
   std_srvs::Trigger calibrate;
   ASSERT_TRUE(ros::service::call("/calibration_fault/calibrate", calibrate));
