@@ -575,7 +575,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       // (a 2D laser fixes none).
       const bool own_source = !isolated[o.sensor] && !isLaser(o.sensor) && planes[o.sensor].count(o.target_pose);
       if (plane_sources[o.target_pose] - (own_source ? 1 : 0) > 0) {
-        const ViewDisagreement view = viewDisagreement(o, sensors[o.sensor].type, pose, Plane{plane->second.normal, plane->second.offset});
+        const ViewDisagreement view =
+            viewDisagreement(viewInSensor(o, sensors[o.sensor].type), pose, Plane{plane->second.normal, plane->second.offset});
         residual.range = view.range, residual.plane_distance = view.distance, residual.plane_angle = view.angle;
         distances[o.sensor].push_back(std::abs(residual.plane_distance));
         if (!isLaser(o.sensor)) ranged[o.sensor].emplace_back(residual.range, residual.plane_distance);
@@ -629,30 +630,36 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   return result;
 }
 
-ViewDisagreement viewDisagreement(const TargetObservation& o, SensorType type, const Eigen::Isometry3d& rig_from_sensor, const Plane& board) {
-  ViewDisagreement view;
-  const Eigen::Vector3d centre = boardCentreSeen(o);
-  view.range = centre.norm();
-  // The board's normal turned towards the sensor: a view beyond the board is then positive.
-  const double side = board.signedDistance(rig_from_sensor.translation()) < 0.0 ? -1.0 : 1.0;
-  view.distance = -side * board.signedDistance(rig_from_sensor * centre);
-  const auto alongNormal = [&](const Eigen::Vector3d& direction_in_sensor) {  // |cos| of its angle to the board's normal
-    return std::abs(board.normal.dot(rig_from_sensor.linear() * direction_in_sensor));
-  };
+ViewInSensor viewInSensor(const TargetObservation& o, SensorType type) {
+  ViewInSensor view;
+  view.centre = boardCentreSeen(o);
   if (!o.plane_measurements.empty()) {
-    view.angle = std::acos(std::min(1.0, alongNormal(o.plane_measurements.front().sensor_from_pattern.linear().col(2))));
+    view.direction = o.plane_measurements.front().sensor_from_pattern.linear().col(2);
   } else if (type == SensorType::kLaser2d) {
-    if (o.points.size() >= 2) view.angle = std::asin(std::min(1.0, alongNormal(principalAxesOf(o.points).axes.col(0))));
+    if (o.points.size() >= 2) view.direction = principalAxesOf(o.points).axes.col(0), view.direction_is_line = true;
   } else if (o.points.size() >= 3) {
-    view.angle = std::acos(std::min(1.0, alongNormal(fitPlane(o.points, "observation").plane.normal)));
+    view.direction = fitPlane(o.points, "observation").plane.normal;
   }
   return view;
 }
 
-std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& its,
-                                                         const CalibrationResult& solved, const CalibrationOptions& options) {
+ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometry3d& rig_from_sensor, const Plane& board) {
+  ViewDisagreement view;
+  view.range = seen.centre.norm();
+  // The board's normal turned towards the sensor: a view beyond the board is then positive.
+  const double side = board.signedDistance(rig_from_sensor.translation()) < 0.0 ? -1.0 : 1.0;
+  view.distance = -side * board.signedDistance(rig_from_sensor * seen.centre);
+  if (seen.direction.isZero()) return view;
+  const double along_normal = std::min(1.0, std::abs(board.normal.dot(rig_from_sensor.linear() * seen.direction)));  // |cos|
+  view.angle = seen.direction_is_line ? std::asin(along_normal) : std::acos(along_normal);
+  return view;
+}
+
+std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors,
+                                                         const std::vector<const TargetObservation*>& its, const CalibrationResult& solved,
+                                                         const CalibrationOptions& options) {
   if (its.empty()) return std::nullopt;
-  const int s = its.front().sensor;
+  const int s = its.front()->sensor;
   SensorState state{Eigen::Quaterniond(solved.sensors.at(s).reference_from_sensor.rotation()),
                     solved.sensors.at(s).reference_from_sensor.translation()};
   std::map<int, PlaneState> planes;
@@ -660,9 +667,9 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   for (const auto& [pose, plane] : solved.board_planes) planes[pose] = {plane.normal, plane.offset};
   for (const auto& [pose, board] : solved.boards) boards[pose] = {Eigen::Quaterniond(board.rotation()), board.translation()};
   std::vector<const TargetObservation*> pointers;
-  for (const TargetObservation& o : its) {
-    if (o.sensor != s) throw InputError("calibration: fitting one sensor alone, but the observations name two");
-    if (options.board_edges.enabled ? boards.count(o.target_pose) : planes.count(o.target_pose)) pointers.push_back(&o);
+  for (const TargetObservation* o : its) {
+    if (o->sensor != s) throw InputError("calibration: fitting one sensor alone, but the observations name two");
+    if (options.board_edges.enabled ? boards.count(o->target_pose) : planes.count(o->target_pose)) pointers.push_back(o);
   }
   if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards)) return std::nullopt;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

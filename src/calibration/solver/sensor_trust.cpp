@@ -102,12 +102,12 @@ struct PlacementChange {
   double improvement = 0.0;                  // one placement's misfit over the two parts'
 };
 
-// The views' squared disagreement with the boards, in thresholds, with the sensor at `pose`.
-double misfit(const std::vector<TargetObservation>& views, std::size_t begin, std::size_t end, SensorType type,
-              const Eigen::Isometry3d& pose, const CalibrationResult& result, const SensorTrustOptions& trust) {
+// The views' squared disagreement with their boards, in thresholds, with the sensor at `pose`.
+double misfit(const std::vector<ViewInSensor>& views, const std::vector<const Plane*>& boards, std::size_t begin, std::size_t end,
+              const Eigen::Isometry3d& pose, const SensorTrustOptions& trust) {
   double sum = 0.0;
   for (std::size_t i = begin; i < end; ++i) {
-    const ViewDisagreement v = viewDisagreement(views[i], type, pose, result.board_planes.at(views[i].target_pose));
+    const ViewDisagreement v = viewDisagreement(views[i], pose, *boards[i]);
     sum += std::pow(v.distance / trust.max_distance, 2) + (std::isnan(v.angle) ? 0.0 : std::pow(v.angle / trust.max_angle, 2));
   }
   return sum;
@@ -115,29 +115,32 @@ double misfit(const std::vector<TargetObservation>& views, std::size_t begin, st
 
 PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                 const CalibrationResult& result, const CalibrationOptions& options, int sensor) {
-  std::vector<TargetObservation> its;
+  std::vector<const TargetObservation*> its;
   for (const TargetObservation& o : observations)
-    if (o.sensor == sensor && result.board_planes.count(o.target_pose)) its.push_back(o);
-  std::sort(its.begin(), its.end(), [](const TargetObservation& a, const TargetObservation& b) { return a.target_pose < b.target_pose; });
+    if (o.sensor == sensor && result.board_planes.count(o.target_pose)) its.push_back(&o);
+  std::sort(its.begin(), its.end(), [](const TargetObservation* a, const TargetObservation* b) { return a->target_pose < b->target_pose; });
   PlacementChange change;
   constexpr std::size_t kLeast = 4;  // poses in each part
   if (its.size() < 2 * kLeast) return change;
   const SensorTrustOptions& trust = options.trust;
-  const SensorType type = sensors[sensor].type;
-  const double whole = misfit(its, 0, its.size(), type, result.sensors[sensor].reference_from_sensor, result, trust);
+  // Each view's centre and normal once, not once per split.
+  std::vector<ViewInSensor> views;
+  std::vector<const Plane*> boards;
+  for (const TargetObservation* o : its) views.push_back(viewInSensor(*o, sensors[sensor].type)), boards.push_back(&result.board_planes.at(o->target_pose));
+  const std::size_t n = its.size();
+  const double whole = misfit(views, boards, 0, n, result.sensors[sensor].reference_from_sensor, trust);
   double best = 0.0;
-  for (std::size_t split = kLeast; split + kLeast <= its.size(); ++split) {
-    const std::vector<TargetObservation> before(its.begin(), its.begin() + split), after(its.begin() + split, its.end());
-    const std::optional<Eigen::Isometry3d> a = fitSensorToSolvedBoards(sensors, before, result, options);
-    const std::optional<Eigen::Isometry3d> b = fitSensorToSolvedBoards(sensors, after, result, options);
+  for (std::size_t split = kLeast; split + kLeast <= n; ++split) {
+    const std::optional<Eigen::Isometry3d> a = fitSensorToSolvedBoards(sensors, {its.begin(), its.begin() + split}, result, options);
+    const std::optional<Eigen::Isometry3d> b = fitSensorToSolvedBoards(sensors, {its.begin() + split, its.end()}, result, options);
     if (!a || !b) continue;
-    const double parts = misfit(its, 0, split, type, *a, result, trust) + misfit(its, split, its.size(), type, *b, result, trust);
+    const double parts = misfit(views, boards, 0, split, *a, trust) + misfit(views, boards, split, n, *b, trust);
     const double improvement = whole / std::max(parts, 1e-12);
     const Eigen::Isometry3d apart = a->inverse() * *b;
     const double moved = std::max(apart.translation().norm() / trust.max_distance, rotationAngle(apart) / trust.max_angle);
     if (moved > 1.0 && improvement > 4.0 && improvement > best) {
       best = improvement;
-      change.pose = its[split].target_pose, change.translation = apart.translation().norm(), change.rotation = rotationAngle(apart);
+      change.pose = its[split]->target_pose, change.translation = apart.translation().norm(), change.rotation = rotationAngle(apart);
       change.improvement = improvement;
     }
   }

@@ -137,13 +137,23 @@ struct ViewDisagreement {
   double angle = std::numeric_limits<double>::quiet_NaN();
   double range = 0.0;
 };
-ViewDisagreement viewDisagreement(const TargetObservation& view, SensorType type, const Eigen::Isometry3d& rig_from_sensor, const Plane& board);
+// What a view's disagreement needs of it, in the sensor frame, computed once per view (a range view's
+// normal is a plane fit of its points): its centre, and its normal or, for a 2D laser, its line
+// (zero when it has too few points).
+struct ViewInSensor {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  bool direction_is_line = false;
+};
+ViewInSensor viewInSensor(const TargetObservation& view, SensorType type);
+ViewDisagreement viewDisagreement(const ViewInSensor& view, const Eigen::Isometry3d& rig_from_sensor, const Plane& board);
 
 // One sensor's pose fitted alone to the boards `solved` holds (constant), from its observations `its` (all
 // of one sensor) at poses with a solved board, starting from its pose in `solved`: how a part of a
 // session places it (sensor_trust.h: before and after a bump). None when no observation has a board.
-std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& its,
-                                                         const CalibrationResult& solved, const CalibrationOptions& options);
+std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors,
+                                                         const std::vector<const TargetObservation*>& its, const CalibrationResult& solved,
+                                                         const CalibrationOptions& options);
 
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
 // rest (the sensor graph is not connected), or its planes cannot fix its pose (with board edges: its
