@@ -758,6 +758,57 @@ TEST(StillTargetAssociation, MessagesOfSomethingElseInAStillRunAreLeftOut) {
   EXPECT_GT(offPlane(vocal::associateStillTarget(specs, recorded, options)), 0.09) << "the torso never joined a run";
 }
 
+// What a session lets go of by: which still pose each input observation went into (in input order,
+// here reversed), -1 for none. The torso messages and those in motion are in none; each associated
+// observation pools exactly its members' points; a member was taken while its pose was held still.
+TEST(StillTargetAssociation, ItSaysWhichPoseEachObservationWentInto) {
+  const std::vector<vocal::SensorSpec> specs = twoPreciseSensorsAndALidar();
+  std::vector<vocal::TimedObservation> recorded;
+  std::vector<bool> torso;
+  for (int s = 0; s < 3; ++s) {
+    int message = 0;
+    for (double t = 0.02 * s; t < kPoseSeconds * 6; t += 1.0 / 3.0, ++message) {
+      const auto [k, moved] = momentAt(t);
+      vocal::TimedObservation o;
+      o.sensor = s;
+      o.stamp = t;
+      torso.push_back(s == 2 && message % 2 == 1);
+      const double distance = 2.0 + 0.5 * (k + moved);
+      for (double x = -0.4; x <= 0.4; x += 0.1)  // the board, or the torso below it (as above)
+        for (double y = -0.3; y <= 0.3; y += 0.1) {
+          if (!torso.back()) o.points.emplace_back(x, y, distance);
+          else if (std::abs(x) < 0.2 && y < 0.0) o.points.emplace_back(x, y - 0.4, distance + 0.1);
+        }
+      recorded.push_back(std::move(o));
+    }
+  }
+  std::reverse(recorded.begin(), recorded.end());
+  std::reverse(torso.begin(), torso.end());
+  vocal::StillnessOptions options;
+  options.max_centre_spread = 0.3;
+  const std::vector<vocal::TargetObservation> associated = vocal::associateStillTarget(specs, recorded, options);
+  const std::vector<int> pose_of = vocal::stillPoseOfEachObservation(specs, recorded, options);
+  ASSERT_EQ(pose_of.size(), recorded.size());
+  ASSERT_EQ(posesPerSensor(associated, specs.size())[2].size(), 6u);
+  std::map<std::pair<int, int>, std::size_t> member_points;  // per (pose, sensor)
+  for (std::size_t i = 0; i < recorded.size(); ++i) {
+    if (torso[i]) {
+      EXPECT_EQ(pose_of[i], -1) << "the torso at " << recorded[i].stamp;
+    }
+    if (pose_of[i] < 0) continue;
+    // Where the board was: at its pose, or 0.04 s into a move (within half a period of the others'
+    // still span, as above).
+    const SessionMoment at = momentAt(recorded[i].stamp);
+    EXPECT_NEAR(at.pose + at.moved, pose_of[i], 0.05) << "sensor " << recorded[i].sensor << " at " << recorded[i].stamp;
+    member_points[{pose_of[i], recorded[i].sensor}] += recorded[i].points.size();
+  }
+  EXPECT_EQ(member_points.size(), associated.size());
+  for (const vocal::TargetObservation& o : associated) {
+    const std::size_t members = member_points[{o.target_pose, o.sensor}];
+    EXPECT_EQ(o.points.size(), members) << "pose " << o.target_pose << ", sensor " << o.sensor;
+  }
+}
+
 // A lidar whose extraction now and then takes the board together with the chest behind it (the
 // plane through both leans 0.15 rad), one message in five or so, two in a row now and then: such messages are passed
 // over, not the end of a still run, so it keeps every pose, and its pooled points are the board's.

@@ -20,6 +20,7 @@
 #include <nodelet/loader.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
@@ -314,6 +315,73 @@ TEST(CalibrationNodelet, ASensorThatMovesStaysOffTfStatic) {
   }
   EXPECT_FALSE(tf_buffer.canTransform("base_link", sensors[2].spec.frame_id, ros::Time(0), ros::Duration(1.0)))
       << "the moving camera reached /tf_static";
+}
+
+// A session played into a nodelet whose ~max_held_mb its first poses fill: the diagnostics say the
+// session is full, what it holds and, per sensor, how many messages were counted but not kept; the
+// ~calibrate reply says so with what to do; ~reset empties it.
+TEST(CalibrationNodelet, ASessionOverItsMemoryBudgetSaysItIsFull) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_memory");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 8;
+  options.still_seconds = 0.6;
+  options.moving_seconds = 0.3;
+  options.depth_width = 160;
+  options.depth_height = 120;
+  options.seed = 5;
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+
+  ros::NodeHandle nh;
+  nh.setParam("/memory/rig", folder + "/rig.yaml");
+  nh.setParam("/memory/max_held_mb", 0.5);
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/memory", "vocal/MsgCalibration", {}, {}));
+  std::mutex mutex;
+  diagnostic_msgs::DiagnosticStatus status;
+  ros::Subscriber diagnostics_sub =
+      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& s : m->status)
+          if (s.name.find("memory") != std::string::npos) {
+            std::lock_guard<std::mutex> lock(mutex);
+            status = s;
+          }
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
+
+  const std::string advice =
+      "the session is full (~max_held_mb 0.5): later still poses are not kept; call ~calibrate now, or raise ~max_held_mb and ~reset";
+  const auto value = [&](const std::string& key) {
+    for (const auto& kv : status.values)
+      if (kv.key == key) return kv.value;
+    return std::string();
+  };
+  ASSERT_TRUE(vocal_test::waitUntil(mutex, 5.0, [&] { return status.message == advice; })) << status.message;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_NE(value("memory").find(" of target data held in "), std::string::npos) << value("memory");
+    EXPECT_NE(value("memory").find(" (budget 0.5 MB)"), std::string::npos) << value("memory");
+    EXPECT_NE(value("memory").find("; FULL: later messages are counted, not kept"), std::string::npos) << value("memory");
+    for (const vocal::SimulatedSensor& s : sensors) {
+      EXPECT_NE(value(s.spec.name).find(" not kept (the session is full)"), std::string::npos) << s.spec.name << ": " << value(s.spec.name);
+    }
+  }
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/memory/calibrate", calibrate));
+  std::cout << calibrate.response.message << "\n";
+  EXPECT_NE(calibrate.response.message.find(
+                "; the session was full (~max_held_mb 0.5): still poses after it filled were not kept; for more, raise ~max_held_mb and ~reset"),
+            std::string::npos)
+      << calibrate.response.message;
+
+  std_srvs::Empty reset;
+  ASSERT_TRUE(ros::service::call("/memory/reset", reset));
+  EXPECT_TRUE(vocal_test::waitUntil(mutex, 5.0, [&] { return value("memory") == "0.0 MB of target data held in 0 messages (budget 0.5 MB)"; }))
+      << value("memory");
 }
 
 int main(int argc, char** argv) {

@@ -289,6 +289,101 @@ TEST(CalibrationSession, ACroppedLidarScanIsEnoughWithARingField) {
   EXPECT_TRUE(with_rings.take(0, 0.0, with_rings.extractCloud(0, cropped))) << "the board in the cropped scan";
 }
 
+namespace {
+// Each sensor's error against the simulator's truth must be within the bounds.
+void expectWithin(const std::vector<vocal::SimulatedSensor>& sensors, const vocal::CalibrationResult& result, double metres,
+                  double radians, const std::string& what) {
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
+    std::cout << what << ": " << sensors[s].spec.name << " " << error.translation().norm() * 1000 << " mm / "
+              << vocal::rotationAngle(error) * 1000 << " mrad from " << result.sensors[s].observations << " still poses\n";
+    EXPECT_LT(error.translation().norm(), metres) << what << ": " << sensors[s].spec.name;
+    EXPECT_LT(vocal::rotationAngle(error), radians) << what << ": " << sensors[s].spec.name;
+  }
+}
+
+int stillPoses(const std::vector<vocal::TargetObservation>& associated) {
+  int poses = 0;
+  for (const vocal::TargetObservation& o : associated) poses = std::max(poses, o.target_pose + 1);
+  return poses;
+}
+}  // namespace
+
+// A long session within a memory budget (SessionMemoryOptions): 10 poses held still 3 s each, the camera
+// at 15 Hz, the others at 5 Hz. Past the budget, what no still pose uses is let go and each pose that is
+// over keeps per sensor its first second, thinned to a message each 0.2 s: what is held never passes the budget, every
+// pose is still found and the rig comes out as from the whole session. With a budget that the kept
+// poses fill, the session is full: later messages are counted, not kept, and the poses kept calibrate.
+TEST(CalibrationSession, ALongSessionStaysWithinItsMemoryBudget) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_session_memory");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 10;
+  options.still_seconds = 3.0;
+  options.moving_seconds = 1.0;
+  options.rate = 5.0;
+  options.camera_rate = 15.0;
+  options.depth_width = 80;
+  options.depth_height = 60;
+  options.seed = 3;
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+
+  vocal::SessionMemoryOptions unbounded;
+  unbounded.max_held_mb = 0.0;
+  vocal::CalibrationSession whole(rig, {}, {}, {}, unbounded);
+  vocal::readCalibrationBag(folder + "/session.bag", &whole);
+  EXPECT_EQ(whole.memory().let_go, 0u);
+  const std::vector<vocal::TargetObservation> all = whole.associatedObservations();
+  ASSERT_EQ(stillPoses(all), options.target_poses);
+  expectWithin(sensors, whole.calibrate(all), 0.005, 0.005, "whole session");
+
+  vocal::SessionMemoryOptions budget;
+  budget.max_held_mb = whole.memory().held_mb / 2;
+  budget.settle_seconds = 4.0;
+  budget.max_pose_seconds = 1.0;
+  budget.max_pose_messages = 5;
+  vocal::CalibrationSession bounded(rig, {}, {}, {}, budget);
+  double most_held = 0.0;
+  vocal::readCalibrationBag(folder + "/session.bag", &bounded, [&](std::size_t) { most_held = std::max(most_held, bounded.memory().held_mb); });
+  const vocal::SessionMemory memory = bounded.memory();
+  std::cout << "whole session " << whole.memorySummary() << "\nbounded: " << bounded.memorySummary() << ", at most " << most_held << " MB\n";
+  EXPECT_LE(most_held, budget.max_held_mb);
+  EXPECT_GT(memory.let_go, whole.memory().held_messages / 2);
+  EXPECT_FALSE(memory.full);
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    EXPECT_EQ(bounded.counts()[s].received, whole.counts()[s].received) << sensors[s].spec.name;
+    EXPECT_EQ(bounded.counts()[s].not_kept, 0) << sensors[s].spec.name;
+  }
+  const std::vector<vocal::TargetObservation> kept = bounded.associatedObservations();
+  ASSERT_EQ(stillPoses(kept), options.target_poses);
+  // The poses over by the first time it let go (half the session in): the camera's views (a plane
+  // measurement each) are its first second's thinned to about one each 0.2 s (at most 8 of its 15).
+  for (const vocal::TargetObservation& o : kept) {
+    if (o.sensor != 3 || o.target_pose >= options.target_poses / 2 - 1) continue;
+    EXPECT_LE(o.plane_measurements.size(), 8u) << "pose " << o.target_pose;
+    EXPECT_LE(o.last_stamp - o.first_stamp, budget.max_pose_seconds + 1e-9) << "pose " << o.target_pose;
+  }
+  expectWithin(sensors, bounded.calibrate(kept), 0.005, 0.005, "within the budget");
+
+  // A budget the kept poses fill: full, later messages counted and not kept, the poses kept calibrate.
+  budget.max_held_mb = whole.memory().held_mb / 4;
+  vocal::CalibrationSession small(rig, {}, {}, {}, budget);
+  vocal::readCalibrationBag(folder + "/session.bag", &small);
+  std::cout << "small budget: " << small.memorySummary() << "\n";
+  EXPECT_TRUE(small.memory().full);
+  EXPECT_LE(small.memory().held_mb, budget.max_held_mb);
+  EXPECT_NE(small.memorySummary().find("; FULL: later messages are counted, not kept"), std::string::npos) << small.memorySummary();
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    EXPECT_EQ(small.counts()[s].received, whole.counts()[s].received) << sensors[s].spec.name;
+    EXPECT_GT(small.counts()[s].not_kept, 0) << sensors[s].spec.name;
+  }
+  const std::vector<vocal::TargetObservation> first_poses = small.associatedObservations();
+  EXPECT_GE(stillPoses(first_poses), 3);
+  EXPECT_LT(stillPoses(first_poses), options.target_poses);
+  expectWithin(sensors, small.calibrate(first_poses), 0.01, 0.01, "full session");
+}
+
 // The session-level faults of the fault matrix (bench/calibration_faults.py) on a small recorded rig: an
 // RGB-D reference, a VLP-16-like lidar, a 2D laser and a camera, 12 still poses. Whatever each fault
 // does, no sensor may come out wrong (beyond 2 cm / 0.02 rad) and unflagged (trusted and its spread
@@ -334,7 +429,9 @@ TEST_P(CalibrationSessionFault, EverySensorIsRightOrFlagged) {
     const double t = error.translation().norm(), r = vocal::rotationAngle(error);
     const std::string& name = sensors[s].spec.name;
     std::printf("%s: %s %.1f mm / %.1f mrad%s\n", fault.name, name.c_str(), 1000 * t, 1000 * r, withheld[s].empty() ? "" : ", withheld");
-    if (t > 0.02 || r > 0.02) EXPECT_NE(withheld[s], "") << name << " is wrong and not flagged";
+    if (t > 0.02 || r > 0.02) {
+      EXPECT_NE(withheld[s], "") << name << " is wrong and not flagged";
+    }
     if (std::find(fault.touched.begin(), fault.touched.end(), name) == fault.touched.end()) {
       EXPECT_LT(t, 0.01) << name;
       EXPECT_LT(r, 0.01) << name;

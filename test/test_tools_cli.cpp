@@ -411,6 +411,9 @@ TEST(ToolsCli, CalibrateRigWithCamerasBehindEachLensModel) {
   const RunResult no_tolerance = runTool("calibrate_rig rig.yaml session.bag --tolerance-mrad 0");
   EXPECT_EQ(no_tolerance.exit_code, 1);
   EXPECT_EQ(no_tolerance.output, "calibrate_rig: error: option --tolerance-mrad: must be > 0 (got 0)\n");
+  const RunResult no_budget = runTool("calibrate_rig rig.yaml session.bag --max-held-mb -5");
+  EXPECT_EQ(no_budget.exit_code, 1);
+  EXPECT_EQ(no_budget.output, "calibrate_rig: error: option --max-held-mb: must be >= 0 (got -5)\n");
   const RunResult r = runTool("simulate_calibration_session " + vocal_test::makeTempFolder("cli_lens") + " --lens kannala");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --lens: 'kannala' is unknown: expected none, plumb_bob, "

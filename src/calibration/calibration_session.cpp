@@ -27,11 +27,22 @@ std::vector<Eigen::Vector3f> toFloats(const std::vector<Eigen::Vector3d>& points
   return out;
 }
 
-std::vector<Eigen::Vector3d> toDoubles(const std::vector<Eigen::Vector3f>& points) {
+// `sample` > 0: every k-th point, at most `sample` of them.
+std::vector<Eigen::Vector3d> toDoubles(const std::vector<Eigen::Vector3f>& points, std::size_t sample = 0) {
+  const std::size_t step = sample > 0 ? (points.size() + sample - 1) / sample : 1;
   std::vector<Eigen::Vector3d> out;
-  out.reserve(points.size());
-  for (const Eigen::Vector3f& p : points) out.push_back(p.cast<double>());
+  out.reserve(points.size() / std::max<std::size_t>(step, 1) + 1);
+  for (std::size_t i = 0; i < points.size(); i += step) out.push_back(points[i].cast<double>());
   return out;
+}
+
+// Points of a view enough to tell whether it moved (its plane within a fraction of the stillness bounds):
+// what deciding what to keep associates, so that it costs a fraction of what is held.
+constexpr std::size_t kPointsForStillness = 256;
+
+// What a camera's observation holds for the solve.
+std::size_t heldBytesOf(const TimedObservation& o) {
+  return sizeof(o) + (o.points.size() + o.outline.size()) * sizeof(Eigen::Vector3d) + o.plane_measurements.size() * sizeof(PlaneMeasurement);
 }
 
 // The median angle between neighbouring returns of a scan given in beam order.
@@ -46,7 +57,7 @@ double beamSpacingOf(const std::vector<Eigen::Vector3d>& scan) {
 }  // namespace
 
 CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptions extraction, StillnessOptions stillness,
-                                       RingOffsetOptions ring_offsets)
+                                       RingOffsetOptions ring_offsets, SessionMemoryOptions memory)
     : rig_(std::move(rig)),
       extraction_(extraction),
       stillness_(stillness),
@@ -55,7 +66,8 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
       lidar_spacing_(rig_.sensors.size()),
       ring_offset_options_(ring_offsets),
       ring_offsets_(rig_.sensors.size()),
-      ring_offset_choice_(rig_.sensors.size()) {
+      ring_offset_choice_(rig_.sensors.size()),
+      memory_options_(memory) {
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
 }
@@ -82,12 +94,18 @@ const RigSensorDescription& CalibrationSession::checkSensor(int sensor, SensorTy
 bool CalibrationSession::record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes) {
   ++counts_[sensor].received;
   if (points.empty()) return false;
-  ++counts_[sensor].target_found;
   TimedObservation observation;
   observation.sensor = sensor;
   observation.stamp = stamp;
   observation.points = std::move(points);
   observation.plane_measurements = std::move(planes);
+  const std::size_t bytes = heldBytesOf(observation);
+  if (!roomFor(bytes)) {
+    ++counts_[sensor].not_kept;
+    return true;
+  }
+  ++counts_[sensor].target_found;
+  held_bytes_ += bytes;
   observations_.push_back(std::move(observation));
   return true;
 }
@@ -100,11 +118,6 @@ TargetExtractionOptions CalibrationSession::extractionFor(int sensor) const {
 
 bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch search) {
   ++counts_[sensor].received;
-  std::vector<StaticBackground::Summary> summaries;
-  for (const TargetCandidate& c : search.candidates) summaries.push_back(StaticBackground::summarise(c.points));
-  backgrounds_[sensor].addMessage(summaries, search.surfaces);
-  candidate_summaries_.push_back(std::move(summaries));
-  chosen_.clear();
   const bool found = !search.candidates.empty();
   StoredRangeMessage message;
   message.sensor = sensor;
@@ -112,8 +125,132 @@ bool CalibrationSession::recordRange(int sensor, double stamp, TargetSearch sear
   for (const TargetCandidate& c : search.candidates) message.candidates.push_back({toFloats(c.points), toFloats(c.outline), c.mismatch});
   message.rejection = std::move(search.rejection);
   message.check = std::move(search.check);
+  const std::size_t bytes = heldBytes(message);
+  if (!roomFor(bytes)) {
+    ++counts_[sensor].not_kept;
+    return found;
+  }
+  std::vector<StaticBackground::Summary> summaries;
+  for (const TargetCandidate& c : search.candidates) summaries.push_back(StaticBackground::summarise(c.points));
+  backgrounds_[sensor].addMessage(summaries, search.surfaces);
+  candidate_summaries_.push_back(std::move(summaries));
+  chosen_.clear();
+  held_bytes_ += bytes;
   range_messages_.push_back(std::move(message));
   return found;
+}
+
+std::size_t CalibrationSession::heldBytes(const StoredRangeMessage& message) {
+  std::size_t bytes = sizeof(message) + message.rejection.capacity() + message.check.capacity();
+  for (const StoredCandidate& c : message.candidates) bytes += sizeof(c) + (c.points.size() + c.outline.size()) * sizeof(Eigen::Vector3f);
+  return bytes;
+}
+
+SessionMemory CalibrationSession::memory() const {
+  SessionMemory memory;
+  memory.held_mb = held_bytes_ / 1e6;
+  memory.held_messages = observations_.size() + range_messages_.size();
+  memory.let_go = let_go_;
+  memory.full = full_;
+  return memory;
+}
+
+std::string CalibrationSession::memorySummary() const {
+  const SessionMemory m = memory();
+  char line[400];
+  int n = std::snprintf(line, sizeof(line), "%.1f MB of target data held in %zu messages", m.held_mb, m.held_messages);
+  if (memory_options_.max_held_mb > 0.0) n += std::snprintf(line + n, sizeof(line) - n, " (budget %g MB)", memory_options_.max_held_mb);
+  if (m.let_go > 0) {
+    n += std::snprintf(line + n, sizeof(line) - n, ", %zu let go (settled and in no still pose, or past a pose's first %.1f s thinned to about %d)",
+                       m.let_go, memory_options_.max_pose_seconds, memory_options_.max_pose_messages);
+  }
+  if (m.full) std::snprintf(line + n, sizeof(line) - n, "; FULL: later messages are counted, not kept");
+  return line;
+}
+
+bool CalibrationSession::roomFor(std::size_t bytes) {
+  const double budget = memory_options_.max_held_mb * 1e6;
+  if (full_) return false;
+  if (!(budget > 0.0) || held_bytes_ + bytes <= budget) return true;
+  letGoOfWhatNoStillPoseUses();
+  // What the still poses keep fills the budget: compacting again would free next to nothing.
+  full_ = held_bytes_ + bytes > 0.75 * budget;
+  return !full_;
+}
+
+void CalibrationSession::letGoOfWhatNoStillPoseUses() {
+  // The still pose of each message as calibrate() would associate them now.
+  const std::vector<int> chosen = chosenCandidates();
+  const std::vector<int> pose_of =
+      stillPoseOfEachObservation(rig_.specs(), timedObservations(ringOffsets(), kPointsForStillness), stillness_);
+  // Each held message's sensor, stamp and still pose, as timedObservations lists them: the cameras'
+  // observations, then the range messages with a chosen candidate.
+  struct Held {
+    int sensor;
+    double stamp;
+    int pose;
+  };
+  std::vector<Held> held;
+  std::size_t next = 0;  // into pose_of
+  for (const TimedObservation& o : observations_) held.push_back({o.sensor, o.stamp, pose_of[next++]});
+  for (std::size_t i = 0; i < range_messages_.size(); ++i)
+    held.push_back({range_messages_[i].sensor, range_messages_[i].stamp, chosen[i] >= 0 ? pose_of[next++] : -1});
+
+  // Kept: what is not settled yet, every message of a still pose not over yet, and of a pose that is
+  // over, per sensor, its first max_pose_seconds thinned to about max_pose_messages spread over them:
+  // its first and last kept (the span the association matches across sensors stays) and no two kept
+  // ones further apart than a still run may bridge (the run stays one run).
+  const double settled = newest_stamp_ - memory_options_.settle_seconds;
+  std::map<int, double> pose_end;  // its last member's stamp
+  for (const Held& h : held)
+    if (h.pose >= 0) pose_end[h.pose] = std::max(pose_end[h.pose], h.stamp);
+  std::vector<bool> keep(held.size(), false);
+  std::map<std::pair<int, int>, std::vector<std::size_t>> members;  // per (pose, sensor), of poses that are over
+  for (std::size_t h = 0; h < held.size(); ++h) {
+    if (held[h].stamp >= settled || (held[h].pose >= 0 && pose_end[held[h].pose] >= settled)) keep[h] = true;
+    else if (held[h].pose >= 0) members[{held[h].pose, held[h].sensor}].push_back(h);
+  }
+  const double spacing = std::min(stillness_.max_gap, memory_options_.max_pose_seconds / std::max(1, memory_options_.max_pose_messages));
+  for (auto& [pose_and_sensor, group] : members) {
+    std::sort(group.begin(), group.end(), [&](std::size_t a, std::size_t b) { return held[a].stamp < held[b].stamp; });
+    const double until = held[group.front()].stamp + memory_options_.max_pose_seconds;
+    while (held[group.back()].stamp > until) group.pop_back();
+    double last_kept = held[group.front()].stamp;
+    keep[group.front()] = keep[group.back()] = true;
+    for (std::size_t k = 1; k + 1 < group.size(); ++k) {
+      if (held[group[k + 1]].stamp - last_kept <= spacing) continue;  // the next one is still near enough
+      keep[group[k]] = true;
+      last_kept = held[group[k]].stamp;
+    }
+  }
+
+  std::size_t h = 0;
+  std::vector<TimedObservation> cameras;
+  for (TimedObservation& o : observations_) {
+    if (keep[h++]) cameras.push_back(std::move(o));
+  }
+  let_go_ += observations_.size() - cameras.size();
+  observations_ = std::move(cameras);
+  std::vector<StoredRangeMessage> messages;
+  std::vector<std::vector<StaticBackground::Summary>> summaries;
+  for (std::size_t i = 0; i < range_messages_.size(); ++i) {
+    StoredRangeMessage& m = range_messages_[i];
+    if (keep[h++]) {
+      messages.push_back(std::move(m));
+      summaries.push_back(std::move(candidate_summaries_[i]));
+      continue;
+    }
+    // Its counts stay: counts() resolves only the messages still held.
+    if (chosen[i] >= 0) ++counts_[m.sensor].target_found;
+    else if (!m.candidates.empty()) ++counts_[m.sensor].only_background;
+    ++let_go_;
+  }
+  range_messages_ = std::move(messages);
+  candidate_summaries_ = std::move(summaries);
+  chosen_.clear();
+  held_bytes_ = 0;
+  for (const TimedObservation& o : observations_) held_bytes_ += heldBytesOf(o);
+  for (const StoredRangeMessage& m : range_messages_) held_bytes_ += heldBytes(m);
 }
 
 namespace {
@@ -176,6 +313,7 @@ bool CalibrationSession::addCloud(int sensor, double stamp, const std::vector<Ei
 bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
   // An index out of range: checkSensor throws, naming it.
   if (sensor < 0 || sensor >= static_cast<int>(rig_.sensors.size())) checkSensor(sensor, SensorType::kCamera, "data");
+  newest_stamp_ = std::max(newest_stamp_, stamp);
   const SensorType type = rig_.sensors[sensor].spec.type;
   if (type == SensorType::kCamera) return record(sensor, stamp, std::move(extraction.points), std::move(extraction.planes));
   TargetSearch& search = extraction.search;
@@ -370,7 +508,8 @@ std::vector<RangeMessage> CalibrationSession::rangeMessages() const {
 
 std::vector<TimedObservation> CalibrationSession::timedObservations() const { return timedObservations(ringOffsets()); }
 
-std::vector<TimedObservation> CalibrationSession::timedObservations(const std::vector<std::optional<RingOffsets>>& offsets) const {
+std::vector<TimedObservation> CalibrationSession::timedObservations(const std::vector<std::optional<RingOffsets>>& offsets,
+                                                                  std::size_t sample) const {
   const std::vector<int>& chosen = chosenCandidates();
   std::vector<TimedObservation> observations = observations_;
   for (std::size_t i = 0; i < range_messages_.size(); ++i) {
@@ -378,8 +517,9 @@ std::vector<TimedObservation> CalibrationSession::timedObservations(const std::v
     TimedObservation observation;
     observation.sensor = range_messages_[i].sensor;
     observation.stamp = range_messages_[i].stamp;
-    observation.points = toDoubles(range_messages_[i].candidates[chosen[i]].points);
+    observation.points = toDoubles(range_messages_[i].candidates[chosen[i]].points, sample);
     observation.outline = toDoubles(range_messages_[i].candidates[chosen[i]].outline);
+    if (sample > 0) observation.point_count = range_messages_[i].candidates[chosen[i]].points.size();
     if (const std::optional<RingOffsets>& rings = offsets[observation.sensor]; rings && rings->applied) {
       for (Eigen::Vector3d& p : observation.points) p = rings->corrected(p);
       for (Eigen::Vector3d& p : observation.outline) p = rings->corrected(p);

@@ -106,7 +106,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       if (pnh.getParam("", parameters)) settings = toYaml(parameters);
       config_ = odometryConfigFromYaml(settings, "parameters of " + pnh.getNamespace(), OdometryConfig{}, true);
       fused_map_ = std::make_unique<VoxelCloudMap>(pnh.param("fused_cloud_voxel", 0.02),
-                                                   static_cast<std::size_t>(pnh.param("fused_cloud_max_voxels", 500000)));
+                                                   static_cast<std::size_t>(pnh.param("fused_cloud_max_voxels", 100000)));
     } catch (const InputError& e) {
       setupError(e.what());
       return;

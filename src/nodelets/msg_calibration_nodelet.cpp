@@ -53,6 +53,9 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     ring_offsets_.enabled = pnh.param("ring_offsets", true);
     publish_uncertain_ = pnh.param("publish_uncertain", false);
     isolate_ = pnh.param("isolate", true);
+    const double max_held_mb = pnh.param("max_held_mb", memory_.max_held_mb);
+    if (max_held_mb >= 0.0) memory_.max_held_mb = max_held_mb;
+    else NODELET_WARN_STREAM("MsgCalibration: ~max_held_mb must be >= 0 (got " << max_held_mb << "): keeping " << memory_.max_held_mb);
     for (auto [name, value] : {std::pair<const char*, double*>{"tolerance_translation", &tolerance_.translation}, {"tolerance_rotation", &tolerance_.rotation}}) {
       const double given = pnh.param(name, *value);
       if (given > 0.0) *value = given;
@@ -75,7 +78,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     try {
       session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path), TargetExtractionOptions{}, StillnessOptions{},
-                                                      ring_offsets_);
+                                                      ring_offsets_, memory_);
     } catch (const InputError& e) {
       setup_error_ = e.what();
       NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");
@@ -226,6 +229,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         summary << "; " << specs[s].name << " ring offsets " << line << rings.verdict;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
+      if (session_->memory().full) summary << "; " << fullSessionAdvice(true);
       bool any_distrusted = false;
       for (std::size_t s = 0; s < specs.size(); ++s) {
         if (result.sensors[s].distrust.empty()) continue;
@@ -275,6 +279,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     } catch (const InputError& e) {
       response.success = false;
       response.message = e.what();
+      if (session_->memory().full) response.message += "; " + fullSessionAdvice(true);
       last_problem_ = e.what();
       NODELET_WARN_STREAM("MsgCalibration: calibration failed: " << e.what());
     }
@@ -283,7 +288,9 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
 
   bool reset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (session_) session_ = std::make_unique<CalibrationSession>(session_->rig(), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_);
+    if (session_) {
+      session_ = std::make_unique<CalibrationSession>(session_->rig(), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_, memory_);
+    }
     dropped_.assign(dropped_.size(), 0);
     last_problem_.clear();
     last_result_.clear();
@@ -297,7 +304,9 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
       return;
     }
-    if (!last_problem_.empty()) {
+    if (session_->memory().full) {  // before a dropped message's problem: it holds for the rest of the session
+      status.summary(DiagnosticStatus::WARN, fullSessionAdvice());
+    } else if (!last_problem_.empty()) {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
       status.summary(DiagnosticStatus::OK, last_result_.empty() ? "collecting observations" : last_result_);
@@ -309,14 +318,30 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       std::ostringstream value;
       value << c.target_found << " of " << c.received << " messages show the target, " << dropped_[s] << " dropped";
       if (c.only_background > 0) value << ", " << c.only_background << " only static board-shaped segments";
+      if (c.not_kept > 0) value << ", " << c.not_kept << " not kept (the session is full)";
       status.add(rig.sensors[s].spec.name, value.str());
     }
+    status.add("memory", session_->memorySummary());
+  }
+
+  // What to do about a full session: while collecting (diagnostics), and in a ~calibrate reply.
+  std::string fullSessionAdvice(bool in_reply = false) const {
+    std::ostringstream advice;
+    if (in_reply) {
+      advice << "the session was full (~max_held_mb " << memory_.max_held_mb
+             << "): still poses after it filled were not kept; for more, raise ~max_held_mb and ~reset";
+    } else {
+      advice << "the session is full (~max_held_mb " << memory_.max_held_mb
+             << "): later still poses are not kept; call ~calibrate now, or raise ~max_held_mb and ~reset";
+    }
+    return advice.str();
   }
 
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
   RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
+  SessionMemoryOptions memory_;     // ~max_held_mb: the session's budget for target data
   bool publish_uncertain_ = false;  // ~publish_uncertain: uncertain and untrusted sensors go to /tf_static too
   bool isolate_ = true;             // ~isolate: a sensor that disagrees with the rest is solved out of the graph
   SpreadTolerance tolerance_;  // beyond it a sensor's spread across poses is reported as uncertain

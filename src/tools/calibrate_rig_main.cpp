@@ -48,6 +48,9 @@ const char kUsage[] =
     "                      graph and the others solved without it, so that it moves none of them)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
+    "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
+    "                      no still pose are let go and each pose keeps 20 messages of its first 2 s per sensor; when\n"
+    "                      full, later messages are counted, not kept\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
@@ -166,12 +169,15 @@ double positiveOption(const vocal::CommandLine& args, const char* name, double f
 int run(const vocal::CommandLine& args) {
   if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
   const vocal::SpreadTolerance tolerance{positiveOption(args, "tolerance-mm", 10.0) / 1000, positiveOption(args, "tolerance-mrad", 10.0) / 1000};
+  vocal::SessionMemoryOptions memory;
+  memory.max_held_mb = args.number("max-held-mb", memory.max_held_mb);
+  if (!(memory.max_held_mb >= 0.0)) throw vocal::InputError("option --max-held-mb: must be >= 0 (got " + args.text("max-held-mb", "") + ")");
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   vocal::RingOffsetOptions ring_offset_options;
   ring_offset_options.enabled = !args.has("no-ring-offsets");
-  vocal::CalibrationSession session(rig, {}, {}, ring_offset_options);
+  vocal::CalibrationSession session(rig, {}, {}, ring_offset_options, memory);
   const bool quiet = args.has("quiet");
   // On a terminal one line counts up; in a log, a line per thousand messages.
   const bool terminal = isatty(fileno(stderr));
@@ -199,8 +205,10 @@ int run(const vocal::CommandLine& args) {
     std::printf("  %-12s %-8s target in %d of %d messages", rig.sensors[s].spec.name.c_str(),
                 vocal::sensorTypeName(rig.sensors[s].spec.type).c_str(), c.target_found, c.received);
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
+    if (c.not_kept > 0) std::printf(" (%d more skipped: the session was full)", c.not_kept);
     std::printf("\n");
   }
+  std::printf("memory: %s%s\n", session.memorySummary().c_str(), session.memory().full ? " (raise --max-held-mb to keep them)" : "");
   printRingOffsets(rig, ring_offsets);
   const vocal::CalibrationResult result = session.calibrate(associated, options);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
@@ -259,5 +267,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

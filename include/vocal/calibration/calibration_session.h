@@ -3,6 +3,7 @@
 // images) in, the target extracted from each, the still periods associated, the rig calibrated. What
 // the calibrate_rig tool (from a bag) and the MsgCalibration nodelet (live) share.
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,29 @@ struct SensorDataCounts {
   int received = 0;      // messages given to the session
   int target_found = 0;  // of which showed the target
   int only_background = 0;  // range sensors: board-shaped segments found, all of them static (room, furniture)
+  int not_kept = 0;  // received while the session was full (SessionMemoryOptions): counted, nothing kept
+};
+
+// How much of a long session is held: what bounds a live session's memory (and a long bag's). Held is
+// what each message leaves for the solve (the board's candidates' points, a camera's corners). Once it
+// passes max_held_mb, the messages settled (stamped settle_seconds or more before the newest) that went
+// into no still pose are let go - the target in motion, the room alone - and each still pose keeps per
+// sensor its first max_pose_seconds, about max_pose_messages of them spread over that time but never
+// further apart than a still run may bridge (StillnessOptions::max_gap) (a board left standing for
+// minutes, or a 30 Hz depth camera's every frame, adds no geometry, only the same view again). When what is kept still fills three quarters of the budget the session is full: later
+// messages are counted, not kept. A session that stays within the budget is never touched.
+struct SessionMemoryOptions {
+  double max_held_mb = 512.0;  // 0: no bound
+  double settle_seconds = 10.0;
+  double max_pose_seconds = 2.0;
+  int max_pose_messages = 20;
+};
+
+struct SessionMemory {
+  double held_mb = 0.0;
+  std::size_t held_messages = 0;
+  std::size_t let_go = 0;  // messages let go: settled and in no still pose, or beyond what a pose keeps
+  bool full = false;
 };
 
 // What a range sensor's message gave: the board's candidates by shape, resolved once the whole session
@@ -45,7 +69,7 @@ struct RingOffsetChoice {
 class CalibrationSession {
  public:
   explicit CalibrationSession(RigDescription rig, TargetExtractionOptions extraction = {}, StillnessOptions stillness = {},
-                              RingOffsetOptions ring_offsets = {});
+                              RingOffsetOptions ring_offsets = {}, SessionMemoryOptions memory = {});
 
   // Each returns whether the target was found (range sensors: a board-shaped segment; whether it is
   // static background is settled over the whole session). Throws InputError naming the sensor when it
@@ -89,6 +113,9 @@ class CalibrationSession {
 
   const RigDescription& rig() const { return rig_; }
   std::vector<SensorDataCounts> counts() const;
+  SessionMemory memory() const;
+  // memory() in words: what is held against the budget, what was let go, whether the session is full.
+  std::string memorySummary() const;
   // Every range sensor's message in arrival order, with the candidate taken and why none was.
   std::vector<RangeMessage> rangeMessages() const;
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
@@ -117,12 +144,17 @@ class CalibrationSession {
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
   bool recordRange(int sensor, double stamp, TargetSearch search);
   TargetExtractionOptions extractionFor(int sensor) const;
+  // Whether a message holding `bytes` may be kept within the memory budget (SessionMemoryOptions): past
+  // it, what no still pose uses is let go first; false once the session is full.
+  bool roomFor(std::size_t bytes);
+  void letGoOfWhatNoStillPoseUses();
   // The offsets as estimated, each applied when within its lidar's specification (no choice yet).
   std::vector<std::optional<RingOffsets>> estimatedRingOffsets() const;
   // Every observation: cameras' as recorded, range sensors' candidates resolved against the background,
   // each lidar's corrected by its ring offsets where they are applied.
   std::vector<TimedObservation> timedObservations() const;
-  std::vector<TimedObservation> timedObservations(const std::vector<std::optional<RingOffsets>>& offsets) const;
+  // `sample` > 0: each range view's points a sample of at most that many (TimedObservation::point_count).
+  std::vector<TimedObservation> timedObservations(const std::vector<std::optional<RingOffsets>>& offsets, std::size_t sample = 0) const;
   // Per range message, the candidate taken (-1: none): computed once per new message, as diagnostics
   // ask for the counts every second of a long session.
   const std::vector<int>& chosenCandidates() const;
@@ -145,6 +177,7 @@ class CalibrationSession {
     std::vector<StoredCandidate> candidates;
     std::string rejection, check;  // TargetSearch's, when there are no candidates
   };
+  static std::size_t heldBytes(const StoredRangeMessage& message);
   std::vector<StoredRangeMessage> range_messages_;
   std::vector<std::vector<StaticBackground::Summary>> candidate_summaries_;  // per range message
   mutable std::vector<int> chosen_;  // chosenCandidates(), valid while its size matches range_messages_
@@ -154,6 +187,11 @@ class CalibrationSession {
   std::vector<std::optional<RingOffsetEstimator>> ring_offsets_;  // per sensor: lidars, from their first full cloud
   // Per sensor, chooseRingOffsets's decision until the next cloud.
   std::vector<std::optional<RingOffsetChoice>> ring_offset_choice_;
+  SessionMemoryOptions memory_options_;
+  std::size_t held_bytes_ = 0;  // of observations_ and range_messages_
+  std::size_t let_go_ = 0;
+  bool full_ = false;
+  double newest_stamp_ = -std::numeric_limits<double>::infinity();
 };
 
 // Judges one lidar's trial (CalibrationSession::ringOffsetTrials): the held-out board views predicted

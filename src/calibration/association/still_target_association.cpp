@@ -74,9 +74,9 @@ std::vector<Eigen::Vector2d> stillnessBounds(const std::vector<SensorSpec>& sens
 // with the most points (the fullest view of the board: a torso taken where the board was missed has fewer).
 std::vector<std::size_t> membersNearTheFullestView(const std::vector<std::size_t>& members, const std::vector<TimedObservation>& sorted,
                                                    const std::vector<Shape>& shapes, double spread) {
-  const std::size_t fullest = *std::max_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
-    return sorted[a].points.size() < sorted[b].points.size();
-  });
+  const auto count = [&](std::size_t i) { return sorted[i].point_count > 0 ? sorted[i].point_count : sorted[i].points.size(); };
+  const std::size_t fullest =
+      *std::max_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) { return count(a) < count(b); });
   std::vector<std::size_t> near;
   for (std::size_t member : members)
     if ((shapes[member].centroid - shapes[fullest].centroid).norm() <= spread) near.push_back(member);
@@ -98,11 +98,19 @@ void checkSensorIndices(const std::vector<SensorSpec>& sensors, const std::vecto
   }
 }
 
-// By sensor, then time.
-void sortBySensorAndTime(std::vector<TimedObservation>* observations) {
-  std::stable_sort(observations->begin(), observations->end(), [](const TimedObservation& a, const TimedObservation& b) {
-    return a.sensor != b.sensor ? a.sensor < b.sensor : a.stamp < b.stamp;
+// By sensor, then time; `order` (if given) receives each sorted observation's index in the input.
+void sortBySensorAndTime(std::vector<TimedObservation>* observations, std::vector<std::size_t>* order = nullptr) {
+  std::vector<std::size_t> indices(observations->size());
+  for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = i;
+  const std::vector<TimedObservation>& in = *observations;
+  std::stable_sort(indices.begin(), indices.end(), [&](std::size_t a, std::size_t b) {
+    return in[a].sensor != in[b].sensor ? in[a].sensor < in[b].sensor : in[a].stamp < in[b].stamp;
   });
+  std::vector<TimedObservation> sorted;
+  sorted.reserve(indices.size());
+  for (std::size_t i : indices) sorted.push_back(std::move((*observations)[i]));
+  *observations = std::move(sorted);
+  if (order) *order = std::move(indices);
 }
 
 // The median spacing of each sensor's observations (0 with fewer than two), from observations sorted
@@ -165,11 +173,17 @@ std::vector<StillRun> cutRuns(const std::vector<SensorSpec>& sensors, const std:
 }
 }  // namespace
 
-std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
-                                                    std::vector<TimedObservation> observations,
-                                                    const StillnessOptions& options) {
-  checkSensorIndices(sensors, observations);
-  sortBySensorAndTime(&observations);
+namespace {
+// One sensor's messages at one still pose: indices into the sorted observations, in time order.
+struct PoseMembers {
+  int sensor;
+  int pose;
+  std::vector<std::size_t> members;
+};
+
+// What associateStillTarget pools, per sensor and still pose, from observations sorted by sensor and time.
+std::vector<PoseMembers> stillMembers(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations,
+                                      const StillnessOptions& options) {
   // Still runs per sensor: those that lasted.
   const RunInputs inputs = runInputsOf(sensors, observations, options);
   std::vector<StillRun> runs = cutRuns(sensors, observations, inputs, options);
@@ -211,7 +225,7 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
   // A slow sensor's run can take in a message on either side where the target was nearly still (at
   // 3 Hz the next message comes 0.33 s into the move): each run keeps the messages within half its own
   // period of the span the other sensors' runs agree on (the medians of their first and last stamps).
-  std::vector<TargetObservation> associated;
+  std::vector<PoseMembers> still;
   for (std::size_t k = 0; k < chosen.size(); ++k) {
     for (std::size_t s = 0; s < sensors.size(); ++s) {
       const StillRun* run = chosen[k][s];
@@ -234,23 +248,47 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
       if (options.max_centre_spread > 0.0) {
         members = membersNearTheFullestView(members, observations, inputs.shapes, options.max_centre_spread);
       }
-      TargetObservation observation;
-      observation.sensor = static_cast<int>(s);
-      observation.target_pose = static_cast<int>(k);
-      observation.first_stamp = observations[members.front()].stamp;
-      observation.last_stamp = observations[members.back()].stamp;
-      // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
-      for (std::size_t i : members) {
-        const TimedObservation& member = observations[i];
-        observation.points.insert(observation.points.end(), member.points.begin(), member.points.end());
-        observation.outline.insert(observation.outline.end(), member.outline.begin(), member.outline.end());
-        observation.plane_measurements.insert(observation.plane_measurements.end(), member.plane_measurements.begin(),
-                                              member.plane_measurements.end());
-      }
-      associated.push_back(std::move(observation));
+      still.push_back({static_cast<int>(s), static_cast<int>(k), std::move(members)});
     }
   }
+  return still;
+}
+}  // namespace
+
+std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
+                                                    std::vector<TimedObservation> observations,
+                                                    const StillnessOptions& options) {
+  checkSensorIndices(sensors, observations);
+  sortBySensorAndTime(&observations);
+  std::vector<TargetObservation> associated;
+  for (const PoseMembers& pose : stillMembers(sensors, observations, options)) {
+    TargetObservation observation;
+    observation.sensor = pose.sensor;
+    observation.target_pose = pose.pose;
+    observation.first_stamp = observations[pose.members.front()].stamp;
+    observation.last_stamp = observations[pose.members.back()].stamp;
+    // Views of a still pattern have independent pixel noise: each keeps its own plane measurement.
+    for (std::size_t i : pose.members) {
+      const TimedObservation& member = observations[i];
+      observation.points.insert(observation.points.end(), member.points.begin(), member.points.end());
+      observation.outline.insert(observation.outline.end(), member.outline.begin(), member.outline.end());
+      observation.plane_measurements.insert(observation.plane_measurements.end(), member.plane_measurements.begin(),
+                                            member.plane_measurements.end());
+    }
+    associated.push_back(std::move(observation));
+  }
   return associated;
+}
+
+std::vector<int> stillPoseOfEachObservation(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
+                                            const StillnessOptions& options) {
+  checkSensorIndices(sensors, observations);
+  std::vector<std::size_t> input_index;
+  sortBySensorAndTime(&observations, &input_index);
+  std::vector<int> pose_of(observations.size(), -1);
+  for (const PoseMembers& pose : stillMembers(sensors, observations, options))
+    for (std::size_t i : pose.members) pose_of[input_index[i]] = pose.pose;
+  return pose_of;
 }
 
 std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,

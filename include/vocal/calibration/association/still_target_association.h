@@ -25,6 +25,9 @@ struct TimedObservation {
   std::vector<Eigen::Vector3d> points;  // in the sensor frame
   std::vector<PlaneMeasurement> plane_measurements;  // a camera's, as in TargetObservation
   std::vector<Eigen::Vector3d> outline;              // a range sensor's, as in TargetObservation
+  // The points of the whole view when `points` is a sample of them (what a session deciding what to keep
+  // associates: stillness needs each view's plane, not every return); 0: points.size().
+  std::size_t point_count = 0;
 };
 
 struct StillnessOptions {
@@ -49,6 +52,11 @@ struct StillnessOptions {
 std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec>& sensors,
                                                     std::vector<TimedObservation> observations,
                                                     const StillnessOptions& options = {});
+
+// The same association, told per input observation (in input order): the target_pose whose observation
+// it went into, -1 for none. What a session decides what to keep by, without pooling any points.
+std::vector<int> stillPoseOfEachObservation(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
+                                            const StillnessOptions& options = {});
 
 // Why a sensor that saw the target has no associated observation, for the first such sensor: its
 // observations' spacing, the gap and duration a still run needs, the longest run it had, or that its
