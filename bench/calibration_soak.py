@@ -13,7 +13,6 @@ calls ~calibrate and prints each sensor's error against the simulator's ground t
 --max-held-mb is the nodelet's ~max_held_mb (its default otherwise; 0: no budget, as before it had one).
 """
 import argparse
-import math
 import os
 import subprocess
 import sys
@@ -28,7 +27,7 @@ ROOT = os.path.join(HERE, "..")
 TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
 sys.path.insert(0, HERE)
 from calibration_sessions import angle, rotation  # noqa: E402
-from nodelet_realtime import ros_environment, stop  # noqa: E402
+from nodelet_realtime import ros_environment, stop, wait_until_listed  # noqa: E402
 from odometry_soak import manager_pid, resident_mib  # noqa: E402
 
 try:
@@ -63,16 +62,6 @@ def simulate(folder, args):
     done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
         sys.exit(f"calibration_soak: simulation failed:\n{done.stdout}{done.stderr}")
-
-
-def wait_for_service(env, service, seconds):
-    deadline = time.time() + seconds
-    while time.time() < deadline:
-        listed = subprocess.run(["rosservice", "list"], capture_output=True, text=True, env=env)
-        if service in listed.stdout.split():
-            return True
-        time.sleep(0.5)
-    return False
 
 
 def errors(result_path, truth_path):
@@ -117,7 +106,7 @@ def main():
                               stdout=log, stderr=subprocess.STDOUT)
     play = None
     try:
-        if not wait_for_service(env, "/msg_calibration/calibrate", 60):
+        if not wait_until_listed(env, "rosservice", "/msg_calibration/calibrate", 60):
             sys.exit(f"calibration_soak: no /msg_calibration/calibrate within 60 s (see {args.workdir}/roslaunch.log)")
         pid = manager_pid("vocal_calibration_manager")
         if pid is None:

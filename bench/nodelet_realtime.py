@@ -53,14 +53,19 @@ def ros_environment(port):
     return env
 
 
-def wait_for_topic(env, topic, seconds):
+def wait_until_listed(env, lister, name, seconds):
+    """Whether `name` shows in `lister list` (rostopic, rosservice) within `seconds`."""
     deadline = time.time() + seconds
     while time.time() < deadline:
-        listed = subprocess.run(["rostopic", "list"], capture_output=True, text=True, env=env)
-        if topic in listed.stdout.split():
+        listed = subprocess.run([lister, "list"], capture_output=True, text=True, env=env)
+        if name in listed.stdout.split():
             return True
         time.sleep(0.5)
     return False
+
+
+def wait_for_topic(env, topic, seconds):
+    return wait_until_listed(env, "rostopic", topic, seconds)
 
 
 def stop(process):
