@@ -560,8 +560,16 @@ CalibrationOptions CalibrationSession::calibrationOptions(CalibrationOptions opt
 
 CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservation>& associated,
                                                 CalibrationOptions options) const {
-  // A sensor that saw the target but was never still with it: say why, rather than "never saw the target".
-  const std::string unassociated = missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_);
+  // A sensor that saw the target but was never still with it: say why, rather than "never saw the target"
+  // (the explanation re-reads every message: only when there is such a sensor).
+  std::vector<bool> in_a_pose(rig_.sensors.size(), false);
+  for (const TargetObservation& o : associated)
+    if (o.sensor >= 0 && o.sensor < static_cast<int>(in_a_pose.size())) in_a_pose[o.sensor] = true;
+  const std::vector<SensorDataCounts> seen = counts();
+  bool never_still = false;
+  for (std::size_t s = 0; s < seen.size(); ++s) never_still = never_still || (seen[s].target_found > 0 && !in_a_pose[s]);
+  const std::string unassociated =
+      never_still ? missingStillnessExplanation(rig_.specs(), timedObservations(), associated, stillness_) : std::string();
   const int reference = rig_.reference_sensor;
   const std::string& reference_name = rig_.sensors[reference].spec.name;
   if (!unassociated.empty() && unassociated.rfind("sensor '" + reference_name + "' ", 0) == 0) throw InputError("calibration: " + unassociated);
