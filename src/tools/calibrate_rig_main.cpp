@@ -49,8 +49,8 @@ const char kUsage[] =
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
-    "                      no still pose are let go and each pose keeps 20 messages of its first 2 s per sensor; when\n"
-    "                      full, later messages are counted, not kept\n"
+    "                      no still pose are let go and each pose keeps per sensor its first 2 s, thinned to about 20\n"
+    "                      messages; when full, later messages are counted, not kept\n"
     "  --quiet             no progress line\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
