@@ -3,10 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <cstring>
 #include <mutex>
@@ -16,6 +12,7 @@
 #include <sensor_msgs/Image.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "ros_test_support.h"
 #include "test_support.h"
 #include "vocal/core/tum_sequence.h"
 #include "vocal/tools/tum_bag_writer.h"
@@ -59,24 +56,7 @@ TEST(BagPlayback, EveryTopicArrivesIntact) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  const pid_t player = ::fork();
-  ASSERT_GE(player, 0);
-  if (player == 0) {
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
-    std::perror("exec rosbag");
-    ::_exit(127);
-  }
-  int status = 0;
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (::waitpid(player, &status, WNOHANG) == 0) {
-    if (ros::WallTime::now() > deadline) {
-      ::kill(player, SIGKILL);
-      ::waitpid(player, &status, 0);
-      FAIL() << "rosbag play did not finish within 60 s";
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+  ASSERT_NO_FATAL_FAILURE(vocal_test::playBag(bag));
   // Let the last messages through the transport.
   for (int i = 0; i < 40; ++i) {
     {

@@ -4,10 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <fstream>
 #include <iterator>
@@ -26,29 +22,21 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "ros_test_support.h"
 #include "test_support.h"
 #include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/tools/calibration_bag.h"
 
-// Plays a recorded session with rosbag play (once the nodelet subscribes) and gives extraction a second
-// for the last messages.
+// Plays a recorded session (once the nodelet subscribes) and gives extraction a second for the last messages.
 void playSession(const std::string& bag) {
-  const pid_t player = ::fork();
-  ASSERT_GE(player, 0);
-  if (player == 0) {
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
-    std::perror("exec rosbag");
-    ::_exit(127);
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(player, &status, 0), player);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+  ASSERT_NO_FATAL_FAILURE(vocal_test::playBag(bag, 120.0));
   ros::WallDuration(1.0).sleep();
 }
 
-TEST(CalibrationNodelet, CalibratesAPlayedSession) {
-  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet");
+// Writes FOLDER/rig.yaml and FOLDER/session.bag: the four sensor types, 8 still poses (0.6 s still, 0.3 s
+// moving), seed 5. Returns the simulated sensors, with their true poses.
+std::vector<vocal::SimulatedSensor> writeFourSensorSession(const std::string& folder) {
   const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
   const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
   vocal::writeRigDescription(folder + "/rig.yaml", rig);
@@ -60,6 +48,33 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   options.depth_height = 120;
   options.seed = 5;
   vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  return sensors;
+}
+
+// The latest /diagnostics status whose name holds `name`, kept under `mutex` (vocal_test::waitUntil).
+struct LatestDiagnostics {
+  LatestDiagnostics(ros::NodeHandle& nh, const std::string& name)
+      : subscriber(nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [this, name](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          for (const auto& s : m->status)
+            if (s.name.find(name) != std::string::npos) {
+              std::lock_guard<std::mutex> lock(mutex);
+              status = s;
+            }
+        })) {}
+  // A value by key, "" when absent; call under `mutex`.
+  std::string value(const std::string& key) const {
+    for (const auto& kv : status.values)
+      if (kv.key == key) return kv.value;
+    return "";
+  }
+  std::mutex mutex;
+  diagnostic_msgs::DiagnosticStatus status;
+  ros::Subscriber subscriber;
+};
+
+TEST(CalibrationNodelet, CalibratesAPlayedSession) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet");
+  const std::vector<vocal::SimulatedSensor> sensors = writeFourSensorSession(folder);
 
   ros::NodeHandle nh;
   nh.setParam("/calibration/rig", folder + "/rig.yaml");
@@ -137,16 +152,7 @@ TEST(CalibrationNodelet, BadMessagesAreDroppedAndCountedPerSensor) {
   nh.setParam("/bad/rig", folder + "/rig.yaml");
   nodelet::Loader manager(false);
   ASSERT_TRUE(manager.load("/bad", "vocal/MsgCalibration", {}, {}));
-  std::mutex mutex;
-  diagnostic_msgs::DiagnosticStatus status;
-  ros::Subscriber diagnostics_sub =
-      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-        for (const auto& s : m->status)
-          if (s.name.find("bad") != std::string::npos) {
-            std::lock_guard<std::mutex> lock(mutex);
-            status = s;
-          }
-      });
+  LatestDiagnostics diagnostics(nh, "bad");
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
@@ -232,21 +238,19 @@ TEST(CalibrationNodelet, BadMessagesAreDroppedAndCountedPerSensor) {
   }
   const std::string last_problem = in_order.back().scan_topic + ": angle_min must be finite and angle_increment finite and non-zero";
   auto dropsAsExpected = [&] {
-    if (status.message != last_problem) return false;
+    if (diagnostics.status.message != last_problem) return false;
     for (const auto& drops : expected_drops) {
       const std::string suffix = ", " + std::to_string(drops.second) + " dropped";
-      bool found = false;
-      for (const auto& kv : status.values)
-        if (kv.key == drops.first) found = kv.value.size() >= suffix.size() && kv.value.compare(kv.value.size() - suffix.size(), suffix.size(), suffix) == 0;
-      if (!found) return false;
+      const std::string value = diagnostics.value(drops.first);
+      if (value.size() < suffix.size() || value.compare(value.size() - suffix.size(), suffix.size(), suffix) != 0) return false;
     }
     return true;
   };
-  EXPECT_TRUE(vocal_test::waitUntil(mutex, 10.0, dropsAsExpected)) << [&] {
-    std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_TRUE(vocal_test::waitUntil(diagnostics.mutex, 10.0, dropsAsExpected)) << [&] {
+    std::lock_guard<std::mutex> lock(diagnostics.mutex);
     std::ostringstream seen;
-    seen << "summary '" << status.message << "'";
-    for (const auto& kv : status.values) seen << "; " << kv.key << ": " << kv.value;
+    seen << "summary '" << diagnostics.status.message << "'";
+    for (const auto& kv : diagnostics.status.values) seen << "; " << kv.key << ": " << kv.value;
     return seen.str();
   }();
   // Still answering: calibrating from nothing says so.
@@ -322,47 +326,25 @@ TEST(CalibrationNodelet, ASensorThatMovesStaysOffTfStatic) {
 // ~calibrate reply says so with what to do; ~reset empties it.
 TEST(CalibrationNodelet, ASessionOverItsMemoryBudgetSaysItIsFull) {
   const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_memory");
-  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
-  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
-  vocal::writeRigDescription(folder + "/rig.yaml", rig);
-  vocal::SimulatedSessionOptions options;
-  options.target_poses = 8;
-  options.still_seconds = 0.6;
-  options.moving_seconds = 0.3;
-  options.depth_width = 160;
-  options.depth_height = 120;
-  options.seed = 5;
-  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  const std::vector<vocal::SimulatedSensor> sensors = writeFourSensorSession(folder);
 
   ros::NodeHandle nh;
   nh.setParam("/memory/rig", folder + "/rig.yaml");
   nh.setParam("/memory/max_held_mb", 0.5);
   nodelet::Loader manager(false);
   ASSERT_TRUE(manager.load("/memory", "vocal/MsgCalibration", {}, {}));
-  std::mutex mutex;
-  diagnostic_msgs::DiagnosticStatus status;
-  ros::Subscriber diagnostics_sub =
-      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-        for (const auto& s : m->status)
-          if (s.name.find("memory") != std::string::npos) {
-            std::lock_guard<std::mutex> lock(mutex);
-            status = s;
-          }
-      });
+  LatestDiagnostics diagnostics(nh, "memory");
   ros::AsyncSpinner spinner(2);
   spinner.start();
   ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
 
   const std::string advice =
       "the session is full (~max_held_mb 0.5): later still poses are not kept; call ~calibrate now, or raise ~max_held_mb and ~reset";
-  const auto value = [&](const std::string& key) {
-    for (const auto& kv : status.values)
-      if (kv.key == key) return kv.value;
-    return std::string();
-  };
-  ASSERT_TRUE(vocal_test::waitUntil(mutex, 5.0, [&] { return status.message == advice; })) << status.message;
+  const auto value = [&](const std::string& key) { return diagnostics.value(key); };
+  ASSERT_TRUE(vocal_test::waitUntil(diagnostics.mutex, 5.0, [&] { return diagnostics.status.message == advice; }))
+      << diagnostics.status.message;
   {
-    std::lock_guard<std::mutex> lock(mutex);
+    std::lock_guard<std::mutex> lock(diagnostics.mutex);
     EXPECT_NE(value("memory").find(" of target data held in "), std::string::npos) << value("memory");
     EXPECT_NE(value("memory").find(" (budget 0.5 MB)"), std::string::npos) << value("memory");
     EXPECT_NE(value("memory").find("; FULL: later messages are counted, not kept"), std::string::npos) << value("memory");
@@ -380,7 +362,7 @@ TEST(CalibrationNodelet, ASessionOverItsMemoryBudgetSaysItIsFull) {
 
   std_srvs::Empty reset;
   ASSERT_TRUE(ros::service::call("/memory/reset", reset));
-  EXPECT_TRUE(vocal_test::waitUntil(mutex, 5.0, [&] { return value("memory") == "0.0 MB of target data held in 0 messages (budget 0.5 MB)"; }))
+  EXPECT_TRUE(vocal_test::waitUntil(diagnostics.mutex, 5.0, [&] { return value("memory") == "0.0 MB of target data held in 0 messages (budget 0.5 MB)"; }))
       << value("memory");
 }
 

@@ -207,6 +207,26 @@ TEST(CalibrationSession, CalibratesLidarsOfEveryKind) {
   }
 }
 
+namespace {
+// Each sensor's error against the simulator's truth must be within the bounds.
+void expectWithin(const std::vector<vocal::SimulatedSensor>& sensors, const vocal::CalibrationResult& result, double metres,
+                  double radians, const std::string& what) {
+  for (std::size_t s = 1; s < sensors.size(); ++s) {
+    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
+    std::cout << what << ": " << sensors[s].spec.name << " " << error.translation().norm() * 1000 << " mm / "
+              << vocal::rotationAngle(error) * 1000 << " mrad from " << result.sensors[s].observations << " still poses\n";
+    EXPECT_LT(error.translation().norm(), metres) << what << ": " << sensors[s].spec.name;
+    EXPECT_LT(vocal::rotationAngle(error), radians) << what << ": " << sensors[s].spec.name;
+  }
+}
+
+int stillPoses(const std::vector<vocal::TargetObservation>& associated) {
+  int poses = 0;
+  for (const vocal::TargetObservation& o : associated) poses = std::max(poses, o.target_pose + 1);
+  return poses;
+}
+}  // namespace
+
 // A recorded session of all four sensor types, as a bag: 10 still poses of the design's example board,
 // 0.6 s still and 0.3 s moving, sensors at 10 Hz and unsynchronised, 1 mm range noise and 2 grey levels
 // of image noise. The rig must come out within the bounds.
@@ -233,19 +253,11 @@ TEST(CalibrationSession, RecordedBagCalibratesEveryTypeOfSensor) {
     EXPECT_EQ(session.counts()[s].received, 90) << sensors[s].spec.name;
     EXPECT_GE(session.counts()[s].target_found, 40) << sensors[s].spec.name;
   }
-  int poses = 0;
-  for (const vocal::TargetObservation& o : session.associatedObservations()) poses = std::max(poses, o.target_pose + 1);
-  EXPECT_EQ(poses, options.target_poses);
+  EXPECT_EQ(stillPoses(session.associatedObservations()), options.target_poses);
 
   const vocal::CalibrationResult result = session.calibrate();
   EXPECT_TRUE(result.trusted) << result.failure;
-  for (std::size_t s = 1; s < sensors.size(); ++s) {
-    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
-    std::cout << sensors[s].spec.name << ": " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error)
-              << " rad from " << result.sensors[s].observations << " still poses\n";
-    EXPECT_LT(error.translation().norm(), 0.005) << sensors[s].spec.name;
-    EXPECT_LT(vocal::rotationAngle(error), 0.005) << sensors[s].spec.name;
-  }
+  expectWithin(sensors, result, 0.005, 0.005, "recorded bag");
 
   // Data of the wrong type for a sensor is refused by name.
   EXPECT_EQ(vocal_test::inputErrorOf([&] { session.addScan(session.sensorIndex("lidar0"), 1.0, {}); }),
@@ -288,26 +300,6 @@ TEST(CalibrationSession, ACroppedLidarScanIsEnoughWithARingField) {
                 " points shows no ring or row spacing (a lidar's first cloud needs 1000 points or more, 200 with a ring field)");
   EXPECT_TRUE(with_rings.take(0, 0.0, with_rings.extractCloud(0, cropped))) << "the board in the cropped scan";
 }
-
-namespace {
-// Each sensor's error against the simulator's truth must be within the bounds.
-void expectWithin(const std::vector<vocal::SimulatedSensor>& sensors, const vocal::CalibrationResult& result, double metres,
-                  double radians, const std::string& what) {
-  for (std::size_t s = 1; s < sensors.size(); ++s) {
-    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * result.sensors[s].reference_from_sensor;
-    std::cout << what << ": " << sensors[s].spec.name << " " << error.translation().norm() * 1000 << " mm / "
-              << vocal::rotationAngle(error) * 1000 << " mrad from " << result.sensors[s].observations << " still poses\n";
-    EXPECT_LT(error.translation().norm(), metres) << what << ": " << sensors[s].spec.name;
-    EXPECT_LT(vocal::rotationAngle(error), radians) << what << ": " << sensors[s].spec.name;
-  }
-}
-
-int stillPoses(const std::vector<vocal::TargetObservation>& associated) {
-  int poses = 0;
-  for (const vocal::TargetObservation& o : associated) poses = std::max(poses, o.target_pose + 1);
-  return poses;
-}
-}  // namespace
 
 // A long session within a memory budget (SessionMemoryOptions): 10 poses held still 3 s each, the camera
 // at 15 Hz, the others at 5 Hz. Past the budget, what no still pose uses is let go and each pose that is

@@ -179,8 +179,8 @@ bool CalibrationSession::roomFor(std::size_t bytes) {
 }
 
 void CalibrationSession::letGoOfWhatNoStillPoseUses() {
-  // The still pose of each message as calibrate() would associate them now.
-  const std::vector<int> chosen = chosenCandidates();
+  // The still pose of each message as calibrate() would associate them now (chosen_ holds until the end).
+  const std::vector<int>& chosen = chosenCandidates();
   const std::vector<int> pose_of =
       stillPoseOfEachObservation(rig_.specs(), timedObservations(ringOffsets(), kPointsForStillness), stillness_);
   // Each held message's sensor, stamp and still pose, as timedObservations lists them: the cameras'

@@ -88,6 +88,15 @@ void SimulatedRoom::addBox(const Eigen::Isometry3d& reference_from_box, const Ei
   boxes_.push_back({reference_from_box.inverse(), reference_from_box.translation(), half, half.norm(), label});
 }
 
+Eigen::Matrix3d SimulatedRoom::uprightFrameBehindTarget() const {
+  Eigen::Vector3d back = -reference_from_target_.linear().col(2);  // the target's z faces the rig
+  back.z() = 0.0;
+  back = back.norm() > 1e-6 ? back.normalized() : Eigen::Vector3d::UnitX();
+  Eigen::Matrix3d frame;
+  frame << back, Eigen::Vector3d::UnitZ().cross(back), Eigen::Vector3d::UnitZ();
+  return frame;
+}
+
 void SimulatedRoom::addStand() {
   const Eigen::Matrix3d& R = reference_from_target_.linear();
   const Eigen::Vector3d centre = reference_from_target_.translation();
@@ -96,18 +105,14 @@ void SimulatedRoom::addStand() {
   Eigen::Vector3d up = y_up ? R.col(1) : R.col(0), along = y_up ? R.col(0) : R.col(1);
   if (up.z() < 0.0) up = -up;
   const double half_up = y_up ? half_height_ : half_width_, half_along = y_up ? half_width_ : half_height_;
-  Eigen::Vector3d behind = -R.col(2);  // the target's z faces the rig
-  behind.z() = 0.0;
-  behind = behind.norm() > 1e-6 ? behind.normalized() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(behind);
+  const Eigen::Matrix3d frame = uprightFrameBehindTarget();
+  const Eigen::Vector3d behind = frame.col(0);
   for (const double sign : {-1.0, 1.0}) {
     // A post from 5 cm above the lower corner (held by a clamp), 3 cm behind the board, to the floor.
     const Eigen::Vector3d top = centre - (half_up - 0.05) * up + sign * (half_along - 0.08) * along + 0.03 * behind;
     if (top.z() <= 0.05) continue;
     const Eigen::Vector3d foot(top.x(), top.y(), 0.0);
     addBox(boxPose(0.5 * (top + foot)), {0.02, 0.02, 0.5 * top.z()}, SurfaceLabel::kFurniture);
-    Eigen::Matrix3d frame;
-    frame << behind, across, Eigen::Vector3d::UnitZ();
     addBox(boxPose(foot + Eigen::Vector3d(0.0, 0.0, 0.02), frame), {0.3, 0.03, 0.02}, SurfaceLabel::kFurniture);
   }
 }
@@ -115,13 +120,9 @@ void SimulatedRoom::addStand() {
 void SimulatedRoom::addPerson() {
   const Eigen::Matrix3d& R = reference_from_target_.linear();
   const Eigen::Vector3d centre = reference_from_target_.translation();
-  // Upright, facing the rig from behind the target: "back" is away from the rig, horizontally.
-  Eigen::Vector3d back = -R.col(2);
-  back.z() = 0.0;
-  back = back.norm() > 1e-6 ? back.normalized() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(back);
-  Eigen::Matrix3d body;
-  body << back, side, Eigen::Vector3d::UnitZ();
+  // Upright, facing the rig from behind the target.
+  const Eigen::Matrix3d body = uprightFrameBehindTarget();
+  const Eigen::Vector3d back = body.col(0);
   const Eigen::Vector3d feet = centre + 0.3 * back - Eigen::Vector3d(0, 0, centre.z());
   const auto part = [&](const Eigen::Vector3d& offset, const Eigen::Vector3d& half) {
     addBox(boxPose(feet + body * offset, body), half, SurfaceLabel::kPerson);

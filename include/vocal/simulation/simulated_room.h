@@ -49,6 +49,9 @@ class SimulatedRoom {
   void addBox(const Eigen::Isometry3d& reference_from_box, const Eigen::Vector3d& half, SurfaceLabel label);
   void addPerson();
   void addStand();
+  // Columns: away from the rig behind the target (horizontal), to its side, up: how a person holding it
+  // stands, and how a stand's feet lie.
+  Eigen::Matrix3d uprightFrameBehindTarget() const;
 
   RoomLayout layout_;
   Eigen::Isometry3d reference_from_target_, target_from_reference_;
