@@ -51,6 +51,21 @@ std::vector<vocal::SimulatedSensor> writeFourSensorSession(const std::string& fo
   return sensors;
 }
 
+// The sensor's transform from base_link on /tf_static within `bound` metres and radians of its truth.
+void expectOnTfStaticWithin(const tf2_ros::Buffer& tf_buffer, const vocal::SimulatedSensor& sensor, double bound) {
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_buffer.lookupTransform("base_link", sensor.spec.frame_id, ros::Time(0), ros::Duration(5.0));
+  } catch (const tf2::TransformException& e) {
+    FAIL() << sensor.spec.name << ": " << e.what();
+  }
+  const Eigen::Isometry3d error = sensor.reference_from_sensor.inverse() * tf2::transformToEigen(t);
+  std::cout << sensor.spec.name << " on /tf_static: " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000
+            << " mrad from the truth\n";
+  EXPECT_LT(error.translation().norm(), bound) << sensor.spec.name;
+  EXPECT_LT(vocal::rotationAngle(error), bound) << sensor.spec.name;
+}
+
 // The latest /diagnostics status whose name holds `name`, kept under `mutex` (vocal_test::waitUntil).
 struct LatestDiagnostics {
   LatestDiagnostics(ros::NodeHandle& nh, const std::string& name)
@@ -117,19 +132,7 @@ TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   EXPECT_NE(result_text.find("    translation_spread: ["), std::string::npos) << result_text;
   EXPECT_NE(result_text.find("    ring_offsets:  # from "), std::string::npos) << result_text;
 
-  for (std::size_t s = 1; s < sensors.size(); ++s) {
-    geometry_msgs::TransformStamped t;
-    try {
-      t = tf_buffer.lookupTransform("base_link", sensors[s].spec.frame_id, ros::Time(0), ros::Duration(5.0));
-    } catch (const tf2::TransformException& e) {
-      FAIL() << sensors[s].spec.name << ": " << e.what();
-    }
-    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * tf2::transformToEigen(t);
-    std::cout << sensors[s].spec.name << " on /tf_static: " << error.translation().norm() * 1000 << " mm / "
-              << vocal::rotationAngle(error) << " rad from the truth\n";
-    EXPECT_LT(error.translation().norm(), 0.005) << sensors[s].spec.name;
-    EXPECT_LT(vocal::rotationAngle(error), 0.005) << sensors[s].spec.name;
-  }
+  for (std::size_t s = 1; s < sensors.size(); ++s) expectOnTfStaticWithin(tf_buffer, sensors[s], 0.005);
   for (const char* file : {"/calibration.yaml", "/calibration.urdf", "/calibration.launch"}) {
     EXPECT_TRUE(std::ifstream(folder + file).good()) << file;
   }
@@ -306,17 +309,7 @@ TEST(CalibrationNodelet, ASensorThatMovesStaysOffTfStatic) {
       << calibrate.response.message;
   EXPECT_NE(calibrate.response.message.find("; withheld from /tf_static: fault_camera0 (not trusted)"), std::string::npos)
       << calibrate.response.message;
-  for (const int s : {1, 3}) {
-    geometry_msgs::TransformStamped t;
-    try {
-      t = tf_buffer.lookupTransform("base_link", sensors[s].spec.frame_id, ros::Time(0), ros::Duration(5.0));
-    } catch (const tf2::TransformException& e) {
-      FAIL() << sensors[s].spec.name << ": " << e.what();
-    }
-    const Eigen::Isometry3d error = sensors[s].reference_from_sensor.inverse() * tf2::transformToEigen(t);
-    EXPECT_LT(error.translation().norm(), 0.01) << sensors[s].spec.name;
-    EXPECT_LT(vocal::rotationAngle(error), 0.01) << sensors[s].spec.name;
-  }
+  for (const int s : {1, 3}) expectOnTfStaticWithin(tf_buffer, sensors[s], 0.01);
   EXPECT_FALSE(tf_buffer.canTransform("base_link", sensors[2].spec.frame_id, ros::Time(0), ros::Duration(1.0)))
       << "the moving camera reached /tf_static";
 }
