@@ -100,9 +100,10 @@ inline RunResult runTool(const std::string& arguments) { return runCommand(std::
 
 // Path of a real calibration recording beside the repository (../shared/data/real_rigs/NAME), or ""
 // (with a loud note) when it is not there.
-inline std::string realRigFolder(const std::string& name) {
+// `probe_file`: a file the recording's folder holds.
+inline std::string realRigFolder(const std::string& name, const std::string& probe_file = "camera_info.yaml") {
   const std::string folder = std::string(VOCAL_REAL_RIGS_DIR) + "/" + name;
-  std::ifstream probe(folder + "/camera_info.yaml");
+  std::ifstream probe(folder + "/" + probe_file);
   if (!probe) {
     std::cerr << "\n*** real rig recording not found at " << folder << ": real-data checks are SKIPPED ***\n\n";
     return "";

@@ -168,10 +168,26 @@ std::string CalibrationSession::memorySummary() const {
   return line;
 }
 
+void CalibrationSession::addToolPose(double stamp, const Eigen::Isometry3d& reference_from_tool) {
+  const std::optional<HandEyeRig> arm = rig_.handEye();
+  if (!arm) throw InputError("tool pose: the rig has no sensor or target on a moving frame (no 'parent' other than " + rig_.reference_frame + ")");
+  if (!std::isfinite(stamp) || !reference_from_tool.matrix().allFinite()) {
+    throw InputError("tool pose of '" + arm->tool_frame + "': not finite");
+  }
+  tool_poses_.push_back({stamp, reference_from_tool});
+}
+
+HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOptions& options) const {
+  if (!rig_.handEye()) throw InputError("hand-eye association: the rig has no sensor or target on a moving frame");
+  return associateToolStillness(tool_poses_, observations_, options);
+}
+
 bool CalibrationSession::roomFor(std::size_t bytes) {
   const double budget = memory_options_.max_held_mb * 1e6;
   if (full_) return false;
   if (!(budget > 0.0) || held_bytes_ + bytes <= budget) return true;
+  // An arm's still poses are the tool's (handEyeAssociation), not the target's: nothing to let go by.
+  if (rig_.handEye()) return !(full_ = true);
   letGoOfWhatNoStillPoseUses();
   // What the still poses keep fills the budget: compacting again would free next to nothing.
   full_ = held_bytes_ + bytes > 0.75 * budget;

@@ -19,6 +19,14 @@ std::vector<SensorSpec> RigDescription::specs() const {
   return out;
 }
 
+std::optional<HandEyeRig> RigDescription::handEye() const {
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (!sensors[s].parent.empty()) return HandEyeRig{static_cast<int>(s), true, sensors[s].parent};
+  }
+  if (!target.parent.empty() && target.parent != reference_frame) return HandEyeRig{0, false, target.parent};
+  return std::nullopt;
+}
+
 namespace {
 // Reads `node[key]` as T, naming the key in the error.
 template <typename T>
@@ -40,7 +48,7 @@ void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& know
 
 TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
   if (!node.IsMap()) throw InputError(where + ": expected a map");
-  rejectUnknownKeys(node, {"type", "rows", "cols", "square_size", "width", "height"}, where);
+  rejectUnknownKeys(node, {"type", "rows", "cols", "square_size", "width", "height", "parent"}, where);
   const std::string type = required<std::string>(node, "type", where);
   if (type != "checkerboard") throw InputError(where + ": type '" + type + "' is not supported (checkerboard)");
   TargetDescription target;
@@ -49,6 +57,7 @@ TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
   target.pattern.square_size = required<double>(node, "square_size", where);
   target.width = required<double>(node, "width", where);
   target.height = required<double>(node, "height", where);
+  if (node["parent"]) target.parent = required<std::string>(node, "parent", where);
   checkTargetDescription(target, where);
   return target;
 }
@@ -102,6 +111,31 @@ CropBox readCropBox(const YAML::Node& node, const std::string& where) {
 }
 }  // namespace
 
+namespace {
+// What a hand-eye rig may be today: one camera, on the tool looking at a fixed board, or fixed looking
+// at the board on the tool.
+void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std::string& path) {
+  const RigSensorDescription& camera = rig.sensors[arm.camera];
+  const std::string where = path + ": sensors[" + std::to_string(arm.camera) + "] '" + camera.spec.name + "'";
+  if (rig.sensors.size() > 1) {
+    throw InputError(path + ": a sensor or the target on a moving frame ('" + arm.tool_frame +
+                     "') is supported for a rig of one camera; calibrate the other sensors in a session of their own");
+  }
+  if (camera.spec.type != SensorType::kCamera) {
+    throw InputError(where + ": only a camera (type camera) can be calibrated on or against a moving frame, not a " +
+                     sensorTypeName(camera.spec.type));
+  }
+  if (arm.eye_in_hand && rig.target.parent.empty()) {
+    throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
+                     "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
+  }
+  if (arm.eye_in_hand && rig.target.parent != rig.reference_frame) {
+    throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' and the target on '" + rig.target.parent +
+                     "': one of them must be fixed in " + rig.reference_frame);
+  }
+}
+}  // namespace
+
 RigDescription readRigDescription(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "rig description");
   if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
@@ -123,7 +157,7 @@ RigDescription readRigDescription(const std::string& path) {
     sensor.spec.name = required<std::string>(node, "name", where);
     where += " '" + sensor.spec.name + "'";
     rejectUnknownKeys(node, {"name", "type", "frame_id", "image_topic", "camera_info_topic", "depth_topic", "cloud_topic",
-                             "scan_topic", "pose", "crop_box"},
+                             "scan_topic", "pose", "crop_box", "parent"},
                       where);
     if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
     try {
@@ -148,11 +182,18 @@ RigDescription readRigDescription(const std::string& path) {
       if (type == SensorType::kCamera) throw InputError(where + ": 'crop_box' is for range sensors (rgbd, lidar3d, laser2d), not cameras");
       sensor.crop_box = readCropBox(node["crop_box"], where);
     }
+    if (node["parent"]) sensor.parent = required<std::string>(node, "parent", where);
+    if (sensor.parent == rig.reference_frame) sensor.parent.clear();
     if (node["pose"]) {
       sensor.pose = readPose(node["pose"], where);
       if (rig.reference_sensor < 0) rig.reference_sensor = static_cast<int>(i);
     }
     rig.sensors.push_back(sensor);
+  }
+  if (const std::optional<HandEyeRig> arm = rig.handEye()) {
+    checkHandEyeRig(rig, *arm, path);
+    rig.reference_sensor = -1;
+    return rig;
   }
   if (rig.reference_sensor < 0) {
     throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
@@ -170,10 +211,12 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
   const TargetPattern& p = rig.target.pattern;
   file << std::setprecision(10) << "reference_frame: " << rig.reference_frame << "\n"
        << "target: {type: checkerboard, rows: " << p.rows << ", cols: " << p.cols << ", square_size: " << p.square_size
-       << ", width: " << rig.target.width << ", height: " << rig.target.height << "}\n"
+       << ", width: " << rig.target.width << ", height: " << rig.target.height
+       << (rig.target.parent.empty() ? "" : ", parent: " + rig.target.parent) << "}\n"
        << "sensors:\n";
   for (const RigSensorDescription& s : rig.sensors) {
     file << "  - {name: " << s.spec.name << ", type: " << sensorTypeName(s.spec.type) << ", frame_id: " << s.spec.frame_id;
+    if (!s.parent.empty()) file << ", parent: " << s.parent;
     const std::pair<const char*, const std::string*> topics[] = {{"image_topic", &s.image_topic},
                                                                  {"camera_info_topic", &s.camera_info_topic},
                                                                  {"depth_topic", &s.depth_topic},

@@ -77,8 +77,14 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       return;
     }
     try {
-      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path), TargetExtractionOptions{}, StillnessOptions{},
-                                                      ring_offsets_, memory_);
+      RigDescription rig = readRigDescription(rig_path);
+      if (const std::optional<HandEyeRig> arm = rig.handEye()) {
+        // Live tf for an arm's still poses is not here yet; the recording path is (calibrate_rig).
+        throw InputError(rig_path + ": the " + (arm->eye_in_hand ? "camera" : "target") + " is on the moving frame '" + arm->tool_frame +
+                         "' (a hand-eye rig), which this nodelet does not calibrate live yet: record the camera with /tf and /tf_static "
+                         "(rosbag record) and run `rosrun vocal calibrate_rig " + rig_path + " BAG`");
+      }
+      session_ = std::make_unique<CalibrationSession>(std::move(rig), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_, memory_);
     } catch (const InputError& e) {
       setup_error_ = e.what();
       NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");

@@ -15,10 +15,12 @@
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
+#include "vocal/tools/bag_tool_poses.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/calibration_overlays.h"
 #include "vocal/tools/command_line.h"
@@ -166,6 +168,75 @@ double positiveOption(const vocal::CommandLine& args, const char* name, double f
   return value;
 }
 
+void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 1>* sigma) {
+  const Eigen::Vector3d t = pose.translation();
+  const Eigen::Quaterniond q(pose.rotation());
+  std::printf("%-28s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f", what, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  if (sigma) std::printf("   %.2f / %.2f", 1000 * sigma->head<3>().norm(), 1000 * sigma->tail<3>().norm());
+  std::printf("\n");
+}
+
+// A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
+int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
+               const std::string& bag, const vocal::SpreadTolerance& tolerance) {
+  const vocal::BagToolPoses tool = vocal::readToolPosesFromBag(bag, rig.reference_frame, arm.tool_frame, &session);
+  std::printf("%zu poses of %s in %s from the recording's tf", tool.samples, arm.tool_frame.c_str(), rig.reference_frame.c_str());
+  if (tool.failed_lookups > 0) std::printf(", %zu lookups failed (last: %s)", tool.failed_lookups, tool.last_failure.c_str());
+  std::printf("\n");
+  const vocal::HandEyeAssociation association = session.handEyeAssociation();
+  std::printf("%zu still poses of the arm with the board in view (of %d still; %d views while the arm moved, %d where tf gave no "
+              "tool pose)\n",
+              association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
+  const vocal::HandEyeSetup setup = arm.eye_in_hand ? vocal::HandEyeSetup::kEyeInHand : vocal::HandEyeSetup::kEyeToHand;
+  const vocal::HandEyeResult result = vocal::calibrateHandEye(association.stations, setup);
+  const vocal::HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.sensors[arm.camera].spec};
+  const std::string camera_parent = arm.eye_in_hand ? arm.tool_frame : rig.reference_frame;
+  const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
+  std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s   sigma t (mm) / r (mrad)\n", vocal::handEyeSetupName(setup).c_str(), "x", "y", "z",
+              "qx", "qy", "qz", "qw");
+  printPose((rig.sensors[arm.camera].spec.name + " in " + camera_parent).c_str(), result.camera, &result.camera_sigma);
+  printPose(("board in " + board_parent).c_str(), result.board, &result.board_sigma);
+  std::printf("spread across the arm's poses (%d re-solves, each without one pose): %.2f mm / %.2f mrad\n", result.spread_solves,
+              1000 * result.camera_spread.head<3>().norm(), 1000 * result.camera_spread.tail<3>().norm());
+  std::printf("each view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
+  if (result.unmodelled_translation > 0.0) {
+    std::printf("  beyond the corners' noise and the arm's repeatability by %.2f mm / %.2f mrad per axis (the arm's kinematics, the "
+                "camera's intrinsics, the print): each view weighted by it\n",
+                1000 * result.unmodelled_translation, 1000 * result.unmodelled_rotation);
+  }
+  for (const int k : result.poor_stations) {
+    std::printf("poor arm pose %d (%.1f-%.1f s): the tool had to move %.2f mm / %.2f mrad from where the arm reported it to fit the others\n",
+                k + 1, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * result.tool_shift[k],
+                1000 * result.tool_turn[k]);
+  }
+  std::printf("OpenCV's calibrateHandEye on the same poses, against this result:\n");
+  for (const vocal::HandEyeClosedForm& c : result.closed_forms) {
+    std::printf("  %-10s %6.2f mm / %.3f deg\n", c.method.c_str(), 1000 * (c.camera.translation() - result.camera.translation()).norm(),
+                vocal::rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
+  }
+  if (args.has("report")) {
+    std::printf("arm poses (bag stamps), how far the solve moved the tool, and the board against the solution:\n");
+    for (std::size_t k = 0; k < association.stations.size(); ++k) {
+      std::printf("  pose %2zu  %.2f-%.2f s  %zu views  tool moved %.3f mm / %.3f mrad  board off %.2f mm / %.2f mrad\n", k + 1,
+                  association.stations[k].first_stamp, association.stations[k].last_stamp, association.stations[k].views.size(),
+                  1000 * result.tool_shift[k], 1000 * result.tool_turn[k], 1000 * result.view_distance[k], 1000 * result.view_angle[k]);
+    }
+  }
+  const std::string withheld = vocal::handEyeWithheld(result, tolerance, args.has("publish-uncertain"));
+  if (!withheld.empty()) {
+    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", frames.camera.name.c_str(), withheld.c_str());
+    std::printf("  its values are in calibration.yaml; pass --publish-uncertain to publish them anyway\n");
+  }
+  if (args.has("output-dir")) {
+    const std::string dir = args.text("output-dir", "");
+    vocal::writeHandEyeYaml(dir + "/calibration.yaml", frames, result, withheld);
+    vocal::writeHandEyeUrdf(dir + "/calibration.urdf", frames, result, withheld);
+    vocal::writeHandEyeLaunch(dir + "/calibration.launch", frames, result, withheld);
+    std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+  }
+  return withheld.empty() ? 0 : 1;
+}
+
 int run(const vocal::CommandLine& args) {
   if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
   const vocal::SpreadTolerance tolerance{positiveOption(args, "tolerance-mm", 10.0) / 1000, positiveOption(args, "tolerance-mrad", 10.0) / 1000};
@@ -189,6 +260,7 @@ int run(const vocal::CommandLine& args) {
   if (!quiet && terminal) std::fprintf(stderr, "\r");
   std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
   for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
+  if (const std::optional<vocal::HandEyeRig> arm = rig.handEye()) return runHandEye(args, rig, *arm, session, bag, tolerance);
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
   options.board_edges.enabled = args.has("edges");

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "vocal/calibration/association/hand_eye_association.h"
 #include "vocal/calibration/association/still_target_association.h"
 #include "vocal/calibration/extraction/lidar_ring_offsets.h"
 #include "vocal/calibration/extraction/static_background.h"
@@ -100,6 +101,12 @@ class CalibrationSession {
   Extraction extractImage(int sensor, const ColorImage& image, const PinholeCamera& camera, const LensDistortion& distortion = {}) const;
   bool take(int sensor, double stamp, Extraction extraction);
 
+  // A hand-eye rig's tool frame (RigDescription::handEye) in the reference frame at `stamp`: a tf lookup,
+  // at the rate tf gives it. Throws InputError for a rig without a moving frame or a pose that is not finite.
+  void addToolPose(double stamp, const Eigen::Isometry3d& reference_from_tool);
+  // The arm's still poses with the camera's views in each (a hand-eye rig; throws InputError otherwise).
+  HandEyeAssociation handEyeAssociation(const ToolStillnessOptions& options = {}) const;
+
   // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
   // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does, and
   // for a sensor that saw the target but in no still pose, why (its spacing, the run it would need).
@@ -164,6 +171,7 @@ class CalibrationSession {
   StillnessOptions stillness_;
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
+  std::vector<FramePoseSample> tool_poses_;      // a hand-eye rig's tool frame, as tf gave it
   // A range message as kept until the solve: its candidates' points (most of a session's memory) in
   // floats, whose micrometres at lidar range are far below any sensor's noise; converted back to
   // RangeMessage / TimedObservation when asked for.

@@ -27,6 +27,9 @@ struct SensorSpec {
 struct PlaneMeasurement {
   Eigen::Isometry3d sensor_from_pattern = Eigen::Isometry3d::Identity();
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();  // of (tilt x, tilt y, centre distance)
+  // Of the whole pose, perturbed as R exp([w]x), t + dt, in the order (w, dt): what a camera on an arm
+  // (hand_eye_calibration.h) is weighted by, where the board's place within its plane counts too.
+  Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Identity();
 };
 
 // One sensor's view of the target while it was held at one pose: points on the target in the sensor

@@ -12,6 +12,15 @@
 //        crop_box: [0, -2, -1, 4, 2, 1]}   # optional, range sensors: search only inside (sensor frame)
 //     - {name: scan, type: laser2d, frame_id: laser, scan_topic: /scan}
 //     - {name: cam2, type: camera, frame_id: cam2_optical, image_topic: ..., camera_info_topic: ...}
+//
+// A camera on a robot arm (hand-eye): its `parent` is the arm's tool frame, a frame that moves, whose pose
+// in reference_frame comes from tf; the board is then fixed (target `parent: <reference_frame>`). Or the
+// board on the tool (target `parent: <tool frame>`) and the camera fixed in reference_frame:
+//
+//   reference_frame: panda_link0
+//   target: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, width: 0.3, height: 0.2, parent: panda_link0}
+//   sensors:
+//     - {name: wrist_camera, type: camera, frame_id: camera_color_optical_frame, parent: panda_EE, image_topic: ...}
 
 #include <optional>
 #include <string>
@@ -29,6 +38,9 @@ struct TargetDescription {
   TargetPattern pattern;  // rows / cols count inner corners
   double width = 0.9;     // metres: the whole board, what range sensors see
   double height = 0.7;
+  // Empty: moved by hand, a new pose per still period. reference_frame: fixed there, one unknown pose
+  // for the whole session. Another frame: held by it (a board in an arm's gripper, its pose from tf).
+  std::string parent;
 };
 
 struct RigSensorDescription {
@@ -36,15 +48,27 @@ struct RigSensorDescription {
   std::string image_topic, camera_info_topic, depth_topic, cloud_topic, scan_topic;
   std::optional<Eigen::Isometry3d> pose;  // in reference_frame
   std::optional<CropBox> crop_box;        // range sensors: where the target is searched
+  // A frame that moves (an arm's tool) that the sensor is mounted on, its pose in reference_frame from
+  // tf; empty: mounted rigidly in reference_frame (a `parent` naming reference_frame reads as empty).
+  std::string parent;
+};
+
+// Where an arm moves a camera or the board (RigDescription::handEye), in the rig's terms.
+struct HandEyeRig {
+  int camera = -1;         // the rig's sensor
+  bool eye_in_hand = true; // the camera on the tool (else the board on the tool)
+  std::string tool_frame;  // the frame that moves, looked up in tf
 };
 
 struct RigDescription {
   std::string reference_frame = "base_link";
   TargetDescription target;
   std::vector<RigSensorDescription> sensors;
-  int reference_sensor = 0;  // the first sensor with a pose
+  int reference_sensor = 0;  // the first sensor with a pose (-1 for a hand-eye rig: the base frame is the reference)
 
   std::vector<SensorSpec> specs() const;
+  // Set when a sensor or the board is on a frame that moves.
+  std::optional<HandEyeRig> handEye() const;
 };
 
 // Throws InputError starting with `where` for a pattern under 2 x 2 inner corners, a square size or board
@@ -54,7 +78,9 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 
 // Throws InputError naming the file and the key: unknown or missing keys, a sensor type without the
 // topics it needs (camera: image + camera_info; rgbd: depth + camera_info; lidar3d: cloud; laser2d:
-// scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target.
+// scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target;
+// and for the moving frames of a hand-eye rig, what is not (yet) supported: more than one sensor, not a
+// camera, a camera on a moving frame looking at a board moved by hand, both on moving frames.
 RigDescription readRigDescription(const std::string& path);
 
 // Writes what readRigDescription reads (every sensor with a pose writes it). Throws InputError naming

@@ -110,6 +110,7 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   observation.plane.sensor_from_pattern.linear() = rotation;
   observation.plane.sensor_from_pattern.translation() = Eigen::Vector3d(tvec[0], tvec[1], tvec[2]);
   observation.plane.covariance = to_plane * pose_covariance * to_plane.transpose();
+  observation.plane.pose_covariance = pose_covariance;
   return observation;
 }
 

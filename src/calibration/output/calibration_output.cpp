@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 
 #include "vocal/core/errors.h"
 
@@ -128,6 +129,30 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
   finish(file, path);
 }
 
+std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child) {
+  // URDF rpy: fixed axes, R = Rz(yaw) Ry(pitch) Rx(roll).
+  const Eigen::Vector3d ypr = parent_from_child.rotation().eulerAngles(2, 1, 0);
+  const Eigen::Vector3d t = parent_from_child.translation();
+  std::ostringstream out;
+  out << "<link name=\"" << child << "\"/>\n"
+      << "<joint name=\"" << parent << "_to_" << child << "\" type=\"fixed\">\n"
+      << "  <parent link=\"" << parent << "\"/>\n"
+      << "  <child link=\"" << child << "\"/>\n"
+      << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << ypr[2] << " " << ypr[1] << " " << ypr[0] << "\"/>\n"
+      << "</joint>\n";
+  return out.str();
+}
+
+std::string staticTransformNode(const std::string& name, const std::string& parent, const std::string& child,
+                                const Eigen::Isometry3d& parent_from_child) {
+  const Eigen::Vector3d t = parent_from_child.translation();
+  const Eigen::Quaterniond q(parent_from_child.rotation());
+  std::ostringstream out;
+  out << "  <node pkg=\"tf2_ros\" type=\"static_transform_publisher\" name=\"" << name << "\" args=\"" << t.x() << " " << t.y() << " "
+      << t.z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << " " << parent << " " << child << "\"/>\n";
+  return out.str();
+}
+
 void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
                       const CalibrationResult& result, const std::vector<std::string>* withheld) {
   checkSizes(sensors, result);
@@ -138,17 +163,7 @@ void writeUrdfSnippet(const std::string& path, const std::string& reference_fram
       file << "<!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
       continue;
     }
-    const Eigen::Isometry3d& pose = result.sensors[s].reference_from_sensor;
-    // URDF rpy: fixed axes, R = Rz(yaw) Ry(pitch) Rx(roll).
-    const Eigen::Vector3d ypr = pose.rotation().eulerAngles(2, 1, 0);
-    const Eigen::Vector3d t = pose.translation();
-    file << "<link name=\"" << sensors[s].frame_id << "\"/>\n"
-         << "<joint name=\"" << reference_frame << "_to_" << sensors[s].frame_id << "\" type=\"fixed\">\n"
-         << "  <parent link=\"" << reference_frame << "\"/>\n"
-         << "  <child link=\"" << sensors[s].frame_id << "\"/>\n"
-         << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << ypr[2] << " " << ypr[1] << " "
-         << ypr[0] << "\"/>\n"
-         << "</joint>\n";
+    file << urdfFixedJoint(reference_frame, sensors[s].frame_id, result.sensors[s].reference_from_sensor);
   }
   finish(file, path);
 }
@@ -164,12 +179,115 @@ void writeStaticTransformLaunch(const std::string& path, const std::string& refe
       file << "  <!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
       continue;
     }
-    const Eigen::Isometry3d& pose = result.sensors[s].reference_from_sensor;
-    const Eigen::Vector3d t = pose.translation();
-    const Eigen::Quaterniond q(pose.rotation());
-    file << "  <node pkg=\"tf2_ros\" type=\"static_transform_publisher\" name=\"" << sensors[s].name
-         << "_extrinsic\" args=\"" << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " "
-         << q.z() << " " << q.w() << " " << reference_frame << " " << sensors[s].frame_id << "\"/>\n";
+    file << staticTransformNode(sensors[s].name + "_extrinsic", reference_frame, sensors[s].frame_id, result.sensors[s].reference_from_sensor);
+  }
+  file << "</launch>\n";
+  finish(file, path);
+}
+
+namespace {
+std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  std::ostringstream out;
+  out << "[";
+  for (Eigen::Index i = 0; i < v.size(); ++i) out << (i ? ", " : "") << v[i];
+  out << "]";
+  return out.str();
+}
+
+// The hand-eye result's camera: its parent frame and its pose there.
+std::pair<std::string, const Eigen::Isometry3d*> handEyeCamera(const HandEyeFrames& frames, const HandEyeResult& result) {
+  return {result.setup == HandEyeSetup::kEyeInHand ? frames.tool_frame : frames.reference_frame, &result.camera};
+}
+}  // namespace
+
+std::string handEyeWithheld(const HandEyeResult& result, const SpreadTolerance& tolerance, bool publish_uncertain) {
+  if (publish_uncertain) return "";
+  char line[320];
+  if (result.spread_solves < 2) {
+    std::snprintf(line, sizeof(line), "no spread across the arm's poses could be computed (%d re-solves without one pose): add poses",
+                  result.spread_solves);
+    return line;
+  }
+  if (!spreadIsOver(result.camera_spread, tolerance)) return "";
+  std::snprintf(line, sizeof(line),
+                "uncertain: it moves %.1f mm / %.1f mrad between re-solves without one arm pose (tolerance %.1f mm / %.1f mrad): add "
+                "arm poses, turned further about more axes",
+                1000 * result.camera_spread.head<3>().norm(), 1000 * result.camera_spread.tail<3>().norm(), 1000 * tolerance.translation,
+                1000 * tolerance.rotation);
+  return line;
+}
+
+void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+  std::ofstream file = openOutput(path);
+  const auto [camera_parent, camera] = handEyeCamera(frames, result);
+  const std::string board_parent = result.setup == HandEyeSetup::kEyeInHand ? frames.reference_frame : frames.tool_frame;
+  const auto pose = [&](const Eigen::Isometry3d& p, const Eigen::Matrix<double, 6, 1>& sd, const char* indent) {
+    const Eigen::Vector3d t = p.translation();
+    const Eigen::Quaterniond q(p.rotation());
+    file << indent << "translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
+         << indent << "rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
+         << indent << "translation_stddev: " << listOf(sd.head<3>()) << "  # m\n"
+         << indent << "rotation_stddev: " << listOf(sd.tail<3>()) << "  # rad, about x y z\n";
+  };
+  // Honest: the larger of the solver's sigma and the spread across the arm's poses, axis by axis.
+  const Eigen::Matrix<double, 6, 1> camera_sd = result.camera_sigma.cwiseMax(result.camera_spread);
+  file << "# vocal hand-eye result (" << handEyeSetupName(result.setup) << "): the camera in " << camera_parent << ", the board in "
+       << board_parent << "\n"
+       << "reference_frame: " << frames.reference_frame << "\n"
+       << "setup: " << handEyeSetupName(result.setup) << "\n"
+       << "tool_frame: " << frames.tool_frame << "\n"
+       << "sensors:\n"
+       << "  - name: " << frames.camera.name << "\n"
+       << "    type: " << sensorTypeName(frames.camera.type) << "\n"
+       << "    frame_id: " << frames.camera.frame_id << "\n"
+       << "    parent: " << camera_parent << "\n";
+  pose(*camera, camera_sd, "    ");
+  file << "    solver_translation_stddev: " << listOf(result.camera_sigma.head<3>()) << "\n"
+       << "    solver_rotation_stddev: " << listOf(result.camera_sigma.tail<3>()) << "\n"
+       << "    translation_spread: " << listOf(result.camera_spread.head<3>()) << "  # m, jackknife over the arm's poses\n"
+       << "    rotation_spread: " << listOf(result.camera_spread.tail<3>()) << "  # rad\n"
+       << "    published: " << (withheld.empty() ? "true" : "false") << "\n";
+  if (!withheld.empty()) file << "    withheld_because: " << quoted(withheld) << "\n";
+  file << "target:\n"
+       << "  parent: " << board_parent << "\n";
+  pose(result.board, result.board_sigma, "  ");
+  file << "arm_poses: " << result.tool_shift.size() << "\n"
+       << "poor_arm_poses: [";
+  for (std::size_t i = 0; i < result.poor_stations.size(); ++i) file << (i ? ", " : "") << result.poor_stations[i] + 1;
+  file << "]  # numbered from 1: the tool had to move beyond the arm's repeatability to fit\n"
+       << "board_rms: {distance_m: " << result.rms_distance << ", angle_rad: " << result.rms_angle << "}  # each view against the solution\n"
+       << "unmodelled: {translation_m: " << result.unmodelled_translation << ", rotation_rad: " << result.unmodelled_rotation
+       << "}  # per axis, added to every view's covariance\n"
+       << "closed_forms:  # OpenCV's calibrateHandEye on the same poses\n";
+  for (const HandEyeClosedForm& c : result.closed_forms) {
+    const Eigen::Vector3d t = c.camera.translation();
+    const Eigen::Quaterniond q(c.camera.rotation());
+    file << "  - {method: " << c.method << ", translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "], rotation: [" << q.x() << ", "
+         << q.y() << ", " << q.z() << ", " << q.w() << "]}\n";
+  }
+  finish(file, path);
+}
+
+void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+  std::ofstream file = openOutput(path);
+  const auto [parent, camera] = handEyeCamera(frames, result);
+  file << "<!-- vocal hand-eye result: paste into the robot's URDF -->\n";
+  if (withheld.empty()) {
+    file << urdfFixedJoint(parent, frames.camera.frame_id, *camera);
+  } else {
+    file << "<!-- " << frames.camera.frame_id << " withheld: " << withheld << " (see calibration.yaml) -->\n";
+  }
+  finish(file, path);
+}
+
+void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+  std::ofstream file = openOutput(path);
+  const auto [parent, camera] = handEyeCamera(frames, result);
+  file << "<launch>\n  <!-- vocal hand-eye result as a static transform -->\n";
+  if (withheld.empty()) {
+    file << staticTransformNode(frames.camera.name + "_extrinsic", parent, frames.camera.frame_id, *camera);
+  } else {
+    file << "  <!-- " << frames.camera.frame_id << " withheld: " << withheld << " (see calibration.yaml) -->\n";
   }
   file << "</launch>\n";
   finish(file, path);

@@ -17,6 +17,7 @@
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/extraction/lidar_ring_offsets.h"
 #include "vocal/calibration/solver/graph_calibration.h"
+#include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 
 namespace vocal {
@@ -39,10 +40,29 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
                           const PoseJackknife* spread = nullptr,
                           const std::vector<std::optional<RingOffsets>>* ring_offsets = nullptr,
                           const std::vector<std::string>* withheld = nullptr);
+// One fixed URDF joint (with the child's link) and one static_transform_publisher node, as the files
+// above write each sensor.
+std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child);
+std::string staticTransformNode(const std::string& name, const std::string& parent, const std::string& child,
+                                const Eigen::Isometry3d& parent_from_child);
 void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
                       const CalibrationResult& result, const std::vector<std::string>* withheld = nullptr);
 void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,
                                 const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
                                 const std::vector<std::string>* withheld = nullptr);
+
+// A hand-eye result (hand_eye_calibration.h) as the same three files: the camera in the tool frame
+// (eye-in-hand) or in the reference frame (eye-to-hand), as a user pastes it into the arm's URDF; the
+// YAML also gives the board's pose, the poor arm poses and OpenCV's closed forms.
+struct HandEyeFrames {
+  std::string reference_frame, tool_frame;
+  SensorSpec camera;
+};
+// Why the camera stays out of the URDF and launch file ("" where it may go in): its spread across the
+// arm's poses is over `tolerance`, or none could be computed - unless `publish_uncertain`.
+std::string handEyeWithheld(const HandEyeResult& result, const SpreadTolerance& tolerance, bool publish_uncertain);
+void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
+void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
+void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
 
 }  // namespace vocal

@@ -1,0 +1,94 @@
+#pragma once
+// Hand-eye calibration (calibration/solver/): a camera and the board where a robot arm moves one of them.
+// In:  still poses of the arm, each with the tool's pose in the robot's base frame as the arm reports it
+//      (tf) and the camera's views of the board at that pose (PnP poses with their covariance).
+// Out: the camera's pose on the tool and the board's in the base frame (eye-in-hand), or the camera's
+//      in the base frame and the board's on the tool (eye-to-hand), with standard deviations; how far
+//      each arm pose had to move to fit (a poor pose is named, not followed); OpenCV's closed forms on
+//      the same poses, side by side.
+//
+// One Ceres graph: the two unknown transforms, and the tool's pose at every still pose as an unknown
+// measured by the arm with its repeatability under a Cauchy loss (one arm pose millimetres off then
+// moves itself instead of the result), each camera view a 6-DoF residual whitened by its PnP
+// covariance. Started from OpenCV's calibrateHandEye (Park and Martin), whose 180-degree board
+// symmetry is resolved first (a chessboard's corners may be found in either order).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "vocal/calibration/calibration_types.h"
+
+namespace vocal {
+
+enum class HandEyeSetup {
+  kEyeInHand,  // the camera on the tool, the board fixed in the base frame
+  kEyeToHand,  // the camera fixed in the base frame, the board on the tool
+};
+std::string handEyeSetupName(HandEyeSetup setup);  // "eye-in-hand", "eye-to-hand"
+
+// One still pose of the arm.
+struct HandEyeStation {
+  Eigen::Isometry3d base_from_tool = Eigen::Isometry3d::Identity();  // as the arm reports it
+  std::vector<PlaneMeasurement> views;  // the camera's views of the board while the arm stood there
+  double first_stamp = 0.0, last_stamp = 0.0;  // seconds, to find it again in the recording
+};
+
+struct HandEyeOptions {
+  // The arm's repeatability: how far a reported tool pose may lie from where the tool is (a typical
+  // industrial or collaborative arm: 0.1 mm, and about as many milliradians as that over its reach).
+  double tool_translation_sigma = 1e-4;  // metres
+  double tool_rotation_sigma = 1e-4;     // radians
+  // Cauchy scale on a tool pose's departure, in those sigmas: beyond it an arm pose counts as poor.
+  double loss_sigmas = 5.0;
+  // The motion a hand-eye calibration needs (Tsai and Lenz): rotations between poses about at least
+  // two axes at least `min_axis_angle` apart, each turn by at least `min_rotation`.
+  double min_rotation = 0.17;    // radians (10 degrees)
+  double min_axis_angle = 0.35;  // radians (20 degrees)
+  int max_iterations = 100;
+};
+
+// A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
+struct HandEyeClosedForm {
+  std::string method;  // Tsai, Park, Horaud, Andreff, Daniilidis
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  // as HandEyeResult::camera
+};
+
+struct HandEyeResult {
+  HandEyeSetup setup = HandEyeSetup::kEyeInHand;
+  // Eye-in-hand: tool <- camera and base <- board. Eye-to-hand: base <- camera and tool <- board.
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
+  // Translation (m) along and rotation (rad) about the axes of the frame each is expressed in.
+  Eigen::Matrix<double, 6, 1> camera_sigma = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> board_sigma = Eigen::Matrix<double, 6, 1>::Zero();
+  // The camera re-solved without each station in turn (those that leave a motion that can fix it): the
+  // jackknife standard deviation per axis, as camera_sigma; zero with fewer than 2 re-solves.
+  Eigen::Matrix<double, 6, 1> camera_spread = Eigen::Matrix<double, 6, 1>::Zero();
+  int spread_solves = 0;
+  // Per station: how far the solve moved the tool from where the arm reported it (m, rad), and whether
+  // that is beyond HandEyeOptions::loss_sigmas (a poor arm pose, or a view of something else).
+  std::vector<double> tool_shift, tool_turn;
+  std::vector<int> poor_stations;
+  // Per station: the board as the camera saw it against the board as the solution puts it, at the
+  // board's centre (m) and in angle (rad), over its views; and their RMS over every view.
+  std::vector<double> view_distance, view_angle;
+  double rms_distance = 0.0, rms_angle = 0.0;
+  // What the views disagreed by beyond their PnP covariance and the arm's repeatability, per axis (rad,
+  // m), added to every view's covariance before the solve (zero when the model explained them).
+  double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
+  int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
+  std::vector<HandEyeClosedForm> closed_forms;
+};
+
+// The smallest rotation between two stations' tool poses that counts, and why the motion cannot fix the
+// camera (the classic degeneracy: every turn about one axis, or too small), in words with the motion that
+// would fix it; empty when the stations can.
+std::string handEyeMotionProblem(const std::vector<HandEyeStation>& stations, const HandEyeOptions& options = {});
+
+// Throws InputError for fewer than 3 stations with a view, a view without a usable covariance, or a
+// degenerate motion (handEyeMotionProblem's message).
+HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, const HandEyeOptions& options = {});
+
+}  // namespace vocal

@@ -1,0 +1,79 @@
+#include "vocal/calibration/association/hand_eye_association.h"
+
+#include <algorithm>
+
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+namespace {
+struct Span {
+  double start = 0.0, end = 0.0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // the tool's at the span's first sample
+};
+
+// Runs of samples within the drift bounds of the run's first sample, no gap longer than max_gap.
+std::vector<Span> stillSpans(const std::vector<FramePoseSample>& samples, const ToolStillnessOptions& options) {
+  std::vector<Span> spans;
+  std::size_t first = 0;
+  for (std::size_t i = 1; i <= samples.size(); ++i) {
+    bool ends = i == samples.size();
+    if (!ends) {
+      const Eigen::Isometry3d drift = samples[first].pose.inverse() * samples[i].pose;
+      ends = drift.translation().norm() > options.max_translation || rotationAngle(drift) > options.max_rotation ||
+             samples[i].stamp - samples[i - 1].stamp > options.max_gap;
+    }
+    if (!ends) continue;
+    if (samples[i - 1].stamp - samples[first].stamp >= options.min_duration) {
+      spans.push_back({samples[first].stamp, samples[i - 1].stamp, samples[first].pose});
+    }
+    first = i;
+  }
+  return spans;
+}
+
+// Whether the tool's pose is known at `stamp`: between two samples no further apart than max_gap.
+bool toolKnownAt(const std::vector<FramePoseSample>& samples, double stamp, const ToolStillnessOptions& options) {
+  const auto after = std::lower_bound(samples.begin(), samples.end(), stamp,
+                                      [](const FramePoseSample& s, double t) { return s.stamp < t; });
+  if (after == samples.end()) return false;
+  if (after->stamp == stamp) return true;
+  return after != samples.begin() && after->stamp - std::prev(after)->stamp <= options.max_gap;
+}
+}  // namespace
+
+HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, const std::vector<TimedObservation>& views,
+                                          const ToolStillnessOptions& options) {
+  std::sort(samples.begin(), samples.end(), [](const FramePoseSample& a, const FramePoseSample& b) { return a.stamp < b.stamp; });
+  HandEyeAssociation association;
+  const std::vector<Span> spans = stillSpans(samples, options);
+  association.still_spans = static_cast<int>(spans.size());
+  std::vector<HandEyeStation> stations(spans.size());
+  for (std::size_t k = 0; k < spans.size(); ++k) stations[k].base_from_tool = spans[k].pose;
+  for (const TimedObservation& view : views) {
+    if (view.plane_measurements.empty()) continue;
+    const auto span = std::find_if(spans.begin(), spans.end(), [&](const Span& s) { return view.stamp >= s.start && view.stamp <= s.end; });
+    if (span == spans.end()) {
+      if (toolKnownAt(samples, view.stamp, options)) {
+        ++association.views_in_motion;
+      } else {
+        ++association.views_without_tool;
+      }
+      continue;
+    }
+    HandEyeStation& station = stations[span - spans.begin()];
+    if (station.views.empty() || view.stamp < station.first_stamp) station.first_stamp = view.stamp;
+    station.last_stamp = std::max(station.last_stamp, view.stamp);
+    station.views.insert(station.views.end(), view.plane_measurements.begin(), view.plane_measurements.end());
+  }
+  for (HandEyeStation& station : stations) {
+    if (station.views.empty()) {
+      ++association.spans_without_view;
+    } else {
+      association.stations.push_back(std::move(station));
+    }
+  }
+  return association;
+}
+
+}  // namespace vocal

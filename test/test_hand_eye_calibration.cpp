@@ -1,0 +1,204 @@
+// Hand-eye calibration: a camera on a simulated arm's tool looking at a fixed board, or a fixed camera
+// looking at the board in the gripper; against the truth, against OpenCV's closed forms with one poor
+// arm pose, and the motions that cannot fix the camera refused with what would.
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "test_support.h"
+#include "vocal/calibration/association/hand_eye_association.h"
+#include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/solver/hand_eye_calibration.h"
+#include "vocal/core/se3.h"
+#include "vocal/simulation/simulated_arm.h"
+
+namespace {
+using vocal::HandEyeSetup;
+
+const vocal::TargetPattern kPattern{7, 10, 0.03};
+
+vocal::PinholeCamera wristCamera() {
+  vocal::PinholeCamera camera;
+  camera.fx = camera.fy = 607.6;
+  camera.cx = 323.5;
+  camera.cy = 243.3;
+  return camera;
+}
+
+struct PoseError {
+  double metres, radians;
+};
+PoseError errorOf(const Eigen::Isometry3d& found, const Eigen::Isometry3d& truth) {
+  return {(found.translation() - truth.translation()).norm(), vocal::rotationAngle(truth.inverse() * found)};
+}
+
+std::vector<vocal::HandEyeStation> stationsOf(const vocal::SimulatedArm& arm, std::uint32_t seed, double pixel_noise = 0.2) {
+  std::mt19937 rng(seed);
+  return vocal::simulateHandEyeStations(arm, kPattern, wristCamera(), 3, pixel_noise, &rng);
+}
+
+void expectWithin(const PoseError& e, double metres, double radians, const std::string& what) {
+  EXPECT_LT(e.metres, metres) << what << ": " << 1000 * e.metres << " mm";
+  EXPECT_LT(e.radians, radians) << what << ": " << 1000 * e.radians << " mrad";
+}
+}  // namespace
+
+// A camera on the wrist (eye-in-hand) and a camera on a post watching the gripper's board (eye-to-hand):
+// the camera and the board within 1 mm / 1 mrad of the truth, the sigmas in proportion, no pose poor.
+TEST(HandEyeCalibration, EyeInHandAndEyeToHandWithinAMillimetreOfTheTruth) {
+  for (const HandEyeSetup setup : {HandEyeSetup::kEyeInHand, HandEyeSetup::kEyeToHand}) {
+    SCOPED_TRACE(vocal::handEyeSetupName(setup));
+    vocal::SimulatedArmOptions options;
+    options.setup = setup;
+    const vocal::SimulatedArm arm = vocal::simulateArm(options);
+    const vocal::HandEyeResult result = vocal::calibrateHandEye(stationsOf(arm, 7), setup);
+    expectWithin(errorOf(result.camera, arm.camera), 0.001, 0.001, "camera");
+    expectWithin(errorOf(result.board, arm.board), 0.001, 0.001, "board");
+    EXPECT_TRUE(result.poor_stations.empty());
+    EXPECT_EQ(result.unmodelled_translation, 0.0) << "the views' noise is what their covariance says";
+    // Honest sigmas: the error within 4 of them, and they are not absurdly large.
+    EXPECT_LT(errorOf(result.camera, arm.camera).metres, 4 * result.camera_sigma.head<3>().norm() + 1e-4);
+    EXPECT_LT(result.camera_sigma.head<3>().norm(), 0.002);
+    EXPECT_EQ(result.spread_solves, options.poses);
+    EXPECT_EQ(result.closed_forms.size(), 5u);
+  }
+}
+
+// One arm pose 5 mm off (a re-grip, a worn joint): vocal names it and stays within 1 mm / 1 mrad; each
+// of OpenCV's closed forms, which weigh every pose alike, lands further off than vocal.
+TEST(HandEyeCalibration, APoorArmPoseIsNamedAndDoesNotPullTheResult) {
+  for (const HandEyeSetup setup : {HandEyeSetup::kEyeInHand, HandEyeSetup::kEyeToHand}) {
+    SCOPED_TRACE(vocal::handEyeSetupName(setup));
+    vocal::SimulatedArmOptions options;
+    options.setup = setup;
+    options.poor_pose = 4;
+    const vocal::SimulatedArm arm = vocal::simulateArm(options);
+    const vocal::HandEyeResult result = vocal::calibrateHandEye(stationsOf(arm, 11), setup);
+    const PoseError ours = errorOf(result.camera, arm.camera);
+    expectWithin(ours, 0.001, 0.001, "camera");
+    EXPECT_EQ(result.poor_stations, std::vector<int>{4});
+    EXPECT_GT(result.tool_shift[4], 0.004) << "the poor pose's tool moved back by about its 5 mm";
+    // In millimetres or milliradians, whichever is worse.
+    const auto worst = [](const PoseError& e) { return 1000 * std::max(e.metres, e.radians); };
+    for (const vocal::HandEyeClosedForm& c : result.closed_forms) EXPECT_GT(worst(errorOf(c.camera, arm.camera)), worst(ours)) << c.method;
+  }
+}
+
+// A chessboard's corners may be found in either order (the board turned 180 degrees): the views found
+// the other way are turned back and the result is the same.
+TEST(HandEyeCalibration, ABoardFoundInTheOtherOrderIsTurnedBack) {
+  const vocal::SimulatedArm arm = vocal::simulateArm({});
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 3);
+  const vocal::HandEyeResult as_found = vocal::calibrateHandEye(stations, HandEyeSetup::kEyeInHand);
+  const Eigen::Matrix3d half_turn = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::Matrix<double, 6, 6> change = Eigen::Matrix<double, 6, 6>::Identity();
+  change.topLeftCorner<3, 3>() = half_turn.transpose();  // the rotation's perturbation is in the pattern frame
+  for (const int k : {1, 4, 5}) {
+    for (vocal::PlaneMeasurement& view : stations[k].views) {
+      view.sensor_from_pattern.linear() = view.sensor_from_pattern.linear() * half_turn;
+      view.pose_covariance = change * view.pose_covariance * change.transpose();
+    }
+  }
+  const vocal::HandEyeResult turned = vocal::calibrateHandEye(stations, HandEyeSetup::kEyeInHand);
+  EXPECT_EQ(turned.flipped_views, 9);
+  expectWithin(errorOf(turned.camera, as_found.camera), 1e-6, 1e-6, "turned views");
+}
+
+// The classic degeneracy, refused with the motion that would fix it: turns about one axis only, turns
+// too small, too few poses.
+TEST(HandEyeCalibration, AMotionThatCannotFixTheCameraIsRefusedWithWhatWould) {
+  vocal::SimulatedArm arm = vocal::simulateArm({});
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 5);
+  // Every pose the first turned about the tool's z only.
+  std::vector<vocal::HandEyeStation> one_axis = stations;
+  for (std::size_t k = 0; k < one_axis.size(); ++k) {
+    one_axis[k].base_from_tool = stations[0].base_from_tool;
+    one_axis[k].base_from_tool.linear() = one_axis[k].base_from_tool.linear() * Eigen::AngleAxisd(0.3 * k, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateHandEye(one_axis, HandEyeSetup::kEyeInHand); }),
+            "hand-eye calibration (eye-in-hand): every turn of the tool between the arm's still poses is about one axis (0.00 0.00 1.00 "
+            "in the tool frame, within 20 degrees): the camera's place along it cannot be found; add poses with the tool turned about "
+            "another axis, by 10 degrees or more");
+  std::vector<vocal::HandEyeStation> small(stations.begin(), stations.begin() + 6);
+  for (std::size_t k = 0; k < small.size(); ++k) {
+    small[k].base_from_tool.linear() = stations[0].base_from_tool.linear() * Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  }
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateHandEye(small, HandEyeSetup::kEyeInHand); }),
+            "hand-eye calibration (eye-in-hand): the tool turns by at most 2.9 degrees between the arm's still poses: the camera's "
+            "place on the tool cannot be told from the arm's motion; turn the tool by 10 degrees or more between poses, about two "
+            "different axes");
+  stations.resize(2);
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateHandEye(stations, HandEyeSetup::kEyeInHand); }),
+            "hand-eye calibration (eye-in-hand): 2 still poses of the arm with the board in view: a hand-eye calibration needs 3 or "
+            "more, the tool turned between them about two different axes");
+}
+
+// The arm's still poses come from the tool's pose stream, not from the camera: three images 0.1 s apart
+// in each 1 s the tool stood still make a station; images while it moved or beyond tf are counted.
+TEST(HandEyeAssociation, TheToolsStillSpansMakeTheStations) {
+  std::vector<vocal::FramePoseSample> samples;
+  std::vector<vocal::TimedObservation> views;
+  const vocal::SimulatedArm arm = vocal::simulateArm({});
+  for (int k = 0; k < 3; ++k) {
+    const double start = 3.0 * k;
+    for (int i = 0; i <= 100; ++i) samples.push_back({start + 0.01 * i, arm.reported_tool[k]});  // still 1 s at 100 Hz
+    for (int i = 1; i < 200; ++i) {  // then moving to the next pose
+      Eigen::Isometry3d moving = arm.reported_tool[k];
+      moving.translation() += Eigen::Vector3d(0.001 * i, 0, 0);
+      samples.push_back({start + 1.0 + 0.01 * i, moving});
+    }
+    for (int v = 0; v < 3; ++v) {
+      vocal::TimedObservation view;
+      view.stamp = start + 0.1 * v;
+      view.plane_measurements.resize(1);
+      views.push_back(view);
+    }
+  }
+  vocal::TimedObservation moving_view, late_view;
+  moving_view.stamp = 1.5;
+  moving_view.plane_measurements.resize(1);
+  late_view.stamp = 100.0;
+  late_view.plane_measurements.resize(1);
+  views.push_back(moving_view);
+  views.push_back(late_view);
+  const vocal::HandEyeAssociation association = vocal::associateToolStillness(samples, views);
+  ASSERT_EQ(association.stations.size(), 3u);
+  EXPECT_EQ(association.stations[1].views.size(), 3u);
+  EXPECT_DOUBLE_EQ(association.stations[1].first_stamp, 3.0);
+  EXPECT_DOUBLE_EQ(association.stations[1].last_stamp, 3.2);
+  EXPECT_TRUE(association.stations[2].base_from_tool.isApprox(arm.reported_tool[2]));
+  EXPECT_EQ(association.views_in_motion, 1);
+  EXPECT_EQ(association.views_without_tool, 1);
+}
+
+// The rig YAML names the moving frame: a camera's `parent` (eye-in-hand, the board fixed) or the
+// target's (eye-to-hand); what is not supported is named.
+TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {
+  const std::string folder = vocal_test::makeTempFolder("hand_eye_rig");
+  const std::string camera = "{name: wrist, type: camera, frame_id: cam, image_topic: /i, camera_info_topic: /c";
+  const std::string board = "target: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, width: 0.25, height: 0.18";
+  vocal_test::writeText(folder + "/in_hand.yaml", "reference_frame: base\n" + board + ", parent: base}\nsensors:\n  - " + camera + ", parent: tool}\n");
+  const vocal::RigDescription in_hand = vocal::readRigDescription(folder + "/in_hand.yaml");
+  ASSERT_TRUE(in_hand.handEye());
+  EXPECT_TRUE(in_hand.handEye()->eye_in_hand);
+  EXPECT_EQ(in_hand.handEye()->tool_frame, "tool");
+  EXPECT_EQ(in_hand.reference_sensor, -1);
+  vocal::writeRigDescription(folder + "/again.yaml", in_hand);
+  EXPECT_EQ(vocal::readRigDescription(folder + "/again.yaml").handEye()->tool_frame, "tool");
+
+  vocal_test::writeText(folder + "/to_hand.yaml", "reference_frame: base\n" + board + ", parent: tool}\nsensors:\n  - " + camera + "}\n");
+  const vocal::RigDescription to_hand = vocal::readRigDescription(folder + "/to_hand.yaml");
+  ASSERT_TRUE(to_hand.handEye());
+  EXPECT_FALSE(to_hand.handEye()->eye_in_hand);
+  EXPECT_EQ(to_hand.handEye()->tool_frame, "tool");
+
+  vocal_test::writeText(folder + "/held.yaml", "reference_frame: base\n" + board + "}\nsensors:\n  - " + camera + ", parent: tool}\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/held.yaml"); }),
+            folder + "/held.yaml: sensors[0] 'wrist': it is on the moving frame 'tool', so the board must stand still while the arm "
+                     "moves: give the target 'parent: base'");
+  vocal_test::writeText(folder + "/lidar.yaml", "reference_frame: base\n" + board +
+                                                   ", parent: base}\nsensors:\n  - {name: l, type: lidar3d, frame_id: l, cloud_topic: /p, parent: tool}\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/lidar.yaml"); }),
+            folder + "/lidar.yaml: sensors[0] 'l': only a camera (type camera) can be calibrated on or against a moving frame, not a lidar3d");
+}
