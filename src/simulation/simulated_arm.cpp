@@ -60,7 +60,7 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
     Eigen::Isometry3d tool;
     if (options.setup == HandEyeSetup::kEyeInHand) {
       // The camera on a hemisphere above the board, looking at a point near its centre.
-      const double distance = 0.45 + 0.1 * unit(rng);
+      const double distance = 0.6 + 0.1 * unit(rng);
       const Eigen::Vector3d from = Eigen::AngleAxisd(options.tilt * unit(rng), Eigen::Vector3d::UnitX()) *
                                    Eigen::AngleAxisd(options.tilt * unit(rng), Eigen::Vector3d::UnitY()) * Eigen::Vector3d(0, 0, distance);
       const Eigen::Vector3d centre = arm.board.translation() + Eigen::Vector3d(0.03 * unit(rng), 0.03 * unit(rng), 0.0);

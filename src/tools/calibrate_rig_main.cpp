@@ -205,7 +205,8 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
                 1000 * result.unmodelled_translation, 1000 * result.unmodelled_rotation);
   }
   for (const int k : result.poor_stations) {
-    std::printf("poor arm pose %d (%.1f-%.1f s): the tool had to move %.2f mm / %.2f mrad from where the arm reported it to fit the others\n",
+    std::printf("poor arm pose %d (%.1f-%.1f s): to fit the others the tool had to move %.2f mm / %.2f mrad from where the arm reported it "
+                "(the arm's pose, or the camera's view of the board there, is off); it does not pull the result\n",
                 k + 1, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * result.tool_shift[k],
                 1000 * result.tool_turn[k]);
   }

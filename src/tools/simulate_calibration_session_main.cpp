@@ -10,7 +10,9 @@
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_arm.h"
 #include "vocal/tools/calibration_bag.h"
+#include "vocal/tools/hand_eye_bag.h"
 #include "vocal/tools/command_line.h"
 
 namespace {
@@ -56,11 +58,56 @@ const char kUsage[] =
     "  --crop-lidar M      each lidar cloud cropped to the returns within M metres of a still pose's board\n"
     "  --seed S            (default 1)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
-    "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n";
+    "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n"
+    "\n"
+    "A robot arm instead (hand-eye), the arm on /tf at 200 Hz (base -> flange) and /tf_static (flange -> tool):\n"
+    "  --eye-in-hand       a camera on the arm's tool over a board fixed on the table\n"
+    "  --eye-to-hand       a camera on a post watching the board in the arm's gripper\n"
+    "  --poses N           still poses of the arm (default 12), each 1 s still, 2 s moving; the camera at 10 Hz\n"
+    "  --arm-noise M       the arm's repeatability: each reported tool pose off by M metres and M radians\n"
+    "                      (standard deviation per axis; default 0.0001)\n"
+    "  --poor-pose K       the K-th still pose's tool reported 5 mm off (default: none)\n"
+    "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
+    "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
+    "  --seed S\n"
+    "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
+    "in their parents, every still pose's tool)\n";
+
+// A robot arm's hand-eye session (hand_eye_bag.h).
+int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
+  if (args.has("eye-in-hand") && args.has("eye-to-hand")) throw vocal::InputError("options --eye-in-hand and --eye-to-hand: give one");
+  vocal::SimulatedArmOptions arm_options;
+  arm_options.setup = args.has("eye-in-hand") ? vocal::HandEyeSetup::kEyeInHand : vocal::HandEyeSetup::kEyeToHand;
+  arm_options.poses = args.integer("poses", arm_options.poses);
+  if (arm_options.poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
+  arm_options.tool_translation_noise = arm_options.tool_rotation_noise = args.number("arm-noise", arm_options.tool_translation_noise);
+  if (!(arm_options.tool_translation_noise >= 0.0)) throw vocal::InputError("option --arm-noise: must be >= 0");
+  arm_options.poor_pose = args.integer("poor-pose", 0) - 1;
+  if (arm_options.poor_pose >= arm_options.poses || arm_options.poor_pose < -1) {
+    throw vocal::InputError("option --poor-pose: a still pose from 1 to " + std::to_string(arm_options.poses));
+  }
+  arm_options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
+  vocal::TargetDescription target;
+  target.pattern = {args.integer("pattern-rows", 7), args.integer("pattern-cols", 10), args.number("square", 0.03)};
+  target.width = args.number("board-width", 0.36);
+  target.height = args.number("board-height", 0.27);
+  vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
+  const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
+  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target);
+  vocal::writeRigDescription(dir + "/rig.yaml", rig);
+  vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose);
+  vocal::HandEyeBagOptions bag_options;
+  bag_options.seed = arm_options.seed;
+  vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");
+  std::printf("wrote a %s session of %d arm poses to %s/session.bag; rig.yaml, ground_truth.yaml\n",
+              vocal::handEyeSetupName(arm_options.setup).c_str(), arm_options.poses, dir.c_str());
+  return 0;
+}
 
 int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
   vocal::makeFolders(dir);
+  if (args.has("eye-in-hand") || args.has("eye-to-hand")) return simulateHandEye(args, dir);
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   std::vector<vocal::SimulatedSensor> sensors =
@@ -146,6 +193,6 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar"},
-                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand"}, 1);
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose"},
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand"}, 1);
 }

@@ -40,7 +40,7 @@ struct SimulatedArm {
   Eigen::Isometry3d cameraFromBoard(int k) const;
 };
 
-// The board 0.5 m ahead of the robot's base on the table (eye-in-hand, the camera 0.35-0.55 m from it)
+// The board 0.5 m ahead of the robot's base on the table (eye-in-hand, the camera 0.5-0.7 m from it)
 // or in the gripper 0.6-0.9 m in front of a camera on a post (eye-to-hand), seen straight or tilted.
 SimulatedArm simulateArm(const SimulatedArmOptions& options);
 

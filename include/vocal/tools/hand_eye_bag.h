@@ -1,0 +1,35 @@
+#pragma once
+// A hand-eye session of a simulated arm (simulated_arm.h) recorded as a robot records it: the camera's
+// images and camera_info at its rate, and the arm on /tf at its own (base -> flange, moving) with the
+// flange -> tool offset on /tf_static, as robot_state_publisher gives them; the arm still at each pose
+// for a while, then moving to the next while the camera keeps publishing.
+
+#include <string>
+
+#include "vocal/calibration/rig_description.h"
+#include "vocal/simulation/simulated_arm.h"
+
+namespace vocal {
+
+struct HandEyeBagOptions {
+  double still_seconds = 1.0;   // the arm still at each pose
+  double moving_seconds = 2.0;  // ... then moving to the next
+  double camera_rate = 10.0;    // Hz
+  double tf_rate = 200.0;       // Hz
+  double image_noise = 2.0;     // grey levels
+  std::uint32_t seed = 1;
+};
+
+// The rig a user would write for it: reference frame "arm_base", the tool frame "arm_tool", the camera
+// on the tool (eye-in-hand, the board fixed in arm_base) or fixed in arm_base (eye-to-hand, the board on
+// the tool); `target` as given.
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target);
+
+// Throws InputError naming the bag when it cannot be written, and for rates or times that are not positive.
+void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig, const HandEyeBagOptions& options, const std::string& bag_path);
+
+// The truth as YAML: the camera and the board each in its parent, every still pose's tool (true and as
+// reported), and which pose was reported off.
+void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose);
+
+}  // namespace vocal

@@ -1,0 +1,125 @@
+#include "vocal/tools/hand_eye_bag.h"
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include <rosbag/bag.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+#include "vocal/nodelets/message_conversions.h"
+#include "vocal/simulation/simulated_sensor_data.h"
+#include "vocal/tools/bag_file.h"
+
+namespace vocal {
+
+namespace {
+const char kBase[] = "arm_base";
+const char kFlange[] = "arm_flange";
+const char kTool[] = "arm_tool";
+// The tool 10 cm past the flange (a gripper or an adapter plate), on /tf_static.
+Eigen::Isometry3d flangeFromTool() {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);
+  return pose;
+}
+// The arm's base on a table 0.75 m above the simulated room's floor.
+Eigen::Isometry3d roomFromBase() {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.75);
+  return pose;
+}
+}  // namespace
+
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target) {
+  RigDescription rig;
+  rig.reference_frame = kBase;
+  rig.target = target;
+  rig.target.parent = setup == HandEyeSetup::kEyeInHand ? kBase : kTool;
+  RigSensorDescription camera;
+  camera.spec = {"arm_camera", SensorType::kCamera, "arm_camera_optical"};
+  camera.image_topic = "/arm_camera/image_raw";
+  camera.camera_info_topic = "/arm_camera/camera_info";
+  if (setup == HandEyeSetup::kEyeInHand) camera.parent = kTool;
+  rig.sensors.push_back(camera);
+  rig.reference_sensor = -1;
+  return rig;
+}
+
+void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig, const HandEyeBagOptions& options, const std::string& bag_path) {
+  if (!(options.still_seconds > 0.0 && options.moving_seconds > 0.0 && options.camera_rate > 0.0 && options.tf_rate > 0.0)) {
+    throw InputError(bag_path + ": the still and moving times and the camera and tf rates must be > 0");
+  }
+  rosbag::Bag bag;
+  openBag(&bag, bag_path, rosbag::bagmode::Write);
+  std::mt19937 rng(options.seed);
+  const RigSensorDescription& d = rig.sensors.front();
+  const PinholeCamera camera = defaultKinectCamera(640, 480);
+  const CameraRays rays(camera, LensDistortion{});
+  SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
+  const double start = 1700000000.0;  // seconds, a plausible recording's stamps
+  const double period = options.still_seconds + options.moving_seconds;
+  const double end = period * static_cast<double>(arm.true_tool.size()) - options.moving_seconds;
+  // The tool at time t: still at pose k, then interpolated to pose k + 1 (as reported; the truth alike).
+  const auto toolAt = [&](double t, const std::vector<Eigen::Isometry3d>& poses) {
+    const int k = std::min(static_cast<int>(t / period), static_cast<int>(poses.size()) - 1);
+    const double into = t - k * period;
+    if (into <= options.still_seconds || k + 1 >= static_cast<int>(poses.size())) return poses[k];
+    const double alpha = (into - options.still_seconds) / options.moving_seconds;
+    return interpolatePose(poses[k], poses[k + 1], 0.5 - 0.5 * std::cos(M_PI * alpha));  // smooth start and stop
+  };
+  tf2_msgs::TFMessage fixed;
+  fixed.transforms.push_back(toTransformStamped(flangeFromTool(), kFlange, kTool, ros::Time(start)));
+  bag.write("/tf_static", ros::Time(start), fixed);
+  const int tf_messages = static_cast<int>(std::floor(end * options.tf_rate)) + 1;
+  for (int i = 0; i < tf_messages; ++i) {
+    const double t = i / options.tf_rate;
+    const ros::Time stamp(start + t);
+    tf2_msgs::TFMessage moving;
+    moving.transforms.push_back(toTransformStamped(toolAt(t, arm.reported_tool) * flangeFromTool().inverse(), kBase, kFlange, stamp));
+    bag.write("/tf", stamp, moving);
+  }
+  // The camera starts a little after the arm's first pose, unsynchronised with tf.
+  for (double t = 0.5 / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
+    const ros::Time stamp(start + t);
+    const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
+    const Eigen::Isometry3d base_from_camera = arm.setup == HandEyeSetup::kEyeInHand ? tool * arm.camera : arm.camera;
+    const Eigen::Isometry3d base_from_board = arm.setup == HandEyeSetup::kEyeInHand ? arm.board : tool * arm.board;
+    sensor.reference_from_sensor = roomFromBase() * base_from_camera;
+    SimulatedRoomView view;
+    view.sensor = &sensor;
+    view.reference_from_target = roomFromBase() * base_from_board;
+    view.target = &rig.target;
+    bag.write(d.camera_info_topic, stamp, toCameraInfo(camera, d.spec.frame_id, stamp));
+    bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, rays, options.image_noise, &rng), d.spec.frame_id, stamp));
+  }
+  bag.close();
+}
+
+void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose) {
+  std::ofstream file(path);
+  if (!file) throw InputError(path + ": cannot write the ground truth");
+  const auto pose = [&](const Eigen::Isometry3d& p) {
+    const Eigen::Quaterniond q(p.rotation());
+    std::ostringstream out;
+    out.precision(10);
+    out << "{translation: [" << p.translation().x() << ", " << p.translation().y() << ", " << p.translation().z() << "], rotation: [" << q.x()
+        << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]}";
+    return out.str();
+  };
+  const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
+  file << "# the simulated arm's truth: the camera and the board each in its parent frame\n"
+       << "setup: " << handEyeSetupName(arm.setup) << "\n"
+       << "camera: {parent: " << (in_hand ? kTool : kBase) << ", pose: " << pose(arm.camera) << "}\n"
+       << "board: {parent: " << (in_hand ? rig.reference_frame : std::string(kTool)) << ", pose: " << pose(arm.board) << "}\n"
+       << "poor_pose: " << (poor_pose >= 0 ? poor_pose + 1 : 0) << "  # numbered from 1, 0: none\n"
+       << "tool_poses:  # base <- tool at each still pose: true, and as reported on /tf\n";
+  for (std::size_t k = 0; k < arm.true_tool.size(); ++k) {
+    file << "  - {true: " << pose(arm.true_tool[k]) << ", reported: " << pose(arm.reported_tool[k]) << "}\n";
+  }
+  if (!file) throw InputError(path + ": write failed");
+}
+
+}  // namespace vocal
