@@ -26,7 +26,9 @@
 #include "test_support.h"
 #include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/simulation/simulated_arm.h"
 #include "vocal/tools/calibration_bag.h"
+#include "vocal/tools/hand_eye_bag.h"
 
 // Plays a recorded session (once the nodelet subscribes) and gives extraction a second for the last messages.
 void playSession(const std::string& bag) {
@@ -357,6 +359,57 @@ TEST(CalibrationNodelet, ASessionOverItsMemoryBudgetSaysItIsFull) {
   ASSERT_TRUE(ros::service::call("/memory/reset", reset));
   EXPECT_TRUE(vocal_test::waitUntil(diagnostics.mutex, 5.0, [&] { return value("memory") == "0.0 MB of target data held in 0 messages (budget 0.5 MB)"; }))
       << value("memory");
+}
+
+// A camera on a simulated arm's wrist over a fixed board, the arm on live tf as rosbag play gives it (a
+// moving base -> flange, a /tf_static flange -> tool): ~calibrate names the camera in the tool frame
+// within 1 mm / 1 mrad of the truth, /tf_static carries it from the tool frame, the diagnostics count the
+// tool poses.
+TEST(CalibrationNodelet, ACameraOnAnArmFromLiveTf) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_arm");
+  vocal::SimulatedArmOptions arm_options;
+  arm_options.poses = 6;
+  arm_options.seed = 2;
+  const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
+  vocal::TargetDescription target;
+  target.pattern = {7, 10, 0.03};
+  target.width = 0.36;
+  target.height = 0.27;
+  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(vocal::HandEyeSetup::kEyeInHand, target);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  vocal::writeSimulatedHandEyeBag(arm, rig, {}, folder + "/session.bag");
+
+  ros::NodeHandle nh;
+  nh.setParam("/arm_calibration/rig", folder + "/rig.yaml");
+  nh.setParam("/arm_calibration/output_dir", folder);
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/arm_calibration", "vocal/MsgCalibration", {}, {}));
+  LatestDiagnostics diagnostics(nh, "arm_calibration");
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
+
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/arm_calibration/calibrate", calibrate));
+  std::cout << calibrate.response.message << "\n";
+  EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
+  EXPECT_EQ(calibrate.response.message.rfind("calibrated arm_camera (eye-in-hand) from 6 still arm poses: arm_camera_optical in arm_tool at [", 0), 0u)
+      << calibrate.response.message;
+  EXPECT_NE(calibrate.response.message.find("; OpenCV's closed forms against it: Tsai "), std::string::npos) << calibrate.response.message;
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_buffer.lookupTransform("arm_tool", "arm_camera_optical", ros::Time(0), ros::Duration(5.0));
+  } catch (const tf2::TransformException& e) {
+    FAIL() << e.what();
+  }
+  const Eigen::Isometry3d error = arm.camera.inverse() * tf2::transformToEigen(t);
+  std::cout << "arm camera on /tf_static: " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000 << " mrad\n";
+  EXPECT_LT(error.translation().norm(), 0.001);
+  EXPECT_LT(vocal::rotationAngle(error), 0.001);
+  std::lock_guard<std::mutex> lock(diagnostics.mutex);
+  EXPECT_NE(diagnostics.value("tool").find(" poses of arm_tool in arm_base from tf, "), std::string::npos) << diagnostics.value("tool");
 }
 
 int main(int argc, char** argv) {

@@ -22,13 +22,17 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
+#include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
 
 namespace vocal {
@@ -77,14 +81,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       return;
     }
     try {
-      RigDescription rig = readRigDescription(rig_path);
-      if (const std::optional<HandEyeRig> arm = rig.handEye()) {
-        // Live tf for an arm's still poses is not here yet; the recording path is (calibrate_rig).
-        throw InputError(rig_path + ": the " + (arm->eye_in_hand ? "camera" : "target") + " is on the moving frame '" + arm->tool_frame +
-                         "' (a hand-eye rig), which this nodelet does not calibrate live yet: record the camera with /tf and /tf_static "
-                         "(rosbag record) and run `rosrun vocal calibrate_rig " + rig_path + " BAG`");
-      }
-      session_ = std::make_unique<CalibrationSession>(std::move(rig), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_, memory_);
+      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path), TargetExtractionOptions{}, StillnessOptions{},
+                                                      ring_offsets_, memory_);
     } catch (const InputError& e) {
       setup_error_ = e.what();
       NODELET_ERROR_STREAM("MsgCalibration: " << setup_error_ << "; the nodelet stays idle");
@@ -92,6 +90,14 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     const RigDescription& rig = session_->rig();
     dropped_.assign(rig.sensors.size(), 0);
+    arm_ = rig.handEye();
+    reference_frame_ = rig.reference_frame;
+    if (arm_) {
+      // The arm's tool from live tf, sampled faster than any arm's still pose is short.
+      tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+      tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+      tool_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { sampleTool(); });
+    }
     for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
       const RigSensorDescription& d = rig.sensors[s];
       const int sensor = static_cast<int>(s);
@@ -118,6 +124,66 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     NODELET_INFO_STREAM("MsgCalibration: " << rig.sensors.size() << " sensors from " << rig_path << "; move the target, hold it "
                                            << "still at many poses, then call " << calibrate_service_.getService());
+  }
+
+  // The tool's newest pose in tf, once per stamp; a lookup that fails is counted (diagnostics).
+  void sampleTool() {
+    geometry_msgs::TransformStamped t;
+    try {
+      t = tf_buffer_->lookupTransform(reference_frame_, arm_->tool_frame, ros::Time(0));
+    } catch (const tf2::TransformException& e) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++tool_lookups_failed_;
+      tool_problem_ = e.what();
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (t.header.stamp <= last_tool_stamp_) return;
+    last_tool_stamp_ = t.header.stamp;
+    session_->addToolPose(t.header.stamp.toSec(), tf2::transformToEigen(t));
+    ++tool_poses_;
+  }
+
+  // ~calibrate for a hand-eye rig: the arm's still poses, the camera on the tool (or the board in its
+  // gripper), /tf_static from the tool (or the reference frame) to the camera unless withheld.
+  void calibrateHandEyeRig(std_srvs::Trigger::Response& response) {
+    const RigDescription& rig = session_->rig();
+    const HandEyeAssociation association = session_->handEyeAssociation();
+    const HandEyeSetup setup = arm_->eye_in_hand ? HandEyeSetup::kEyeInHand : HandEyeSetup::kEyeToHand;
+    const HandEyeResult result = calibrateHandEye(association.stations, setup);
+    const HandEyeFrames frames{rig.reference_frame, arm_->tool_frame, rig.sensors[arm_->camera].spec};
+    const std::string parent = arm_->eye_in_hand ? arm_->tool_frame : rig.reference_frame;
+    const std::string withheld = handEyeWithheld(result, tolerance_, publish_uncertain_);
+    const Eigen::Vector3d t = result.camera.translation();
+    const Eigen::Quaterniond q(result.camera.rotation());
+    char line[512];
+    std::snprintf(line, sizeof(line),
+                  "calibrated %s (%s) from %zu still arm poses: %s in %s at [%.5f %.5f %.5f] [%.6f %.6f %.6f %.6f] (x y z, qx qy qz qw), "
+                  "sigma %.2f mm / %.2f mrad, spread across the arm's poses %.2f mm / %.2f mrad",
+                  frames.camera.name.c_str(), handEyeSetupName(setup).c_str(), association.stations.size(), frames.camera.frame_id.c_str(),
+                  parent.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), 1000 * result.camera_sigma.head<3>().norm(),
+                  1000 * result.camera_sigma.tail<3>().norm(), 1000 * result.camera_spread.head<3>().norm(),
+                  1000 * result.camera_spread.tail<3>().norm());
+    std::ostringstream summary;
+    summary << line;
+    for (const int k : result.poor_stations) summary << "; poor arm pose " << k + 1 << " (it does not pull the result)";
+    for (const HandEyeClosedForm& c : result.closed_forms) {
+      std::snprintf(line, sizeof(line), "%s %.2f mm / %.3f deg", c.method.c_str(), 1000 * (c.camera.translation() - t).norm(),
+                    rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
+      summary << (&c == &result.closed_forms.front() ? "; OpenCV's closed forms against it: " : ", ") << line;
+    }
+    if (!withheld.empty()) summary << "; withheld from /tf_static: " << withheld << "; set ~publish_uncertain to publish anyway";
+    if (!output_dir_.empty()) {
+      writeHandEyeYaml(output_dir_ + "/calibration.yaml", frames, result, withheld);
+      writeHandEyeUrdf(output_dir_ + "/calibration.urdf", frames, result, withheld);
+      writeHandEyeLaunch(output_dir_ + "/calibration.launch", frames, result, withheld);
+      summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";
+    }
+    if (withheld.empty()) static_broadcaster_.sendTransform(toTransformStamped(result.camera, parent, frames.camera.frame_id, ros::Time::now()));
+    last_result_ = summary.str();
+    response.success = withheld.empty();
+    response.message = summary.str();
+    NODELET_INFO_STREAM("MsgCalibration: " << summary.str());
   }
 
   // Runs one message through the session; a bad one is counted against its sensor, never thrown.
@@ -175,6 +241,17 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     if (!setup_error_.empty()) {
       response.success = false;
       response.message = setup_error_;
+      return true;
+    }
+    if (arm_) {
+      try {
+        calibrateHandEyeRig(response);
+      } catch (const InputError& e) {
+        response.success = false;
+        response.message = e.what();
+        last_problem_ = e.what();
+        NODELET_WARN_STREAM("MsgCalibration: calibration failed: " << e.what());
+      }
       return true;
     }
     try {
@@ -298,6 +375,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       session_ = std::make_unique<CalibrationSession>(session_->rig(), TargetExtractionOptions{}, StillnessOptions{}, ring_offsets_, memory_);
     }
     dropped_.assign(dropped_.size(), 0);
+    tool_poses_ = tool_lookups_failed_ = 0;
+    tool_problem_.clear();
     last_problem_.clear();
     last_result_.clear();
     return true;
@@ -328,6 +407,12 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       status.add(rig.sensors[s].spec.name, value.str());
     }
     status.add("memory", session_->memorySummary());
+    if (arm_) {
+      std::ostringstream tool;
+      tool << tool_poses_ << " poses of " << arm_->tool_frame << " in " << rig.reference_frame << " from tf, " << tool_lookups_failed_
+           << " lookups failed" << (tool_problem_.empty() ? "" : " (last: " + tool_problem_ + ")");
+      status.add("tool", tool.str());
+    }
   }
 
   // What to do about a full session: while collecting (diagnostics), and in a ~calibrate reply.
@@ -362,6 +447,15 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer diagnostics_timer_;
+  // A hand-eye rig (RigDescription::handEye): the arm's tool from tf.
+  std::optional<HandEyeRig> arm_;
+  std::string reference_frame_;  // the rig's, read without the session (~reset replaces it)
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::WallTimer tool_timer_;
+  ros::Time last_tool_stamp_;
+  std::size_t tool_poses_ = 0, tool_lookups_failed_ = 0;
+  std::string tool_problem_;
 };
 
 }  // namespace vocal
