@@ -53,7 +53,10 @@ const char kUsage[] =
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
     "                      no still pose are let go and each pose keeps per sensor its first 2 s, thinned to about 20\n"
     "                      messages; when full, later messages are counted, not kept\n"
-    "  --quiet             no progress line\n";
+    "  --quiet             no progress line\n"
+    "A rig whose camera has a moving frame as its `parent` (a robot arm's tool), or whose target has, is a\n"
+    "hand-eye rig: the tool's pose comes from the bag's /tf and /tf_static, the arm's still poses from its\n"
+    "stillness; --report adds each arm pose's fit, --tolerance-mm / --tolerance-mrad and --publish-uncertain hold.\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
 // still pose's observations fit the result.

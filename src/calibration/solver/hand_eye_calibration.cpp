@@ -399,10 +399,13 @@ HandEyeResult solveHandEye(std::vector<HandEyeStation> stations, HandEyeSetup se
   if (translation_scatter > 0.0) {
     result.unmodelled_rotation = rotation_scatter;
     result.unmodelled_translation = translation_scatter;
+    // The views of one still pose share that error (the same arm pose, the same image of the board): each
+    // takes it times their count, so together they weigh as one view would.
     for (HandEyeStation& s : stations) {
+      const double shared = static_cast<double>(s.views.size());
       for (PlaneMeasurement& view : s.views) {
-        view.pose_covariance.topLeftCorner<3, 3>() += rotation_scatter * rotation_scatter * Eigen::Matrix3d::Identity();
-        view.pose_covariance.bottomRightCorner<3, 3>() += translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
+        view.pose_covariance.topLeftCorner<3, 3>() += shared * rotation_scatter * rotation_scatter * Eigen::Matrix3d::Identity();
+        view.pose_covariance.bottomRightCorner<3, 3>() += shared * translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
       }
     }
     graph = solveGraph(stations, setup, options, graph->camera.pose(), graph->board.pose());
