@@ -209,12 +209,13 @@ TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {
 // A simulated arm recorded as a robot records it (rendered images at 10 Hz, the arm on /tf at 200 Hz through
 // a /tf_static tool offset, one pose reported 5 mm off): calibrate_rig with default flags puts the camera
 // and the board within 1 mm / 1 mrad of the truth in both setups, names the poor pose and writes the camera
-// in its parent frame.
+// in its parent frame. The eye-to-hand camera is recorded through image_transport's compressed transport.
 TEST(HandEyeSession, SimulatedArmSessionsCalibratedByCalibrateRig) {
   for (const std::string setup : {"eye-in-hand", "eye-to-hand"}) {
     SCOPED_TRACE(setup);
     const std::string folder = vocal_test::makeTempFolder("hand_eye_" + setup);
-    vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --" + setup + " --poor-pose 5 --seed 3");
+    vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --" + setup + " --poor-pose 5 --seed 3" +
+                                                  (setup == "eye-to-hand" ? " --compressed" : ""));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
     EXPECT_EQ(r.exit_code, 0) << r.output;

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +20,20 @@
 
 namespace vocal_test {
 
+// The folders makeTempFolder made, removed when the test program exits (bags and clouds of a whole run
+// filled a developer's disk); kept when VOCAL_KEEP_TEST_FILES is set, or when the program crashes.
+inline std::vector<std::string>& tempFolders() {
+  static std::vector<std::string> folders;
+  return folders;
+}
+inline void removeTempFolders() {
+  if (std::getenv("VOCAL_KEEP_TEST_FILES")) return;
+  for (const std::string& folder : tempFolders()) {
+    const std::string command = "rm -rf '" + folder + "'";
+    if (std::system(command.c_str()) != 0) std::fprintf(stderr, "could not remove %s\n", folder.c_str());
+  }
+}
+
 // A fresh empty folder under the test temp dir.
 inline std::string makeTempFolder(const std::string& name) {
   const std::string path = ::testing::TempDir() + "/vocal_" + name + "_" + std::to_string(::getpid());
@@ -26,6 +41,8 @@ inline std::string makeTempFolder(const std::string& name) {
   if (std::system(command.c_str()) != 0) {
     ADD_FAILURE() << "cannot create " << path;
   }
+  if (tempFolders().empty()) std::atexit(removeTempFolders);
+  tempFolders().push_back(path);
   return path;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -209,6 +210,30 @@ ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what
     }
   }
   return image;
+}
+
+ColorImage fromCompressedColorImage(const sensor_msgs::CompressedImage& msg, const std::string& what) {
+  if (msg.data.empty()) throw InputError(what + ": the compressed image is empty");
+  cv::Mat decoded;
+  try {
+    decoded = cv::imdecode(cv::Mat(1, static_cast<int>(msg.data.size()), CV_8UC1, const_cast<std::uint8_t*>(msg.data.data())), cv::IMREAD_COLOR);
+  } catch (const cv::Exception&) {
+    decoded.release();
+  }
+  if (decoded.empty() || decoded.type() != CV_8UC3) {
+    throw InputError(what + ": the compressed image (format '" + msg.format + "') could not be decoded as JPEG or PNG");
+  }
+  ColorImage image(decoded.cols, decoded.rows);
+  for (int y = 0; y < image.height(); ++y) {
+    const cv::Vec3b* row = decoded.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < image.width(); ++x) image(x, y) = Rgb8{row[x][2], row[x][1], row[x][0]};  // OpenCV decodes to BGR
+  }
+  return image;
+}
+
+bool isCompressedImageTopic(const std::string& topic) {
+  const std::string suffix = "/compressed";
+  return topic.size() > suffix.size() && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what) {

@@ -107,6 +107,11 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
           subscribers_.push_back(nh.subscribe<sensor_msgs::CameraInfo>(
               d.camera_info_topic, 5, [this, sensor](const sensor_msgs::CameraInfo::ConstPtr& m) { onCameraInfo(sensor, *m); }));
           const bool depth = d.spec.type == SensorType::kRgbd;
+          if (!depth && isCompressedImageTopic(d.image_topic)) {
+            subscribers_.push_back(nh.subscribe<sensor_msgs::CompressedImage>(
+                d.image_topic, queue_size, [this, sensor](const sensor_msgs::CompressedImage::ConstPtr& m) { onCompressedImage(sensor, *m); }));
+            break;
+          }
           subscribers_.push_back(nh.subscribe<sensor_msgs::Image>(
               depth ? d.depth_topic : d.image_topic, queue_size,
               [this, sensor, depth](const sensor_msgs::Image::ConstPtr& m) { onImage(sensor, depth, *m); }));
@@ -219,6 +224,15 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       } else {
         session_->addImage(sensor, msg.header.stamp.toSec(), fromColorImage(msg, topic), camera->second, lenses_[sensor]);
       }
+    });
+  }
+
+  void onCompressedImage(int sensor, const sensor_msgs::CompressedImage& msg) {
+    guarded(sensor, [&] {
+      const RigSensorDescription& d = session_->rig().sensors[sensor];
+      const auto camera = cameras_.find(sensor);
+      if (camera == cameras_.end()) throw InputError(d.image_topic + ": no usable camera_info on " + d.camera_info_topic + " yet");
+      session_->addImage(sensor, msg.header.stamp.toSec(), fromCompressedColorImage(msg, d.image_topic), camera->second, lenses_[sensor]);
     });
   }
 

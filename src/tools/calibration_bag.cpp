@@ -348,22 +348,28 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
             }
             case Kind::kImage:
             case Kind::kDepth: {
-              const auto image = m.instantiate<sensor_msgs::Image>();
-              if (!image) throw InputError(m.getTopic() + ": not a sensor_msgs/Image");
               if (!cameras.count(sensor)) {
                 throw InputError("no usable camera_info for sensor '" + name + "' on " + rig.sensors[sensor].camera_info_topic);
               }
               const PinholeCamera camera = cameras[sensor];
               if (kind == Kind::kImage) {
-                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, lens = lenses[sensor],
-                                                             converted = fromColorImage(*image, m.getTopic())] {
+                // A camera recorded through image_transport's compressed transport, or raw.
+                const auto compressed = m.instantiate<sensor_msgs::CompressedImage>();
+                const auto raw = compressed ? nullptr : m.instantiate<sensor_msgs::Image>();
+                if (!compressed && !raw) throw InputError(m.getTopic() + ": not a sensor_msgs/Image or CompressedImage");
+                ColorImage converted = compressed ? fromCompressedColorImage(*compressed, m.getTopic()) : fromColorImage(*raw, m.getTopic());
+                const double stamp = (compressed ? compressed->header.stamp : raw->header.stamp).toSec();
+                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, lens = lenses[sensor], converted = std::move(converted)] {
                   return session->extractImage(sensor, converted, camera, lens);
                 });
-              } else {
-                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, converted = fromDepthImage(*image, m.getTopic())] {
-                  return session->extractDepth(sensor, converted, camera);
-                });
+                pending.push_back({sensor, stamp, m.getTopic(), m.getTime(), std::move(extraction)});
+                break;
               }
+              const auto image = m.instantiate<sensor_msgs::Image>();
+              if (!image) throw InputError(m.getTopic() + ": not a sensor_msgs/Image");
+              extraction = std::async(std::launch::async, [session, sensor = sensor, camera, converted = fromDepthImage(*image, m.getTopic())] {
+                return session->extractDepth(sensor, converted, camera);
+              });
               pending.push_back({sensor, image->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
               break;
             }

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <random>
 
+#include <opencv2/imgcodecs.hpp>
 #include <rosbag/bag.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "vocal/core/errors.h"
@@ -25,6 +27,19 @@ Eigen::Isometry3d flangeFromTool() {
   pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);
   return pose;
 }
+// What image_transport's compressed transport publishes: a JPEG of the image (grey, as the rendered one is).
+sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+  cv::Mat grey(image.height(), image.width(), CV_8UC1);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) grey.at<std::uint8_t>(y, x) = luma8(image(x, y));
+  sensor_msgs::CompressedImage msg;
+  msg.header.frame_id = frame_id;
+  msg.header.stamp = stamp;
+  msg.format = "mono8; jpeg compressed ";
+  cv::imencode(".jpg", grey, msg.data, {cv::IMWRITE_JPEG_QUALITY, 95});
+  return msg;
+}
+
 // The arm's base on a table 0.75 m above the simulated room's floor.
 Eigen::Isometry3d roomFromBase() {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -33,14 +48,14 @@ Eigen::Isometry3d roomFromBase() {
 }
 }  // namespace
 
-RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target) {
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images) {
   RigDescription rig;
   rig.reference_frame = kBase;
   rig.target = target;
   rig.target.parent = setup == HandEyeSetup::kEyeInHand ? kBase : kTool;
   RigSensorDescription camera;
   camera.spec = {"arm_camera", SensorType::kCamera, "arm_camera_optical"};
-  camera.image_topic = "/arm_camera/image_raw";
+  camera.image_topic = compressed_images ? "/arm_camera/image_raw/compressed" : "/arm_camera/image_raw";
   camera.camera_info_topic = "/arm_camera/camera_info";
   if (setup == HandEyeSetup::kEyeInHand) camera.parent = kTool;
   rig.sensors.push_back(camera);
@@ -93,7 +108,12 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
     view.reference_from_target = roomFromBase() * base_from_board;
     view.target = &rig.target;
     bag.write(d.camera_info_topic, stamp, toCameraInfo(camera, d.spec.frame_id, stamp));
-    bag.write(d.image_topic, stamp, toMono8Image(simulateCameraImage(view, rays, options.image_noise, &rng), d.spec.frame_id, stamp));
+    const ColorImage image = simulateCameraImage(view, rays, options.image_noise, &rng);
+    if (options.compressed_images) {
+      bag.write(d.image_topic, stamp, toCompressedJpeg(image, d.spec.frame_id, stamp));
+    } else {
+      bag.write(d.image_topic, stamp, toMono8Image(image, d.spec.frame_id, stamp));
+    }
   }
   bag.close();
 }

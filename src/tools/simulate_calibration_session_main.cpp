@@ -67,6 +67,8 @@ const char kUsage[] =
     "  --arm-noise M       the arm's repeatability: each reported tool pose off by M metres and M radians\n"
     "                      (standard deviation per axis; default 0.0001)\n"
     "  --poor-pose K       the K-th still pose's tool reported 5 mm off (default: none)\n"
+    "  --compressed        images as image_transport's compressed transport records them (JPEG, on\n"
+    "                      /arm_camera/image_raw/compressed)\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
     "  --seed S\n"
@@ -93,11 +95,12 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   target.height = args.number("board-height", 0.27);
   vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
   const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
-  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target);
+  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"));
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose);
   vocal::HandEyeBagOptions bag_options;
   bag_options.seed = arm_options.seed;
+  bag_options.compressed_images = args.has("compressed");
   vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");
   std::printf("wrote a %s session of %d arm poses to %s/session.bag; rig.yaml, ground_truth.yaml\n",
               vocal::handEyeSetupName(arm_options.setup).c_str(), arm_options.poses, dir.c_str());
@@ -194,5 +197,5 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose"},
-                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand"}, 1);
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed"}, 1);
 }

@@ -6,6 +6,7 @@
 
 #include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -44,6 +45,10 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
 
 // rgb8, bgr8, rgba8, bgra8 or mono8 (grey copied to all three channels).
 ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what);
+// image_transport's compressed images (JPEG or PNG, colour or grey), as robots often record cameras.
+ColorImage fromCompressedColorImage(const sensor_msgs::CompressedImage& msg, const std::string& what);
+// Whether a topic is image_transport's compressed one (".../compressed"): subscribe CompressedImage there.
+bool isCompressedImageTopic(const std::string& topic);
 // 16UC1 millimetres (0 = none) or 32FC1 metres (NaN, inf or <= 0 = none); metres, 0 where none.
 DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what);
 // Intrinsics from K; depth_scale 1000 (OpenNI millimetres). Refuses an uncalibrated (zero) K and

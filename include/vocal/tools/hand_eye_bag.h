@@ -17,13 +17,16 @@ struct HandEyeBagOptions {
   double camera_rate = 10.0;    // Hz
   double tf_rate = 200.0;       // Hz
   double image_noise = 2.0;     // grey levels
+  // Images as image_transport's compressed transport records them (JPEG, quality 95) on the rig's image
+  // topic, which then ends in "/compressed" (simulatedHandEyeRig).
+  bool compressed_images = false;
   std::uint32_t seed = 1;
 };
 
 // The rig a user would write for it: reference frame "arm_base", the tool frame "arm_tool", the camera
 // on the tool (eye-in-hand, the board fixed in arm_base) or fixed in arm_base (eye-to-hand, the board on
 // the tool); `target` as given.
-RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target);
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false);
 
 // Throws InputError naming the bag when it cannot be written, and for rates or times that are not positive.
 void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig, const HandEyeBagOptions& options, const std::string& bag_path);
