@@ -395,9 +395,9 @@ TEST(CalibrationNodelet, ACameraOnAnArmFromLiveTf) {
   ASSERT_TRUE(ros::service::call("/arm_calibration/calibrate", calibrate));
   std::cout << calibrate.response.message << "\n";
   EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
-  EXPECT_EQ(calibrate.response.message.rfind("calibrated arm_camera (eye-in-hand) from 6 still arm poses: arm_camera_optical in arm_tool at [", 0), 0u)
+  EXPECT_EQ(calibrate.response.message.rfind("calibrated 1 sensor (eye-in-hand) from 6 still arm poses; arm_camera_optical in arm_tool at [", 0), 0u)
       << calibrate.response.message;
-  EXPECT_NE(calibrate.response.message.find("; OpenCV's closed forms against it: Tsai "), std::string::npos) << calibrate.response.message;
+  EXPECT_NE(calibrate.response.message.find("; OpenCV's closed forms for arm_camera against it: Tsai "), std::string::npos) << calibrate.response.message;
   geometry_msgs::TransformStamped t;
   try {
     t = tf_buffer.lookupTransform("arm_tool", "arm_camera_optical", ros::Time(0), ros::Duration(5.0));

@@ -88,6 +88,46 @@ TEST(HandEyeCalibration, APoorArmPoseIsNamedAndDoesNotPullTheResult) {
   }
 }
 
+// Eye-to-hand with a lidar and an RGB-D camera fixed beside the camera, in one graph: each sensor's board
+// points against the board the arm holds; the camera and the board within 1 mm / 1 mrad as alone, the
+// range sensors as their noise allows and within 3 of their stated standard deviations; a range sensor
+// on the board's side, or no camera across from the board, is refused.
+TEST(HandEyeCalibration, EyeToHandWithALidarAndAnRgbdCameraBeside) {
+  vocal::SimulatedArmOptions options;
+  options.setup = HandEyeSetup::kEyeToHand;
+  const vocal::SimulatedArm arm = vocal::simulateArm(options);
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 13);
+  std::mt19937 rng(17);
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    // Lidar-like: 1 cm noise, 2 cm apart (a VLP-16's 2-degree rings at a metre are 3.5 cm apart, its
+    // returns along them 3.5 mm); RGB-D-like: 3 mm noise, 1 cm apart.
+    stations[k].views.push_back({1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.lidar, 0.36, 0.27, 0.02, 0.01, &rng)});
+    stations[k].views.push_back({2, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.rgbd, 0.36, 0.27, 0.01, 0.003, &rng)});
+  }
+  const std::vector<vocal::HandEyeSensor> sensors = {
+      {vocal::SensorType::kCamera, false}, {vocal::SensorType::kLidar3d, false}, {vocal::SensorType::kRgbd, false}};
+  const vocal::HandEyeResult result = vocal::calibrateArmRig(sensors, true, stations);
+  ASSERT_EQ(result.sensors.size(), 3u);
+  expectWithin(errorOf(result.sensors[0], arm.camera), 0.001, 0.001, "camera");
+  // A lidar's 1 cm noise on a 36 x 27 cm board tilted +-0.5 rad fixes it to millimetres and milliradians,
+  // not to fractions: its stated standard deviations say so.
+  expectWithin(errorOf(result.sensors[1], arm.lidar), 0.01, 0.02, "lidar");
+  expectWithin(errorOf(result.sensors[2], arm.rgbd), 0.002, 0.002, "rgbd");
+  expectWithin(errorOf(result.board, arm.board), 0.001, 0.001, "board");
+  // Honest: each range sensor's error within 3 of its stated standard deviations.
+  for (const int s : {1, 2}) {
+    const Eigen::Matrix<double, 6, 1> stated = result.sensor_sigmas[s].cwiseMax(result.sensor_spreads[s]);
+    const PoseError e = errorOf(result.sensors[s], s == 1 ? arm.lidar : arm.rgbd);
+    EXPECT_LT(e.metres, 3 * stated.head<3>().norm()) << s;
+    EXPECT_LT(e.radians, 3 * stated.tail<3>().norm()) << s;
+  }
+
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateArmRig(sensors, false, stations); }),
+            "hand-eye calibration: sensor 1 (a lidar3d) is fixed like the board: it sees the board in one place only, which fixes no range sensor");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}}, true, stations); }),
+            "hand-eye calibration: no camera fixed in the base frame watches the board on the tool");
+}
+
 // A chessboard's corners may be found in either order (the board turned 180 degrees): the views found
 // the other way are turned back and the result is the same.
 TEST(HandEyeCalibration, ABoardFoundInTheOtherOrderIsTurnedBack) {
@@ -98,9 +138,9 @@ TEST(HandEyeCalibration, ABoardFoundInTheOtherOrderIsTurnedBack) {
   Eigen::Matrix<double, 6, 6> change = Eigen::Matrix<double, 6, 6>::Identity();
   change.topLeftCorner<3, 3>() = half_turn.transpose();  // the rotation's perturbation is in the pattern frame
   for (const int k : {1, 4, 5}) {
-    for (vocal::PlaneMeasurement& view : stations[k].views) {
-      view.sensor_from_pattern.linear() = view.sensor_from_pattern.linear() * half_turn;
-      view.pose_covariance = change * view.pose_covariance * change.transpose();
+    for (vocal::HandEyeView& view : stations[k].views) {
+      view.pattern.sensor_from_pattern.linear() = view.pattern.sensor_from_pattern.linear() * half_turn;
+      view.pattern.pose_covariance = change * view.pattern.pose_covariance * change.transpose();
     }
   }
   const vocal::HandEyeResult turned = vocal::calibrateHandEye(stations, HandEyeSetup::kEyeInHand);
@@ -176,7 +216,7 @@ TEST(HandEyeAssociation, TheToolsStillSpansMakeTheStations) {
 }
 
 // The rig YAML names the moving frame: a camera's `parent` (eye-in-hand, the board fixed) or the
-// target's (eye-to-hand); what is not supported is named.
+// target's (eye-to-hand), other sensors beside; what cannot be calibrated is named.
 TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {
   const std::string folder = vocal_test::makeTempFolder("hand_eye_rig");
   const std::string camera = "{name: wrist, type: camera, frame_id: cam, image_topic: /i, camera_info_topic: /c";
@@ -203,19 +243,31 @@ TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {
   vocal_test::writeText(folder + "/lidar.yaml", "reference_frame: base\n" + board +
                                                    ", parent: base}\nsensors:\n  - {name: l, type: lidar3d, frame_id: l, cloud_topic: /p, parent: tool}\n");
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/lidar.yaml"); }),
-            folder + "/lidar.yaml: sensors[0] 'l': only a camera (type camera) can be calibrated on or against a moving frame, not a lidar3d");
+            folder + "/lidar.yaml: a hand-eye rig needs a camera on the moving frame 'tool' watching the fixed board");
+  // A lidar fixed beside a fixed camera, the board in the gripper: one rig; fixed with a fixed board: refused.
+  const std::string lidar = "{name: l, type: lidar3d, frame_id: l, cloud_topic: /p}";
+  vocal_test::writeText(folder + "/beside.yaml", "reference_frame: base\n" + board + ", parent: tool}\nsensors:\n  - " + camera + "}\n  - " + lidar + "\n");
+  const vocal::RigDescription beside = vocal::readRigDescription(folder + "/beside.yaml");
+  ASSERT_TRUE(beside.handEye());
+  EXPECT_EQ(beside.handEye()->camera, 0);
+  vocal_test::writeText(folder + "/fixed.yaml", "reference_frame: base\n" + board + ", parent: base}\nsensors:\n  - " + camera +
+                                                    ", parent: tool}\n  - " + lidar + "\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/fixed.yaml"); }),
+            folder + "/fixed.yaml: sensors[1] 'l': it is fixed like the board, so it sees the board in one place only, which fixes no "
+                     "lidar3d: put the board on the tool (target 'parent: tool')");
 }
 
 // A simulated arm recorded as a robot records it (rendered images at 10 Hz, the arm on /tf at 200 Hz through
 // a /tf_static tool offset, one pose reported 5 mm off): calibrate_rig with default flags puts the camera
 // and the board within 1 mm / 1 mrad of the truth in both setups, names the poor pose and writes the camera
-// in its parent frame. The eye-to-hand camera is recorded through image_transport's compressed transport.
+// in its parent frame. The eye-to-hand camera is recorded through image_transport's compressed transport,
+// with a lidar and an RGB-D camera beside it in the same session.
 TEST(HandEyeSession, SimulatedArmSessionsCalibratedByCalibrateRig) {
   for (const std::string setup : {"eye-in-hand", "eye-to-hand"}) {
     SCOPED_TRACE(setup);
     const std::string folder = vocal_test::makeTempFolder("hand_eye_" + setup);
     vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --" + setup + " --poor-pose 5 --seed 3" +
-                                                  (setup == "eye-to-hand" ? " --compressed" : ""));
+                                                  (setup == "eye-to-hand" ? " --compressed --beside" : ""));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
     EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -234,6 +286,18 @@ TEST(HandEyeSession, SimulatedArmSessionsCalibratedByCalibrateRig) {
     expectWithin(errorOf(poseOf(camera), poseOf(truth["camera"]["pose"])), 0.001, 0.001, "camera");
     expectWithin(errorOf(poseOf(result["target"]), poseOf(truth["board"]["pose"])), 0.001, 0.001, "board");
     EXPECT_TRUE(camera["published"].as<bool>());
+    // Eye-to-hand: a VLP-16-like lidar (1 cm noise) and an RGB-D camera beside it, in the same graph.
+    for (std::size_t s = 1; s < result["sensors"].size(); ++s) {
+      const YAML::Node sensor = result["sensors"][s];
+      const std::string name = sensor["name"].as<std::string>();
+      const PoseError e = errorOf(poseOf(sensor), poseOf(truth["sensors"][name]["pose"]));
+      std::cerr << name << ": " << 1000 * e.metres << " mm / " << 1000 * e.radians << " mrad from the truth\n";
+      expectWithin(e, name == "arm_lidar" ? 0.005 : 0.002, name == "arm_lidar" ? 0.01 : 0.002, name);
+      const auto sd = sensor["translation_stddev"].as<std::vector<double>>();
+      EXPECT_LT(e.metres, 3 * Eigen::Vector3d(sd[0], sd[1], sd[2]).norm()) << name << ": its stated standard deviation";
+      EXPECT_EQ(sensor["parent"].as<std::string>(), "arm_base");
+    }
+    EXPECT_EQ(result["sensors"].size(), setup == "eye-to-hand" ? 3u : 1u);
     const auto poor = result["poor_arm_poses"].as<std::vector<int>>();
     EXPECT_NE(std::find(poor.begin(), poor.end(), 5), poor.end());
   }

@@ -179,7 +179,7 @@ void CalibrationSession::addToolPose(double stamp, const Eigen::Isometry3d& refe
 
 HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOptions& options) const {
   if (!rig_.handEye()) throw InputError("hand-eye association: the rig has no sensor or target on a moving frame");
-  return associateToolStillness(tool_poses_, observations_, options);
+  return associateToolStillness(tool_poses_, timedObservations(), options);
 }
 
 bool CalibrationSession::roomFor(std::size_t bytes) {

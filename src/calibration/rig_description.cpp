@@ -20,11 +20,17 @@ std::vector<SensorSpec> RigDescription::specs() const {
 }
 
 std::optional<HandEyeRig> RigDescription::handEye() const {
-  for (std::size_t s = 0; s < sensors.size(); ++s) {
-    if (!sensors[s].parent.empty()) return HandEyeRig{static_cast<int>(s), true, sensors[s].parent};
+  HandEyeRig arm;
+  arm.eye_in_hand = target.parent.empty() || target.parent == reference_frame;
+  if (!arm.eye_in_hand) arm.tool_frame = target.parent;
+  for (const RigSensorDescription& s : sensors)
+    if (arm.tool_frame.empty() && !s.parent.empty()) arm.tool_frame = s.parent;
+  if (arm.tool_frame.empty()) return std::nullopt;
+  // The main camera: the first on the other side from the board.
+  for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s) {
+    if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand) arm.camera = static_cast<int>(s);
   }
-  if (!target.parent.empty() && target.parent != reference_frame) return HandEyeRig{0, false, target.parent};
-  return std::nullopt;
+  return arm;
 }
 
 namespace {
@@ -112,26 +118,45 @@ CropBox readCropBox(const YAML::Node& node, const std::string& where) {
 }  // namespace
 
 namespace {
-// What a hand-eye rig may be today: one camera, on the tool looking at a fixed board, or fixed looking
-// at the board on the tool.
+// What a hand-eye rig may be: one frame that moves (the tool), the board fixed in the reference frame or
+// on the tool, a camera on the other side from the board, and no range sensor on the board's side (it
+// would see the board in one place only).
 void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std::string& path) {
-  const RigSensorDescription& camera = rig.sensors[arm.camera];
-  const std::string where = path + ": sensors[" + std::to_string(arm.camera) + "] '" + camera.spec.name + "'";
-  if (rig.sensors.size() > 1) {
-    throw InputError(path + ": a sensor or the target on a moving frame ('" + arm.tool_frame +
-                     "') is supported for a rig of one camera; calibrate the other sensors in a session of their own");
+  const bool board_on_tool = !arm.eye_in_hand;
+  if (!rig.target.parent.empty() && rig.target.parent != rig.reference_frame && rig.target.parent != arm.tool_frame) {
+    throw InputError(path + ": target: its parent '" + rig.target.parent + "' is neither " + rig.reference_frame + " nor the moving frame '" +
+                     arm.tool_frame + "' a sensor is on; one moving frame per rig");
   }
-  if (camera.spec.type != SensorType::kCamera) {
-    throw InputError(where + ": only a camera (type camera) can be calibrated on or against a moving frame, not a " +
-                     sensorTypeName(camera.spec.type));
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const RigSensorDescription& sensor = rig.sensors[s];
+    const std::string where = path + ": sensors[" + std::to_string(s) + "] '" + sensor.spec.name + "'";
+    if (!sensor.parent.empty() && sensor.parent != arm.tool_frame) {
+      throw InputError(where + ": its parent '" + sensor.parent + "' is a second moving frame besides '" + arm.tool_frame +
+                       "'; one moving frame per rig");
+    }
+    const bool on_tool = !sensor.parent.empty();
+    if (sensor.spec.type == SensorType::kLaser2d) {
+      throw InputError(where + ": a 2D laser is not calibrated against a robot arm yet; calibrate it in a session of its own");
+    }
+    if (on_tool && rig.target.parent.empty()) {
+      throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
+                       "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
+    }
+    if (on_tool && board_on_tool) {
+      if (sensor.spec.type != SensorType::kCamera) {
+        throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' with the board, so it sees the board in one place "
+                         "only, which fixes no " + sensorTypeName(sensor.spec.type));
+      }
+    }
+    if (!on_tool && !board_on_tool && sensor.spec.type != SensorType::kCamera) {
+      throw InputError(where + ": it is fixed like the board, so it sees the board in one place only, which fixes no " +
+                       sensorTypeName(sensor.spec.type) + ": put the board on the tool (target 'parent: " + arm.tool_frame + "')");
+    }
   }
-  if (arm.eye_in_hand && rig.target.parent.empty()) {
-    throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
-                     "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
-  }
-  if (arm.eye_in_hand && rig.target.parent != rig.reference_frame) {
-    throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' and the target on '" + rig.target.parent +
-                     "': one of them must be fixed in " + rig.reference_frame);
+  if (arm.camera < 0) {
+    throw InputError(path + ": a hand-eye rig needs a camera " +
+                     (board_on_tool ? "fixed in " + rig.reference_frame + " watching the board on '" + arm.tool_frame + "'"
+                                    : "on the moving frame '" + arm.tool_frame + "' watching the fixed board"));
   }
 }
 }  // namespace

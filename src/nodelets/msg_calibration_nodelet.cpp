@@ -149,44 +149,61 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     ++tool_poses_;
   }
 
-  // ~calibrate for a hand-eye rig: the arm's still poses, the camera on the tool (or the board in its
-  // gripper), /tf_static from the tool (or the reference frame) to the camera unless withheld.
+  // ~calibrate for a hand-eye rig: the arm's still poses, each sensor in the tool frame (on the tool) or
+  // the reference frame (fixed), /tf_static from there to each sensor not withheld.
   void calibrateHandEyeRig(std_srvs::Trigger::Response& response) {
     const RigDescription& rig = session_->rig();
     const HandEyeAssociation association = session_->handEyeAssociation();
-    const HandEyeSetup setup = arm_->eye_in_hand ? HandEyeSetup::kEyeInHand : HandEyeSetup::kEyeToHand;
-    const HandEyeResult result = calibrateHandEye(association.stations, setup);
-    const HandEyeFrames frames{rig.reference_frame, arm_->tool_frame, rig.sensors[arm_->camera].spec};
-    const std::string parent = arm_->eye_in_hand ? arm_->tool_frame : rig.reference_frame;
-    const std::string withheld = handEyeWithheld(result, tolerance_, publish_uncertain_);
-    const Eigen::Vector3d t = result.camera.translation();
-    const Eigen::Quaterniond q(result.camera.rotation());
-    char line[512];
-    std::snprintf(line, sizeof(line),
-                  "calibrated %s (%s) from %zu still arm poses: %s in %s at [%.5f %.5f %.5f] [%.6f %.6f %.6f %.6f] (x y z, qx qy qz qw), "
-                  "sigma %.2f mm / %.2f mrad, spread across the arm's poses %.2f mm / %.2f mrad",
-                  frames.camera.name.c_str(), handEyeSetupName(setup).c_str(), association.stations.size(), frames.camera.frame_id.c_str(),
-                  parent.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), 1000 * result.camera_sigma.head<3>().norm(),
-                  1000 * result.camera_sigma.tail<3>().norm(), 1000 * result.camera_spread.head<3>().norm(),
-                  1000 * result.camera_spread.tail<3>().norm());
+    HandEyeFrames frames{rig.reference_frame, arm_->tool_frame, rig.specs(), {}};
+    std::vector<HandEyeSensor> sensors;
+    for (const RigSensorDescription& d : rig.sensors) {
+      frames.on_tool.push_back(!d.parent.empty());
+      sensors.push_back({d.spec.type, !d.parent.empty()});
+    }
+    const HandEyeResult result = calibrateArmRig(sensors, !arm_->eye_in_hand, association.stations);
     std::ostringstream summary;
-    summary << line;
+    summary << "calibrated " << rig.sensors.size() << " sensor" << (rig.sensors.size() == 1 ? "" : "s") << " (" << handEyeSetupName(result.setup)
+            << ") from " << association.stations.size() << " still arm poses";
+    std::vector<std::string> withheld;
+    std::vector<geometry_msgs::TransformStamped> transforms;
+    const ros::Time now = ros::Time::now();
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+      const Eigen::Vector3d t = result.sensors[s].translation();
+      const Eigen::Quaterniond q(result.sensors[s].rotation());
+      char line[400];
+      std::snprintf(line, sizeof(line),
+                    "; %s in %s at [%.5f %.5f %.5f] [%.6f %.6f %.6f %.6f] (x y z, qx qy qz qw), sigma %.2f mm / %.2f mrad, spread across "
+                    "the arm's poses %.2f mm / %.2f mrad",
+                    rig.sensors[s].spec.frame_id.c_str(), frames.parentOf(s).c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
+                    1000 * result.sensor_sigmas[s].head<3>().norm(), 1000 * result.sensor_sigmas[s].tail<3>().norm(),
+                    1000 * result.sensor_spreads[s].head<3>().norm(), 1000 * result.sensor_spreads[s].tail<3>().norm());
+      summary << line;
+      withheld.push_back(handEyeWithheld(result, s, tolerance_, publish_uncertain_));
+      if (withheld.back().empty()) {
+        transforms.push_back(toTransformStamped(result.sensors[s], frames.parentOf(s), rig.sensors[s].spec.frame_id, now));
+      } else {
+        summary << "; withheld from /tf_static: " << rig.sensors[s].spec.name << " (" << withheld.back()
+                << "); set ~publish_uncertain to publish anyway";
+      }
+    }
     for (const int k : result.poor_stations) summary << "; poor arm pose " << k + 1 << " (it does not pull the result)";
     for (const HandEyeClosedForm& c : result.closed_forms) {
-      std::snprintf(line, sizeof(line), "%s %.2f mm / %.3f deg", c.method.c_str(), 1000 * (c.camera.translation() - t).norm(),
+      char line[160];
+      std::snprintf(line, sizeof(line), "%s %.2f mm / %.3f deg", c.method.c_str(), 1000 * (c.camera.translation() - result.camera.translation()).norm(),
                     rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
-      summary << (&c == &result.closed_forms.front() ? "; OpenCV's closed forms against it: " : ", ") << line;
+      summary << (&c == &result.closed_forms.front() ? "; OpenCV's closed forms for " + rig.sensors[result.main_camera].spec.name + " against it: "
+                                                     : std::string(", "))
+              << line;
     }
-    if (!withheld.empty()) summary << "; withheld from /tf_static: " << withheld << "; set ~publish_uncertain to publish anyway";
     if (!output_dir_.empty()) {
       writeHandEyeYaml(output_dir_ + "/calibration.yaml", frames, result, withheld);
       writeHandEyeUrdf(output_dir_ + "/calibration.urdf", frames, result, withheld);
       writeHandEyeLaunch(output_dir_ + "/calibration.launch", frames, result, withheld);
       summary << "; wrote " << output_dir_ << "/calibration.yaml, .urdf, .launch";
     }
-    if (withheld.empty()) static_broadcaster_.sendTransform(toTransformStamped(result.camera, parent, frames.camera.frame_id, ros::Time::now()));
+    if (!transforms.empty()) static_broadcaster_.sendTransform(transforms);
     last_result_ = summary.str();
-    response.success = withheld.empty();
+    response.success = transforms.size() == rig.sensors.size();
     response.message = summary.str();
     NODELET_INFO_STREAM("MsgCalibration: " << summary.str());
   }

@@ -55,6 +55,9 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
   } else {
     arm.camera = lookingAt({0.5, 0.9, 0.6}, {0.5, 0.0, 0.3}, 0.0);  // on a post beside the arm, looking at its workspace
     arm.board = tool_from_board;
+    // Where a robot's body carries them: a lidar across the workspace, level, and an RGB-D camera beside it.
+    arm.lidar = poseFromTranslationQuaternion({0.55, 1.35, 0.35}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2 - 0.05, Eigen::Vector3d::UnitZ())));
+    arm.rgbd = lookingAt({0.05, 0.85, 0.55}, {0.5, 0.0, 0.3}, 0.0);
   }
   for (int k = 0; k < options.poses; ++k) {
     Eigen::Isometry3d tool;
@@ -99,11 +102,25 @@ std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, con
     for (int v = 0; v < views; ++v) {
       std::vector<Eigen::Vector2d> pixels;
       for (const Eigen::Vector3d& c : corners) pixels.push_back(camera.project(camera_from_board * c) + Eigen::Vector2d(noise(*rng), noise(*rng)));
-      station.views.push_back(observePattern(pixels, pattern, camera, "simulated arm camera").plane);
+      station.views.push_back({0, observePattern(pixels, pattern, camera, "simulated arm camera").plane, {}});
     }
     stations.push_back(std::move(station));
   }
   return stations;
+}
+
+std::vector<Eigen::Vector3d> simulateRangeView(const SimulatedArm& arm, int k, const Eigen::Isometry3d& base_from_sensor, double width,
+                                               double height, double spacing, double noise, std::mt19937* rng) {
+  std::normal_distribution<double> along_ray(0.0, noise);
+  const Eigen::Isometry3d sensor_from_board = base_from_sensor.inverse() * arm.true_tool[k] * arm.board;
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -width / 2; x <= width / 2; x += spacing) {
+    for (double y = -height / 2; y <= height / 2; y += spacing) {
+      const Eigen::Vector3d p = sensor_from_board * Eigen::Vector3d(x, y, 0.0);
+      points.push_back(p + along_ray(*rng) * p.normalized());
+    }
+  }
+  return points;
 }
 
 }  // namespace vocal

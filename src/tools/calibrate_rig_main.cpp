@@ -171,11 +171,12 @@ double positiveOption(const vocal::CommandLine& args, const char* name, double f
   return value;
 }
 
-void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 1>* sigma) {
+void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 1>* sigma, const Eigen::Matrix<double, 6, 1>* spread) {
   const Eigen::Vector3d t = pose.translation();
   const Eigen::Quaterniond q(pose.rotation());
   std::printf("%-28s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f", what, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   if (sigma) std::printf("   %.2f / %.2f", 1000 * sigma->head<3>().norm(), 1000 * sigma->tail<3>().norm());
+  if (spread) std::printf(", %.2f / %.2f", 1000 * spread->head<3>().norm(), 1000 * spread->tail<3>().norm());
   std::printf("\n");
 }
 
@@ -190,18 +191,23 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   std::printf("%zu still poses of the arm with the board in view (of %d still; %d views while the arm moved, %d where tf gave no "
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
-  const vocal::HandEyeSetup setup = arm.eye_in_hand ? vocal::HandEyeSetup::kEyeInHand : vocal::HandEyeSetup::kEyeToHand;
-  const vocal::HandEyeResult result = vocal::calibrateHandEye(association.stations, setup);
-  const vocal::HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.sensors[arm.camera].spec};
-  const std::string camera_parent = arm.eye_in_hand ? arm.tool_frame : rig.reference_frame;
+  vocal::HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}};
+  std::vector<vocal::HandEyeSensor> sensors;
+  for (const vocal::RigSensorDescription& d : rig.sensors) {
+    frames.on_tool.push_back(!d.parent.empty());
+    sensors.push_back({d.spec.type, !d.parent.empty()});
+  }
+  const vocal::HandEyeResult result = vocal::calibrateArmRig(sensors, !arm.eye_in_hand, association.stations);
   const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
-  std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s   sigma t (mm) / r (mrad)\n", vocal::handEyeSetupName(setup).c_str(), "x", "y", "z",
-              "qx", "qy", "qz", "qw");
-  printPose((rig.sensors[arm.camera].spec.name + " in " + camera_parent).c_str(), result.camera, &result.camera_sigma);
-  printPose(("board in " + board_parent).c_str(), result.board, &result.board_sigma);
-  std::printf("spread across the arm's poses (%d re-solves, each without one pose): %.2f mm / %.2f mrad\n", result.spread_solves,
-              1000 * result.camera_spread.head<3>().norm(), 1000 * result.camera_spread.tail<3>().norm());
-  std::printf("each view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
+  std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s   sigma t (mm) / r (mrad), spread across the arm's poses\n",
+              vocal::handEyeSetupName(result.setup).c_str(), "x", "y", "z", "qx", "qy", "qz", "qw");
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    printPose((rig.sensors[s].spec.name + " in " + frames.parentOf(s)).c_str(), result.sensors[s], &result.sensor_sigmas[s],
+              &result.sensor_spreads[s]);
+  }
+  printPose(("board in " + board_parent).c_str(), result.board, &result.board_sigma, nullptr);
+  std::printf("spread across the arm's poses: %d re-solves, each without one pose\n", result.spread_solves);
+  std::printf("each camera view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
   if (result.unmodelled_translation > 0.0) {
     std::printf("  beyond the corners' noise and the arm's repeatability by %.2f mm / %.2f mrad per axis (the arm's kinematics, the "
                 "camera's intrinsics, the print): each view weighted by it\n",
@@ -213,7 +219,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
                 k + 1, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * result.tool_shift[k],
                 1000 * result.tool_turn[k]);
   }
-  std::printf("OpenCV's calibrateHandEye on the same poses, against this result:\n");
+  std::printf("OpenCV's calibrateHandEye on the same poses, for %s, against this result:\n", rig.sensors[result.main_camera].spec.name.c_str());
   for (const vocal::HandEyeClosedForm& c : result.closed_forms) {
     std::printf("  %-10s %6.2f mm / %.3f deg\n", c.method.c_str(), 1000 * (c.camera.translation() - result.camera.translation()).norm(),
                 vocal::rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
@@ -226,11 +232,16 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
                   1000 * result.tool_shift[k], 1000 * result.tool_turn[k], 1000 * result.view_distance[k], 1000 * result.view_angle[k]);
     }
   }
-  const std::string withheld = vocal::handEyeWithheld(result, tolerance, args.has("publish-uncertain"));
-  if (!withheld.empty()) {
-    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", frames.camera.name.c_str(), withheld.c_str());
-    std::printf("  its values are in calibration.yaml; pass --publish-uncertain to publish them anyway\n");
+  std::vector<std::string> withheld;
+  bool any_withheld = false;
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    withheld.push_back(vocal::handEyeWithheld(result, s, tolerance, args.has("publish-uncertain")));
+    if (withheld.back().empty()) continue;
+    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", rig.sensors[s].spec.name.c_str(),
+                withheld.back().c_str());
+    any_withheld = true;
   }
+  if (any_withheld) std::printf("  its values are in calibration.yaml; pass --publish-uncertain to publish them anyway\n");
   if (args.has("output-dir")) {
     const std::string dir = args.text("output-dir", "");
     vocal::writeHandEyeYaml(dir + "/calibration.yaml", frames, result, withheld);
@@ -238,7 +249,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     vocal::writeHandEyeLaunch(dir + "/calibration.launch", frames, result, withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
   }
-  return withheld.empty() ? 0 : 1;
+  return any_withheld ? 1 : 0;
 }
 
 int run(const vocal::CommandLine& args) {

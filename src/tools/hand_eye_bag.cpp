@@ -48,7 +48,7 @@ Eigen::Isometry3d roomFromBase() {
 }
 }  // namespace
 
-RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images) {
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images, bool beside) {
   RigDescription rig;
   rig.reference_frame = kBase;
   rig.target = target;
@@ -59,6 +59,17 @@ RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& 
   camera.camera_info_topic = "/arm_camera/camera_info";
   if (setup == HandEyeSetup::kEyeInHand) camera.parent = kTool;
   rig.sensors.push_back(camera);
+  if (beside && setup == HandEyeSetup::kEyeToHand) {
+    RigSensorDescription lidar;
+    lidar.spec = {"arm_lidar", SensorType::kLidar3d, "arm_lidar"};
+    lidar.cloud_topic = "/arm_lidar/points";
+    rig.sensors.push_back(lidar);
+    RigSensorDescription rgbd;
+    rgbd.spec = {"arm_rgbd", SensorType::kRgbd, "arm_rgbd_optical"};
+    rgbd.depth_topic = "/arm_rgbd/depth/image";
+    rgbd.camera_info_topic = "/arm_rgbd/depth/camera_info";
+    rig.sensors.push_back(rgbd);
+  }
   rig.reference_sensor = -1;
   return rig;
 }
@@ -70,10 +81,9 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
   rosbag::Bag bag;
   openBag(&bag, bag_path, rosbag::bagmode::Write);
   std::mt19937 rng(options.seed);
-  const RigSensorDescription& d = rig.sensors.front();
   const PinholeCamera camera = defaultKinectCamera(640, 480);
+  const PinholeCamera depth_camera = defaultKinectCamera(320, 240);
   const CameraRays rays(camera, LensDistortion{});
-  SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
   const double start = 1700000000.0;  // seconds, a plausible recording's stamps
   const double period = options.still_seconds + options.moving_seconds;
   const double end = period * static_cast<double>(arm.true_tool.size()) - options.moving_seconds;
@@ -96,23 +106,43 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
     moving.transforms.push_back(toTransformStamped(toolAt(t, arm.reported_tool) * flangeFromTool().inverse(), kBase, kFlange, stamp));
     bag.write("/tf", stamp, moving);
   }
-  // The camera starts a little after the arm's first pose, unsynchronised with tf.
-  for (double t = 0.5 / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
-    const ros::Time stamp(start + t);
-    const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
-    const Eigen::Isometry3d base_from_camera = arm.setup == HandEyeSetup::kEyeInHand ? tool * arm.camera : arm.camera;
-    const Eigen::Isometry3d base_from_board = arm.setup == HandEyeSetup::kEyeInHand ? arm.board : tool * arm.board;
-    sensor.reference_from_sensor = roomFromBase() * base_from_camera;
-    SimulatedRoomView view;
-    view.sensor = &sensor;
-    view.reference_from_target = roomFromBase() * base_from_board;
-    view.target = &rig.target;
-    bag.write(d.camera_info_topic, stamp, toCameraInfo(camera, d.spec.frame_id, stamp));
-    const ColorImage image = simulateCameraImage(view, rays, options.image_noise, &rng);
-    if (options.compressed_images) {
-      bag.write(d.image_topic, stamp, toCompressedJpeg(image, d.spec.frame_id, stamp));
-    } else {
-      bag.write(d.image_topic, stamp, toMono8Image(image, d.spec.frame_id, stamp));
+  // Each sensor at the camera's rate, starting a little after the arm's first pose and a little after
+  // one another, unsynchronised with tf.
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const RigSensorDescription& d = rig.sensors[s];
+    SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
+    for (double t = (0.5 + 0.3 * s) / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
+      const ros::Time stamp(start + t);
+      const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
+      const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
+      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kLidar3d ? arm.lidar
+                                                 : d.spec.type == SensorType::kRgbd  ? arm.rgbd
+                                                 : in_hand                           ? tool * arm.camera
+                                                                                     : arm.camera;
+      sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
+      SimulatedRoomView view;
+      view.sensor = &sensor;
+      view.reference_from_target = roomFromBase() * (in_hand ? arm.board : tool * arm.board);
+      view.target = &rig.target;
+      view.range_noise = d.spec.type == SensorType::kLidar3d ? options.lidar_noise : options.depth_noise;
+      if (d.spec.type == SensorType::kLidar3d) {
+        SimulatedTruth truth;
+        const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
+        bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
+        continue;
+      }
+      if (d.spec.type == SensorType::kRgbd) {
+        bag.write(d.camera_info_topic, stamp, toCameraInfo(depth_camera, d.spec.frame_id, stamp));
+        bag.write(d.depth_topic, stamp, toDepth32FImage(simulateDepthImage(view, depth_camera, &rng), d.spec.frame_id, stamp));
+        continue;
+      }
+      bag.write(d.camera_info_topic, stamp, toCameraInfo(camera, d.spec.frame_id, stamp));
+      const ColorImage image = simulateCameraImage(view, rays, options.image_noise, &rng);
+      if (options.compressed_images) {
+        bag.write(d.image_topic, stamp, toCompressedJpeg(image, d.spec.frame_id, stamp));
+      } else {
+        bag.write(d.image_topic, stamp, toMono8Image(image, d.spec.frame_id, stamp));
+      }
     }
   }
   bag.close();
@@ -133,6 +163,12 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
   file << "# the simulated arm's truth: the camera and the board each in its parent frame\n"
        << "setup: " << handEyeSetupName(arm.setup) << "\n"
        << "camera: {parent: " << (in_hand ? kTool : kBase) << ", pose: " << pose(arm.camera) << "}\n"
+       << "sensors:  # every sensor of the rig, by name\n";
+  for (const RigSensorDescription& d : rig.sensors) {
+    const Eigen::Isometry3d& p = d.spec.type == SensorType::kLidar3d ? arm.lidar : d.spec.type == SensorType::kRgbd ? arm.rgbd : arm.camera;
+    file << "  " << d.spec.name << ": {parent: " << (d.parent.empty() ? rig.reference_frame : d.parent) << ", pose: " << pose(p) << "}\n";
+  }
+  file
        << "board: {parent: " << (in_hand ? rig.reference_frame : std::string(kTool)) << ", pose: " << pose(arm.board) << "}\n"
        << "poor_pose: " << (poor_pose >= 0 ? poor_pose + 1 : 0) << "  # numbered from 1, 0: none\n"
        << "tool_poses:  # base <- tool at each still pose: true, and as reported on /tf\n";

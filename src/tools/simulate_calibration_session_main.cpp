@@ -69,6 +69,8 @@ const char kUsage[] =
     "  --poor-pose K       the K-th still pose's tool reported 5 mm off (default: none)\n"
     "  --compressed        images as image_transport's compressed transport records them (JPEG, on\n"
     "                      /arm_camera/image_raw/compressed)\n"
+    "  --beside            (eye-to-hand) a VLP-16-like lidar and an RGB-D camera fixed beside the camera, in\n"
+    "                      the same session\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
     "  --seed S\n"
@@ -95,7 +97,10 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   target.height = args.number("board-height", 0.27);
   vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
   const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
-  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"));
+  if (args.has("beside") && arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
+    throw vocal::InputError("option --beside: with --eye-to-hand (a fixed lidar sees a fixed board in one place only)");
+  }
+  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose);
   vocal::HandEyeBagOptions bag_options;
@@ -197,5 +202,5 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose"},
-                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed"}, 1);
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside"}, 1);
 }

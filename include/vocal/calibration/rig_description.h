@@ -55,8 +55,8 @@ struct RigSensorDescription {
 
 // Where an arm moves a camera or the board (RigDescription::handEye), in the rig's terms.
 struct HandEyeRig {
-  int camera = -1;         // the rig's sensor
-  bool eye_in_hand = true; // the camera on the tool (else the board on the tool)
+  int camera = -1;         // the main camera: the first on the other side from the board (-1: none)
+  bool eye_in_hand = true; // the board fixed in the reference frame (else on the tool)
   std::string tool_frame;  // the frame that moves, looked up in tf
 };
 
@@ -79,8 +79,9 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // Throws InputError naming the file and the key: unknown or missing keys, a sensor type without the
 // topics it needs (camera: image + camera_info; rgbd: depth + camera_info; lidar3d: cloud; laser2d:
 // scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target;
-// and for the moving frames of a hand-eye rig, what is not (yet) supported: more than one sensor, not a
-// camera, a camera on a moving frame looking at a board moved by hand, both on moving frames.
+// and for the moving frames of a hand-eye rig (RigDescription::handEye): two moving frames, a camera on
+// the tool over a board moved by hand, a range sensor on the board's side, a 2D laser, no camera on the
+// other side from the board.
 RigDescription readRigDescription(const std::string& path);
 
 // Writes what readRigDescription reads (every sensor with a pose writes it). Throws InputError naming

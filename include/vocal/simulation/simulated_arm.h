@@ -35,6 +35,10 @@ struct SimulatedArm {
   Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Isometry3d> true_tool;      // base <- tool at each still pose
   std::vector<Eigen::Isometry3d> reported_tool;  // ... as the arm reports it
+  // Eye-to-hand: where a 3D lidar (x ahead, z up) and an RGB-D camera (optical frame) fixed in the base
+  // frame would watch the board in the gripper too (base <- sensor), for a rig that has them.
+  Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d rgbd = Eigen::Isometry3d::Identity();
 
   // Camera <- board at pose k (the truth).
   Eigen::Isometry3d cameraFromBoard(int k) const;
@@ -48,5 +52,11 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options);
 // through `camera` with `pixel_noise` (pixels) and observed as calibrate_rig does (observePattern).
 std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, const TargetPattern& pattern, const PinholeCamera& camera,
                                                     int views, double pixel_noise, std::mt19937* rng);
+
+// A range sensor's board points at pose k: the board's `width` x `height` rectangle sampled on a grid
+// `spacing` apart, seen from `base_from_sensor` (fixed in the base frame), with `noise` metres along
+// each ray; in the sensor's frame. Eye-to-hand arms only (the board on the tool).
+std::vector<Eigen::Vector3d> simulateRangeView(const SimulatedArm& arm, int k, const Eigen::Isometry3d& base_from_sensor, double width,
+                                               double height, double spacing, double noise, std::mt19937* rng);
 
 }  // namespace vocal

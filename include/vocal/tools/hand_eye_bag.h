@@ -17,6 +17,8 @@ struct HandEyeBagOptions {
   double camera_rate = 10.0;    // Hz
   double tf_rate = 200.0;       // Hz
   double image_noise = 2.0;     // grey levels
+  double lidar_noise = 0.01;    // metres along each ray (a VLP-16's is 1-3 cm)
+  double depth_noise = 0.003;   // metres (an RGB-D camera's at a metre)
   // Images as image_transport's compressed transport records them (JPEG, quality 95) on the rig's image
   // topic, which then ends in "/compressed" (simulatedHandEyeRig).
   bool compressed_images = false;
@@ -26,7 +28,9 @@ struct HandEyeBagOptions {
 // The rig a user would write for it: reference frame "arm_base", the tool frame "arm_tool", the camera
 // on the tool (eye-in-hand, the board fixed in arm_base) or fixed in arm_base (eye-to-hand, the board on
 // the tool); `target` as given.
-RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false);
+// `beside` (eye-to-hand): a 3D lidar (VLP-16-like) and an RGB-D camera fixed beside the camera, watching the
+// board in the gripper too (SimulatedArm::lidar, rgbd).
+RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false, bool beside = false);
 
 // Throws InputError naming the bag when it cannot be written, and for rates or times that are not positive.
 void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig, const HandEyeBagOptions& options, const std::string& bag_path);

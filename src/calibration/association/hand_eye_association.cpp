@@ -9,7 +9,9 @@ namespace vocal {
 namespace {
 struct Span {
   double start = 0.0, end = 0.0;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // the tool's at the span's first sample
+  // The tool's at the span's middle sample: its first may be the end of the arm's approach, within the
+  // drift bound but not yet where it stood.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
 // Runs of samples within the drift bounds of the run's first sample, no gap longer than max_gap.
@@ -25,7 +27,7 @@ std::vector<Span> stillSpans(const std::vector<FramePoseSample>& samples, const 
     }
     if (!ends) continue;
     if (samples[i - 1].stamp - samples[first].stamp >= options.min_duration) {
-      spans.push_back({samples[first].stamp, samples[i - 1].stamp, samples[first].pose});
+      spans.push_back({samples[first].stamp, samples[i - 1].stamp, samples[(first + i - 1) / 2].pose});
     }
     first = i;
   }
@@ -51,7 +53,7 @@ HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, 
   std::vector<HandEyeStation> stations(spans.size());
   for (std::size_t k = 0; k < spans.size(); ++k) stations[k].base_from_tool = spans[k].pose;
   for (const TimedObservation& view : views) {
-    if (view.plane_measurements.empty()) continue;
+    if (view.plane_measurements.empty() && view.points.empty()) continue;
     const auto span = std::find_if(spans.begin(), spans.end(), [&](const Span& s) { return view.stamp >= s.start && view.stamp <= s.end; });
     if (span == spans.end()) {
       if (toolKnownAt(samples, view.stamp, options)) {
@@ -64,7 +66,10 @@ HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, 
     HandEyeStation& station = stations[span - spans.begin()];
     if (station.views.empty() || view.stamp < station.first_stamp) station.first_stamp = view.stamp;
     station.last_stamp = std::max(station.last_stamp, view.stamp);
-    station.views.insert(station.views.end(), view.plane_measurements.begin(), view.plane_measurements.end());
+    if (view.plane_measurements.empty()) {
+      station.views.push_back({view.sensor, PlaneMeasurement{}, view.points});  // a range sensor's board points
+    }
+    for (const PlaneMeasurement& pattern : view.plane_measurements) station.views.push_back({view.sensor, pattern, {}});
   }
   for (HandEyeStation& station : stations) {
     if (station.views.empty()) {

@@ -194,13 +194,9 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
   return out.str();
 }
 
-// The hand-eye result's camera: its parent frame and its pose there.
-std::pair<std::string, const Eigen::Isometry3d*> handEyeCamera(const HandEyeFrames& frames, const HandEyeResult& result) {
-  return {result.setup == HandEyeSetup::kEyeInHand ? frames.tool_frame : frames.reference_frame, &result.camera};
-}
 }  // namespace
 
-std::string handEyeWithheld(const HandEyeResult& result, const SpreadTolerance& tolerance, bool publish_uncertain) {
+std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, const SpreadTolerance& tolerance, bool publish_uncertain) {
   if (publish_uncertain) return "";
   char line[320];
   if (result.spread_solves < 2) {
@@ -208,20 +204,19 @@ std::string handEyeWithheld(const HandEyeResult& result, const SpreadTolerance& 
                   result.spread_solves);
     return line;
   }
-  if (!spreadIsOver(result.camera_spread, tolerance)) return "";
+  const Vector6d& spread = result.sensor_spreads[sensor];
+  if (!spreadIsOver(spread, tolerance)) return "";
   std::snprintf(line, sizeof(line),
                 "uncertain: it moves %.1f mm / %.1f mrad between re-solves without one arm pose (tolerance %.1f mm / %.1f mrad): add "
                 "arm poses, turned further about more axes",
-                1000 * result.camera_spread.head<3>().norm(), 1000 * result.camera_spread.tail<3>().norm(), 1000 * tolerance.translation,
-                1000 * tolerance.rotation);
+                1000 * spread.head<3>().norm(), 1000 * spread.tail<3>().norm(), 1000 * tolerance.translation, 1000 * tolerance.rotation);
   return line;
 }
 
-void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld) {
   std::ofstream file = openOutput(path);
-  const auto [camera_parent, camera] = handEyeCamera(frames, result);
   const std::string board_parent = result.setup == HandEyeSetup::kEyeInHand ? frames.reference_frame : frames.tool_frame;
-  const auto pose = [&](const Eigen::Isometry3d& p, const Eigen::Matrix<double, 6, 1>& sd, const char* indent) {
+  const auto pose = [&](const Eigen::Isometry3d& p, const Vector6d& sd, const char* indent) {
     const Eigen::Vector3d t = p.translation();
     const Eigen::Quaterniond q(p.rotation());
     file << indent << "translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
@@ -229,25 +224,26 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << indent << "translation_stddev: " << listOf(sd.head<3>()) << "  # m\n"
          << indent << "rotation_stddev: " << listOf(sd.tail<3>()) << "  # rad, about x y z\n";
   };
-  // Honest: the larger of the solver's sigma and the spread across the arm's poses, axis by axis.
-  const Eigen::Matrix<double, 6, 1> camera_sd = result.camera_sigma.cwiseMax(result.camera_spread);
-  file << "# vocal hand-eye result (" << handEyeSetupName(result.setup) << "): the camera in " << camera_parent << ", the board in "
-       << board_parent << "\n"
+  file << "# vocal hand-eye result (" << handEyeSetupName(result.setup) << "): each sensor in its parent, the tool frame "
+       << frames.tool_frame << " or " << frames.reference_frame << "; the board in " << board_parent << "\n"
        << "reference_frame: " << frames.reference_frame << "\n"
        << "setup: " << handEyeSetupName(result.setup) << "\n"
        << "tool_frame: " << frames.tool_frame << "\n"
-       << "sensors:\n"
-       << "  - name: " << frames.camera.name << "\n"
-       << "    type: " << sensorTypeName(frames.camera.type) << "\n"
-       << "    frame_id: " << frames.camera.frame_id << "\n"
-       << "    parent: " << camera_parent << "\n";
-  pose(*camera, camera_sd, "    ");
-  file << "    solver_translation_stddev: " << listOf(result.camera_sigma.head<3>()) << "\n"
-       << "    solver_rotation_stddev: " << listOf(result.camera_sigma.tail<3>()) << "\n"
-       << "    translation_spread: " << listOf(result.camera_spread.head<3>()) << "  # m, jackknife over the arm's poses\n"
-       << "    rotation_spread: " << listOf(result.camera_spread.tail<3>()) << "  # rad\n"
-       << "    published: " << (withheld.empty() ? "true" : "false") << "\n";
-  if (!withheld.empty()) file << "    withheld_because: " << quoted(withheld) << "\n";
+       << "sensors:\n";
+  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+    file << "  - name: " << frames.sensors[s].name << "\n"
+         << "    type: " << sensorTypeName(frames.sensors[s].type) << "\n"
+         << "    frame_id: " << frames.sensors[s].frame_id << "\n"
+         << "    parent: " << frames.parentOf(s) << "\n";
+    // Honest: the larger of the solver's sigma and the spread across the arm's poses, axis by axis.
+    pose(result.sensors[s], result.sensor_sigmas[s].cwiseMax(result.sensor_spreads[s]), "    ");
+    file << "    solver_translation_stddev: " << listOf(result.sensor_sigmas[s].head<3>()) << "\n"
+         << "    solver_rotation_stddev: " << listOf(result.sensor_sigmas[s].tail<3>()) << "\n"
+         << "    translation_spread: " << listOf(result.sensor_spreads[s].head<3>()) << "  # m, jackknife over the arm's poses\n"
+         << "    rotation_spread: " << listOf(result.sensor_spreads[s].tail<3>()) << "  # rad\n"
+         << "    published: " << (withheld[s].empty() ? "true" : "false") << "\n";
+    if (!withheld[s].empty()) file << "    withheld_because: " << quoted(withheld[s]) << "\n";
+  }
   file << "target:\n"
        << "  parent: " << board_parent << "\n";
   pose(result.board, result.board_sigma, "  ");
@@ -255,10 +251,10 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
        << "poor_arm_poses: [";
   for (std::size_t i = 0; i < result.poor_stations.size(); ++i) file << (i ? ", " : "") << result.poor_stations[i] + 1;
   file << "]  # numbered from 1: the tool had to move beyond the arm's repeatability to fit\n"
-       << "board_rms: {distance_m: " << result.rms_distance << ", angle_rad: " << result.rms_angle << "}  # each view against the solution\n"
+       << "board_rms: {distance_m: " << result.rms_distance << ", angle_rad: " << result.rms_angle << "}  # each camera view against the solution\n"
        << "unmodelled: {translation_m: " << result.unmodelled_translation << ", rotation_rad: " << result.unmodelled_rotation
-       << "}  # per axis, added to every view's covariance\n"
-       << "closed_forms:  # OpenCV's calibrateHandEye on the same poses\n";
+       << "}  # per axis, added to every camera view's covariance\n"
+       << "closed_forms:  # OpenCV's calibrateHandEye on the same poses, for " << frames.sensors[result.main_camera].name << "\n";
   for (const HandEyeClosedForm& c : result.closed_forms) {
     const Eigen::Vector3d t = c.camera.translation();
     const Eigen::Quaterniond q(c.camera.rotation());
@@ -268,26 +264,28 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
   finish(file, path);
 }
 
-void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld) {
   std::ofstream file = openOutput(path);
-  const auto [parent, camera] = handEyeCamera(frames, result);
   file << "<!-- vocal hand-eye result: paste into the robot's URDF -->\n";
-  if (withheld.empty()) {
-    file << urdfFixedJoint(parent, frames.camera.frame_id, *camera);
-  } else {
-    file << "<!-- " << frames.camera.frame_id << " withheld: " << withheld << " (see calibration.yaml) -->\n";
+  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+    if (withheld[s].empty()) {
+      file << urdfFixedJoint(frames.parentOf(s), frames.sensors[s].frame_id, result.sensors[s]);
+    } else {
+      file << "<!-- " << frames.sensors[s].frame_id << " withheld: " << withheld[s] << " (see calibration.yaml) -->\n";
+    }
   }
   finish(file, path);
 }
 
-void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld) {
+void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld) {
   std::ofstream file = openOutput(path);
-  const auto [parent, camera] = handEyeCamera(frames, result);
-  file << "<launch>\n  <!-- vocal hand-eye result as a static transform -->\n";
-  if (withheld.empty()) {
-    file << staticTransformNode(frames.camera.name + "_extrinsic", parent, frames.camera.frame_id, *camera);
-  } else {
-    file << "  <!-- " << frames.camera.frame_id << " withheld: " << withheld << " (see calibration.yaml) -->\n";
+  file << "<launch>\n  <!-- vocal hand-eye result as static transforms -->\n";
+  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+    if (withheld[s].empty()) {
+      file << staticTransformNode(frames.sensors[s].name + "_extrinsic", frames.parentOf(s), frames.sensors[s].frame_id, result.sensors[s]);
+    } else {
+      file << "  <!-- " << frames.sensors[s].frame_id << " withheld: " << withheld[s] << " (see calibration.yaml) -->\n";
+    }
   }
   file << "</launch>\n";
   finish(file, path);

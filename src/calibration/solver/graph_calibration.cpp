@@ -19,45 +19,12 @@
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
+#include "vocal/calibration/solver/point_plane_residual.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
 
 namespace {
-// All points of one observation on the target's plane (rig frame). The sum over the points of
-// (n . (q p + t) + d)^2 equals |F^T v|^2 with v = (q^-1 n, n . t + d) and F F^T the 4x4 moment matrix
-// of the homogeneous points, so one block with 4 residuals carries exactly the information of every
-// point at the cost of one.
-struct ObservationOnPlaneResidual {
-  // Residuals are divided by `point_sigma`, so every observation counts by its own noise.
-  ObservationOnPlaneResidual(const std::vector<Eigen::Vector3d>& points, double point_sigma) {
-    Eigen::Matrix4d moments = Eigen::Matrix4d::Zero();
-    for (const Eigen::Vector3d& p : points) {
-      const Eigen::Vector4d h(p.x(), p.y(), p.z(), 1.0);
-      moments += h * h.transpose();
-    }
-    // Positive semi-definite (a 2D laser's points span only 3 dimensions): factor by eigenvalues.
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(moments);
-    factor_transpose =
-        (eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt() / point_sigma).asDiagonal() * eigen.eigenvectors().transpose();
-  }
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
-    Eigen::Matrix<T, 4, 1> v;
-    v.template head<3>() = q.conjugate() * n;
-    v[3] = n.dot(t) + offset[0];
-    Eigen::Map<Eigen::Matrix<T, 4, 1>> out(residual);
-    out = factor_transpose.cast<T>() * v;
-    return true;
-  }
-
-  Eigen::Matrix4d factor_transpose;
-};
-
 // A camera's plane measurement against the target's plane (rig frame): the predicted plane in the
 // camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
 // pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
@@ -87,16 +54,6 @@ struct PlaneMeasurementResidual {
   Eigen::Vector3d x_axis, y_axis, centre;
   Eigen::Matrix3d whitening;
 };
-
-// A range sensor's point noise from its own points: the RMS distance to their best plane (or, for a
-// 2D laser, to their best line in the scan plane), with a floor so noise-free data stays finite.
-double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {
-  constexpr double kFloor = 1e-4;
-  if (points.size() < 3) return kFloor;
-  if (type != SensorType::kLaser2d) return std::max(kFloor, fitPlane(points, "observation").rms);
-  // The scan's points lie in z = 0: the spread across their line is the middle one.
-  return std::max(kFloor, std::sqrt(std::max(principalAxesOf(points).spread[1], 0.0) / points.size()));
-}
 
 // A plane residual on a board pose (rig_from_board): its plane is the board's z = 0.
 template <typename PlaneResidual>
@@ -628,6 +585,14 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int s = 0; s < sensor_count; ++s)
     if (isolated_problems[s]) setStandardDeviations(isolated_problems[s].get(), {s}, sensor_state, &result);
   return result;
+}
+
+double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {
+  constexpr double kFloor = 1e-4;
+  if (points.size() < 3) return kFloor;
+  if (type != SensorType::kLaser2d) return std::max(kFloor, fitPlane(points, "observation").rms);
+  // The scan's points lie in z = 0: the spread across their line is the middle one.
+  return std::max(kFloor, std::sqrt(std::max(principalAxesOf(points).spread[1], 0.0) / points.size()));
 }
 
 ViewInSensor viewInSensor(const TargetObservation& o, SensorType type) {

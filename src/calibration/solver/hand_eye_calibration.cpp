@@ -12,6 +12,9 @@
 #include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
+#include "vocal/calibration/plane.h"
+#include "vocal/calibration/solver/pairwise_initialization.h"
+#include "vocal/calibration/solver/point_plane_residual.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -21,6 +24,28 @@ std::string handEyeSetupName(HandEyeSetup setup) { return setup == HandEyeSetup:
 
 namespace {
 constexpr double kDegrees = 180.0 / M_PI;
+
+// Where a sensor and the board are mounted: each on the tool (moving with it) or fixed in the base frame.
+struct Mounting {
+  bool sensor_on_tool = true;
+  bool board_on_tool = false;
+
+  // The board in the sensor's parent frame, given the board in its own parent and the tool's pose.
+  template <typename T>
+  void boardInSensorParent(const Eigen::Quaternion<T>& board_q, const Eigen::Matrix<T, 3, 1>& board_t, const Eigen::Quaternion<T>& tool_q,
+                           const Eigen::Matrix<T, 3, 1>& tool_t, Eigen::Quaternion<T>* q, Eigen::Matrix<T, 3, 1>* t) const {
+    *q = board_q;
+    *t = board_t;
+    if (board_on_tool) *t = tool_q * *t + tool_t, *q = tool_q * *q;
+    if (sensor_on_tool) *t = tool_q.conjugate() * (*t - tool_t), *q = tool_q.conjugate() * *q;
+  }
+  Eigen::Isometry3d boardInSensorParent(const Eigen::Isometry3d& board, const Eigen::Isometry3d& base_from_tool) const {
+    Eigen::Isometry3d pose = board;
+    if (board_on_tool) pose = base_from_tool * pose;
+    if (sensor_on_tool) pose = base_from_tool.inverse() * pose;
+    return pose;
+  }
+};
 
 // R_meas^T R_pred as a rotation vector (the perturbation R_pred = R_meas exp([w]x)).
 template <typename T>
@@ -32,12 +57,11 @@ Eigen::Matrix<T, 3, 1> rotationBetween(const Eigen::Quaternion<T>& measured, con
   return w;
 }
 
-// One camera view of the board against the pose the unknowns predict for it: eye-in-hand
-// camera <- board = X^-1 T^-1 Y, eye-to-hand X^-1 T Y (X the camera in its parent, Y the board in its
-// parent, T base <- tool), as (w, dt) whitened by the view's PnP covariance.
-struct ViewResidual {
-  ViewResidual(const PlaneMeasurement& view, HandEyeSetup setup)
-      : rotation(view.sensor_from_pattern.linear()), translation(view.sensor_from_pattern.translation()), eye_in_hand(setup == HandEyeSetup::kEyeInHand) {
+// One camera view of the board against the pose the unknowns predict for it: camera <- board =
+// X^-1 M, M the board in the camera's parent (Mounting), as (w, dt) whitened by the view's PnP covariance.
+struct CameraViewResidual {
+  CameraViewResidual(const PlaneMeasurement& view, Mounting mounting)
+      : rotation(view.sensor_from_pattern.linear()), translation(view.sensor_from_pattern.translation()), mounting(mounting) {
     whitening = view.pose_covariance.llt().matrixL().solve(Eigen::Matrix<double, 6, 6>::Identity());
   }
 
@@ -45,20 +69,14 @@ struct ViewResidual {
   bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
     using Quaternion = Eigen::Quaternion<T>;
     using Vector = Eigen::Matrix<T, 3, 1>;
-    const Eigen::Map<const Quaternion> camera_q(xq), board_q(yq), tool_q(tq);
-    const Eigen::Map<const Vector> camera_t(xt), board_t(yt), tool_t(tt);
+    const Eigen::Map<const Quaternion> camera_q(xq);
+    const Eigen::Map<const Vector> camera_t(xt);
     Quaternion q;
     Vector t;
-    if (eye_in_hand) {
-      q = camera_q.conjugate() * tool_q.conjugate() * board_q;
-      t = camera_q.conjugate() * (tool_q.conjugate() * (board_t - tool_t) - camera_t);
-    } else {
-      q = camera_q.conjugate() * tool_q * board_q;
-      t = camera_q.conjugate() * (tool_q * board_t + tool_t - camera_t);
-    }
+    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
     Eigen::Matrix<T, 6, 1> r;
-    r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), q);
-    r.template tail<3>() = t - translation.cast<T>();
+    r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), Quaternion(camera_q.conjugate() * q));
+    r.template tail<3>() = camera_q.conjugate() * (t - camera_t) - translation.cast<T>();
     Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
     out = whitening.cast<T>() * r;
     return true;
@@ -66,8 +84,30 @@ struct ViewResidual {
 
   Eigen::Matrix3d rotation;
   Eigen::Vector3d translation;
-  bool eye_in_hand;
+  Mounting mounting;
   Eigen::Matrix<double, 6, 6> whitening;
+};
+
+// A range sensor's board points against the board's plane where the unknowns put it (its z = 0 plane
+// in the sensor's parent frame, Mounting).
+struct RangeViewResidual {
+  RangeViewResidual(const std::vector<Eigen::Vector3d>& points, double point_sigma, Mounting mounting)
+      : on_plane(points, point_sigma), mounting(mounting) {}
+
+  template <typename T>
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
+    using Quaternion = Eigen::Quaternion<T>;
+    using Vector = Eigen::Matrix<T, 3, 1>;
+    Quaternion q;
+    Vector t;
+    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
+    const Vector normal = q * Vector::UnitZ();
+    const T offset = -normal.dot(t);
+    return on_plane(xq, xt, normal.data(), &offset, residual);
+  }
+
+  ObservationOnPlaneResidual on_plane;
+  Mounting mounting;
 };
 
 // The tool where the arm reported it, within its repeatability: rotation in the tool frame, translation
@@ -133,21 +173,33 @@ PlaneMeasurement turnedHalfway(const PlaneMeasurement& view) {
   return turned;
 }
 
-// Each view's board as the first station's first view numbers its corners: a rotation between two
-// stations keeps its angle from the tool's motion to the camera's (A X = X B), and a board found in the
-// other order adds half a turn to the camera's.
-int numberCornersAlike(std::vector<HandEyeStation>* stations) {
-  const HandEyeStation& first = stations->front();
-  const Eigen::Matrix3d& first_view = first.views.front().sensor_from_pattern.linear();
+// The main camera's first view at a station, or null.
+const PlaneMeasurement* firstView(const HandEyeStation& station, int camera) {
+  for (const HandEyeView& v : station.views)
+    if (v.sensor == camera) return &v.pattern;
+  return nullptr;
+}
+
+// The main camera's views as its first one numbers the board's corners: a rotation between two stations
+// keeps its angle from the tool's motion to the camera's (A X = X B), and a board found in the other order
+// adds half a turn to the camera's.
+int numberCornersAlike(std::vector<HandEyeStation>* stations, int camera) {
+  const HandEyeStation* first = nullptr;
+  for (const HandEyeStation& s : *stations)
+    if (firstView(s, camera)) first = first ? first : &s;
+  if (!first) return 0;
+  const Eigen::Matrix3d first_view = firstView(*first, camera)->sensor_from_pattern.linear();
+  const Eigen::Matrix3d first_tool = first->base_from_tool.linear();
   int flipped = 0;
   for (HandEyeStation& station : *stations) {
-    const double tool_angle = Eigen::AngleAxisd(first.base_from_tool.linear().transpose() * station.base_from_tool.linear()).angle();
-    for (PlaneMeasurement& view : station.views) {
-      const PlaneMeasurement turned = turnedHalfway(view);
-      const double as_found = Eigen::AngleAxisd(first_view * view.sensor_from_pattern.linear().transpose()).angle();
+    const double tool_angle = Eigen::AngleAxisd(first_tool.transpose() * station.base_from_tool.linear()).angle();
+    for (HandEyeView& view : station.views) {
+      if (view.sensor != camera) continue;
+      const PlaneMeasurement turned = turnedHalfway(view.pattern);
+      const double as_found = Eigen::AngleAxisd(first_view * view.pattern.sensor_from_pattern.linear().transpose()).angle();
       const double as_turned = Eigen::AngleAxisd(first_view * turned.sensor_from_pattern.linear().transpose()).angle();
       if (std::abs(as_turned - tool_angle) < std::abs(as_found - tool_angle)) {
-        view = turned;
+        view.pattern = turned;
         ++flipped;
       }
     }
@@ -155,9 +207,50 @@ int numberCornersAlike(std::vector<HandEyeStation>* stations) {
   return flipped;
 }
 
-// OpenCV's closed form: the camera in its parent (cv::calibrateHandEye takes base <- tool for
-// eye-in-hand and tool <- base for eye-to-hand), from each station's first view.
-Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, cv::HandEyeCalibrationMethod method) {
+// Another camera's views numbered as the main camera numbers the board: its pose from its first view as
+// found or turned halfway, whichever predicts its other views better (each as found or turned), then
+// each view turned where the prediction says it was found the other way.
+int turnLikePredicted(std::vector<HandEyeStation>* stations, int camera, const Mounting& mounting, const Eigen::Isometry3d& board) {
+  const HandEyeStation* first = nullptr;
+  for (const HandEyeStation& s : *stations)
+    if (!first && firstView(s, camera)) first = &s;
+  if (!first) return 0;
+  const PlaneMeasurement& first_view = *firstView(*first, camera);
+  const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, first->base_from_tool);
+  const auto disagreement = [&](const Eigen::Isometry3d& pose, const PlaneMeasurement& view, const Eigen::Isometry3d& base_from_tool, bool* turn) {
+    const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, base_from_tool);
+    const double as_found = rotationAngle(view.sensor_from_pattern.inverse() * predicted);
+    const double as_turned = rotationAngle(turnedHalfway(view).sensor_from_pattern.inverse() * predicted);
+    if (turn) *turn = as_turned < as_found;
+    return std::min(as_found, as_turned);
+  };
+  const Eigen::Isometry3d candidates[] = {seen * first_view.sensor_from_pattern.inverse(),
+                                          seen * turnedHalfway(first_view).sensor_from_pattern.inverse()};
+  double total[2] = {0.0, 0.0};
+  for (int c = 0; c < 2; ++c)
+    for (const HandEyeStation& s : *stations)
+      for (const HandEyeView& v : s.views)
+        if (v.sensor == camera) total[c] += disagreement(candidates[c], v.pattern, s.base_from_tool, nullptr);
+  const Eigen::Isometry3d& pose = candidates[total[1] < total[0] ? 1 : 0];
+  int flipped = 0;
+  for (HandEyeStation& station : *stations) {
+    for (HandEyeView& view : station.views) {
+      bool turn = false;
+      if (view.sensor != camera) continue;
+      disagreement(pose, view.pattern, station.base_from_tool, &turn);
+      if (turn) {
+        view.pattern = turnedHalfway(view.pattern);
+        ++flipped;
+      }
+    }
+  }
+  return flipped;
+}
+
+// OpenCV's closed form for the main camera in its parent (cv::calibrateHandEye takes base <- tool for
+// a camera on the tool and tool <- base for a fixed one), from each station's first view of it.
+Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int camera, bool camera_on_tool,
+                                cv::HandEyeCalibrationMethod method) {
   std::vector<cv::Mat> tool_rotations, tool_translations, board_rotations, board_translations;
   auto rotationMat = [](const Eigen::Matrix3d& r) {
     cv::Mat m(3, 3, CV_64F);
@@ -167,35 +260,29 @@ Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, Han
   };
   auto vectorMat = [](const Eigen::Vector3d& v) { return cv::Mat((cv::Mat_<double>(3, 1) << v.x(), v.y(), v.z())); };
   for (const HandEyeStation& s : stations) {
-    const Eigen::Isometry3d tool = setup == HandEyeSetup::kEyeInHand ? s.base_from_tool : s.base_from_tool.inverse();
+    const PlaneMeasurement* view = firstView(s, camera);
+    if (!view) continue;
+    const Eigen::Isometry3d tool = camera_on_tool ? s.base_from_tool : s.base_from_tool.inverse();
     tool_rotations.push_back(rotationMat(tool.linear()));
     tool_translations.push_back(vectorMat(tool.translation()));
-    board_rotations.push_back(rotationMat(s.views.front().sensor_from_pattern.linear()));
-    board_translations.push_back(vectorMat(s.views.front().sensor_from_pattern.translation()));
+    board_rotations.push_back(rotationMat(view->sensor_from_pattern.linear()));
+    board_translations.push_back(vectorMat(view->sensor_from_pattern.translation()));
   }
   cv::Mat rotation, translation;
   cv::calibrateHandEye(tool_rotations, tool_translations, board_rotations, board_translations, rotation, translation, method);
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) camera.linear()(i, j) = rotation.at<double>(i, j);
-    camera.translation()[i] = translation.at<double>(i);
+    for (int j = 0; j < 3; ++j) pose.linear()(i, j) = rotation.at<double>(i, j);
+    pose.translation()[i] = translation.at<double>(i);
   }
-  return camera;
+  return pose;
 }
 
-// The board in its parent as one station's view puts it, given the camera in its parent.
-Eigen::Isometry3d boardFrom(const Eigen::Isometry3d& base_from_tool, const Eigen::Isometry3d& camera, const PlaneMeasurement& view,
-                            HandEyeSetup setup) {
-  return setup == HandEyeSetup::kEyeInHand ? base_from_tool * camera * view.sensor_from_pattern
-                                           : base_from_tool.inverse() * camera * view.sensor_from_pattern;
-}
-
-// The board each view shows against where X and Y put it with the tool where the arm reported it, as
+// A camera view's error against the sensor and board poses with the tool where the arm reported it, as
 // (w, dt) of the view's perturbation.
-Eigen::Matrix<double, 6, 1> viewError(const HandEyeStation& station, const PlaneMeasurement& view, const Eigen::Isometry3d& camera,
-                                      const Eigen::Isometry3d& board, HandEyeSetup setup) {
-  const Eigen::Isometry3d predicted = setup == HandEyeSetup::kEyeInHand ? camera.inverse() * station.base_from_tool.inverse() * board
-                                                                        : camera.inverse() * station.base_from_tool * board;
+Eigen::Matrix<double, 6, 1> viewError(const HandEyeStation& station, const PlaneMeasurement& view, const Mounting& mounting,
+                                      const Eigen::Isometry3d& pose, const Eigen::Isometry3d& board) {
+  const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, station.base_from_tool);
   Eigen::Matrix<double, 6, 1> error;
   const Eigen::AngleAxisd turn(view.sensor_from_pattern.linear().transpose() * predicted.linear());
   error.head<3>() = turn.angle() * turn.axis();
@@ -203,21 +290,44 @@ Eigen::Matrix<double, 6, 1> viewError(const HandEyeStation& station, const Plane
   return error;
 }
 
-// What the views disagree by beyond their PnP covariance and the arm's repeatability: a real arm's
-// kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either. Per
-// axis, the views' median squared error (rotation, translation) when the median view's error under the
-// modelled covariance is over twice what 6 degrees of freedom give (chi-square median 5.35); zero
+// Translation and rotation sigmas of a pose block pair from the covariance (Ceres's quaternion tangent
+// is half the rotation vector).
+Eigen::Matrix<double, 6, 1> sigmasOf(ceres::Covariance& covariance, PoseState& state) {
+  Eigen::Matrix3d rotation_covariance, translation_covariance;
+  covariance.GetCovarianceMatrixInTangentSpace({state.rotation.coeffs().data()}, rotation_covariance.data());
+  covariance.GetCovarianceBlock(state.translation.data(), state.translation.data(), translation_covariance.data());
+  Eigen::Matrix<double, 6, 1> sigma;
+  sigma.head<3>() = translation_covariance.diagonal().cwiseSqrt();
+  sigma.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
+  return sigma;
+}
+
+// The rig an arm moves, as the solver sees it.
+struct ArmRig {
+  std::vector<HandEyeSensor> sensors;
+  bool board_on_tool = false;
+  int main_camera = -1;
+  Mounting mounting(int sensor) const { return {sensors[sensor].on_tool, board_on_tool}; }
+};
+
+// What the cameras' views disagree by beyond their PnP covariance and the arm's repeatability: a real
+// arm's kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either.
+// Per axis, the views' median squared error (rotation, translation) when the median view's error under
+// the modelled covariance is over twice what 6 degrees of freedom give (chi-square median 5.35); zero
 // otherwise. The median: one poor arm pose among several does not raise it.
-std::pair<double, double> unmodelledScatter(const std::vector<HandEyeStation>& stations, const Eigen::Isometry3d& camera,
-                                            const Eigen::Isometry3d& board, HandEyeSetup setup, const HandEyeOptions& options) {
+std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector<HandEyeStation>& stations,
+                                            const std::vector<Eigen::Isometry3d>& poses, const Eigen::Isometry3d& board,
+                                            const HandEyeOptions& options) {
   std::vector<double> chi2, rotation, translation;
   for (const HandEyeStation& s : stations) {
-    for (const PlaneMeasurement& view : s.views) {
-      const Eigen::Matrix<double, 6, 1> e = viewError(s, view, camera, board, setup);
+    for (const HandEyeView& view : s.views) {
+      if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
+      const Mounting mounting = rig.mounting(view.sensor);
+      const Eigen::Matrix<double, 6, 1> e = viewError(s, view.pattern, mounting, poses[view.sensor], board);
       // The tool's turn moves the board seen by its lever: from the tool to the board.
-      const double lever = setup == HandEyeSetup::kEyeInHand ? camera.translation().norm() + view.sensor_from_pattern.translation().norm()
-                                                             : board.translation().norm();
-      Eigen::Matrix<double, 6, 6> modelled = view.pose_covariance;
+      const double lever = mounting.board_on_tool ? board.translation().norm()
+                                                  : poses[view.sensor].translation().norm() + view.pattern.sensor_from_pattern.translation().norm();
+      Eigen::Matrix<double, 6, 6> modelled = view.pattern.pose_covariance;
       modelled.topLeftCorner<3, 3>() += std::pow(options.tool_rotation_sigma, 2) * Eigen::Matrix3d::Identity();
       modelled.bottomRightCorner<3, 3>() +=
           (std::pow(options.tool_translation_sigma, 2) + std::pow(options.tool_rotation_sigma * lever, 2)) * Eigen::Matrix3d::Identity();
@@ -236,16 +346,234 @@ std::pair<double, double> unmodelledScatter(const std::vector<HandEyeStation>& s
   return {std::sqrt(median(rotation) / 0.455), std::sqrt(median(translation) / 0.455)};
 }
 
-// Translation and rotation sigmas of a pose block pair from the covariance (Ceres's quaternion tangent
-// is half the rotation vector).
-Eigen::Matrix<double, 6, 1> sigmasOf(ceres::Covariance& covariance, PoseState& state) {
-  Eigen::Matrix3d rotation_covariance, translation_covariance;
-  covariance.GetCovarianceMatrixInTangentSpace({state.rotation.coeffs().data()}, rotation_covariance.data());
-  covariance.GetCovarianceBlock(state.translation.data(), state.translation.data(), translation_covariance.data());
-  Eigen::Matrix<double, 6, 1> sigma;
-  sigma.head<3>() = translation_covariance.diagonal().cwiseSqrt();
-  sigma.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
-  return sigma;
+// The unknowns and the problem that holds them (for the covariance).
+struct ArmGraph {
+  std::vector<PoseState> sensors;
+  PoseState board;
+  std::vector<PoseState> tools;
+  std::unique_ptr<ceres::Problem> problem;
+  explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
+};
+
+std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
+                                     const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start) {
+  auto graph = std::make_unique<ArmGraph>(board_start);
+  graph->problem = std::make_unique<ceres::Problem>();
+  ceres::Problem& problem = *graph->problem;
+  // Reserved first: the residual blocks hold pointers into each state.
+  graph->sensors.reserve(sensor_starts.size());
+  for (const Eigen::Isometry3d& start : sensor_starts) graph->sensors.emplace_back(start);
+  graph->tools.reserve(stations.size());
+  for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    PoseState& tool = graph->tools[k];
+    for (const HandEyeView& view : stations[k].views) {
+      PoseState& sensor = graph->sensors[view.sensor];
+      ceres::CostFunction* cost =
+          rig.sensors[view.sensor].type == SensorType::kCamera
+              ? static_cast<ceres::CostFunction*>(new ceres::AutoDiffCostFunction<CameraViewResidual, 6, 4, 3, 4, 3, 4, 3>(
+                    new CameraViewResidual(view.pattern, rig.mounting(view.sensor))))
+              : new ceres::AutoDiffCostFunction<RangeViewResidual, 4, 4, 3, 4, 3, 4, 3>(new RangeViewResidual(
+                    view.points, estimatedPointSigma(view.points, rig.sensors[view.sensor].type), rig.mounting(view.sensor)));
+      problem.AddResidualBlock(cost, nullptr, sensor.rotation.coeffs().data(), sensor.translation.data(), graph->board.rotation.coeffs().data(),
+                               graph->board.translation.data(), tool.rotation.coeffs().data(), tool.translation.data());
+    }
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
+                             new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
+    problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
+  for (PoseState& sensor : graph->sensors)
+    if (problem.HasParameterBlock(sensor.rotation.coeffs().data())) problem.SetManifold(sensor.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  problem.SetManifold(graph->board.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (!summary.IsSolutionUsable()) throw InputError("hand-eye calibration: the solver failed: " + summary.message);
+  return graph;
+}
+
+// Each sensor but the main camera started from the board's poses the main camera's solution gives: a
+// camera from its views (numbered alike first: turnLikePredicted), a range sensor from its board planes (alignPlanes; its fitted normals face it, so the board's normal is taken facing
+// it too, from whichever side fits).
+Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandEyeStation>& stations, const Eigen::Isometry3d& board) {
+  const Mounting mounting = rig.mounting(sensor);
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Plane> in_parent, in_sensor;
+  for (const HandEyeStation& s : stations) {
+    const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, s.base_from_tool);
+    for (const HandEyeView& view : s.views) {
+      if (view.sensor != sensor) continue;
+      if (rig.sensors[sensor].type == SensorType::kCamera) {
+        poses.push_back(seen * view.pattern.sensor_from_pattern.inverse());
+      } else {
+        Plane plane;
+        plane.normal = seen.linear().col(2);
+        plane.offset = -plane.normal.dot(seen.translation());
+        in_parent.push_back(plane);
+        in_sensor.push_back(fitPlane(view.points, "hand-eye range view").plane);
+      }
+    }
+  }
+  if (!poses.empty()) return chordalMean(poses);
+  const std::string what = "hand-eye sensor " + std::to_string(sensor);
+  const Eigen::Isometry3d front = alignPlanes(in_parent, in_sensor, what);
+  std::vector<Plane> flipped = in_parent;
+  for (Plane& p : flipped) p.normal = -p.normal, p.offset = -p.offset;
+  const Eigen::Isometry3d back = alignPlanes(flipped, in_sensor, what);
+  const auto misfit = [&](const Eigen::Isometry3d& pose, const std::vector<Plane>& planes) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < planes.size(); ++i) sum += (pose.linear() * in_sensor[i].normal - planes[i].normal).norm();
+    return sum;
+  };
+  return misfit(front, in_parent) <= misfit(back, flipped) ? front : back;
+}
+
+HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> stations, const HandEyeOptions& options) {
+  HandEyeResult result;
+  result.setup = rig.board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand;
+  result.main_camera = rig.main_camera;
+  result.flipped_views = numberCornersAlike(&stations, rig.main_camera);
+  const bool main_on_tool = rig.sensors[rig.main_camera].on_tool;
+  const std::pair<const char*, cv::HandEyeCalibrationMethod> methods[] = {{"Tsai", cv::CALIB_HAND_EYE_TSAI},
+                                                                          {"Park", cv::CALIB_HAND_EYE_PARK},
+                                                                          {"Horaud", cv::CALIB_HAND_EYE_HORAUD},
+                                                                          {"Andreff", cv::CALIB_HAND_EYE_ANDREFF},
+                                                                          {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
+  for (const auto& [name, method] : methods) {
+    result.closed_forms.push_back({name, openCvHandEye(stations, rig.main_camera, main_on_tool, method)});
+  }
+  std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
+  starts[rig.main_camera] = result.closed_forms[1].camera;  // Park and Martin
+  const Mounting main_mounting = rig.mounting(rig.main_camera);
+  std::vector<Eigen::Isometry3d> boards;
+  for (const HandEyeStation& s : stations) {
+    for (const HandEyeView& view : s.views) {
+      if (view.sensor != rig.main_camera) continue;
+      // board in its parent = (its parent <- the camera's parent) X C
+      Eigen::Isometry3d seen = starts[rig.main_camera] * view.pattern.sensor_from_pattern;
+      if (main_mounting.sensor_on_tool) seen = s.base_from_tool * seen;
+      if (main_mounting.board_on_tool) seen = s.base_from_tool.inverse() * seen;
+      boards.push_back(seen);
+    }
+  }
+  const Eigen::Isometry3d board_start = chordalMean(boards);
+  for (std::size_t sensor = 0; sensor < rig.sensors.size(); ++sensor) {
+    const int s = static_cast<int>(sensor);
+    if (s == rig.main_camera) continue;
+    if (rig.sensors[sensor].type == SensorType::kCamera) result.flipped_views += turnLikePredicted(&stations, s, rig.mounting(s), board_start);
+    starts[sensor] = startOf(rig, s, stations, board_start);
+  }
+
+  // Solved with the views' and the arm's own noise; when the cameras' views then disagree far beyond it
+  // (a real arm's kinematics, a real camera's intrinsics), solved again with that scatter added.
+  std::unique_ptr<ArmGraph> graph = solveGraph(rig, stations, options, starts, board_start);
+  std::vector<Eigen::Isometry3d> solved;
+  for (const PoseState& p : graph->sensors) solved.push_back(p.pose());
+  const auto [rotation_scatter, translation_scatter] = unmodelledScatter(rig, stations, solved, graph->board.pose(), options);
+  if (translation_scatter > 0.0) {
+    result.unmodelled_rotation = rotation_scatter;
+    result.unmodelled_translation = translation_scatter;
+    // The views of one still pose share that error (the same arm pose, the same image of the board): each
+    // takes it times their count, so together they weigh as one view would.
+    for (HandEyeStation& s : stations) {
+      for (HandEyeView& view : s.views) {
+        if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
+        const double shared = static_cast<double>(std::count_if(s.views.begin(), s.views.end(), [&](const HandEyeView& v) { return v.sensor == view.sensor; }));
+        view.pattern.pose_covariance.topLeftCorner<3, 3>() += shared * rotation_scatter * rotation_scatter * Eigen::Matrix3d::Identity();
+        view.pattern.pose_covariance.bottomRightCorner<3, 3>() += shared * translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
+      }
+    }
+    graph = solveGraph(rig, stations, options, solved, graph->board.pose());
+  }
+  for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
+  result.board = graph->board.pose();
+  result.camera = result.sensors[rig.main_camera];
+
+  ceres::Covariance covariance(ceres::Covariance::Options{});
+  std::vector<std::pair<const double*, const double*>> blocks;
+  const auto add = [&](PoseState& state) {
+    blocks.emplace_back(state.rotation.coeffs().data(), state.rotation.coeffs().data());
+    blocks.emplace_back(state.translation.data(), state.translation.data());
+  };
+  for (PoseState& p : graph->sensors) add(p);
+  add(graph->board);
+  result.sensor_sigmas.assign(rig.sensors.size(), Eigen::Matrix<double, 6, 1>::Zero());
+  if (covariance.Compute(blocks, graph->problem.get())) {
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s) result.sensor_sigmas[s] = sigmasOf(covariance, graph->sensors[s]);
+    result.board_sigma = sigmasOf(covariance, graph->board);
+  }
+  result.camera_sigma = result.sensor_sigmas[rig.main_camera];
+
+  double squared_distance = 0.0, squared_angle = 0.0;
+  int views = 0;
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    const Eigen::Isometry3d reported = stations[k].base_from_tool, solved_tool = graph->tools[k].pose();
+    result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
+    result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));
+    if (std::max(result.tool_shift.back() / options.tool_translation_sigma, result.tool_turn.back() / options.tool_rotation_sigma) >
+        options.loss_sigmas) {
+      result.poor_stations.push_back(static_cast<int>(k));
+    }
+    // The cameras' views against the arm's reported pose: what a poor pose leaves unexplained.
+    double distance = 0.0, angle = 0.0;
+    int seen = 0;
+    for (const HandEyeView& view : stations[k].views) {
+      if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
+      const Eigen::Matrix<double, 6, 1> e = viewError(stations[k], view.pattern, rig.mounting(view.sensor), result.sensors[view.sensor], result.board);
+      distance += e.tail<3>().norm();
+      angle += e.head<3>().norm();
+      squared_distance += e.tail<3>().squaredNorm();
+      squared_angle += e.head<3>().squaredNorm();
+      ++seen, ++views;
+    }
+    result.view_distance.push_back(seen ? distance / seen : 0.0);
+    result.view_angle.push_back(seen ? angle / seen : 0.0);
+  }
+  result.rms_distance = std::sqrt(squared_distance / std::max(views, 1));
+  result.rms_angle = std::sqrt(squared_angle / std::max(views, 1));
+  return result;
+}
+
+// Every sensor re-solved without each station in turn (those that leave a motion that can fix it): the
+// jackknife standard deviation per axis, translation in the sensor's parent frame and rotation about its
+// axes. Returns the re-solves; the spreads stay zero with fewer than 2.
+int spreadWithoutEachStation(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
+                             const std::vector<Eigen::Isometry3d>& poses, std::vector<Eigen::Matrix<double, 6, 1>>* spreads) {
+  std::vector<std::vector<Eigen::Matrix<double, 6, 1>>> moves;
+  for (std::size_t left_out = 0; left_out < stations.size(); ++left_out) {
+    std::vector<HandEyeStation> rest = stations;
+    rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(left_out));
+    if (!handEyeMotionProblem(rest, options).empty()) continue;
+    std::vector<Eigen::Isometry3d> again;
+    try {
+      again = solveArmRig(rig, rest, options).sensors;
+    } catch (const InputError&) {
+      continue;  // a sensor's planes no longer fix it without that pose
+    }
+    std::vector<Eigen::Matrix<double, 6, 1>> move(poses.size());
+    for (std::size_t s = 0; s < poses.size(); ++s) {
+      move[s].head<3>() = again[s].translation() - poses[s].translation();
+      const Eigen::AngleAxisd turn(again[s].linear() * poses[s].linear().transpose());
+      move[s].tail<3>() = turn.angle() * turn.axis();
+    }
+    moves.push_back(move);
+  }
+  spreads->assign(poses.size(), Eigen::Matrix<double, 6, 1>::Zero());
+  const double m = static_cast<double>(moves.size());
+  if (moves.size() < 2) return static_cast<int>(moves.size());
+  for (std::size_t s = 0; s < poses.size(); ++s) {
+    Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const auto& move : moves) mean += move[s] / m;
+    Eigen::Matrix<double, 6, 1> variance = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const auto& move : moves) variance += (move[s] - mean).cwiseAbs2();
+    (*spreads)[s] = ((m - 1.0) / m * variance).cwiseSqrt();
+  }
+  return static_cast<int>(moves.size());
 }
 }  // namespace
 
@@ -287,176 +615,50 @@ std::string handEyeMotionProblem(const std::vector<HandEyeStation>& stations, co
   return line;
 }
 
-namespace {
-HandEyeResult solveHandEye(std::vector<HandEyeStation> stations, HandEyeSetup setup, const HandEyeOptions& options);
-
-// The camera's pose re-solved without each station in turn: its jackknife standard deviation per axis,
-// translation in the camera's parent frame and rotation about its axes. None solved: zero, 0 re-solves.
-int spreadWithoutEachStation(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, const HandEyeOptions& options,
-                             const Eigen::Isometry3d& camera, Eigen::Matrix<double, 6, 1>* spread) {
-  std::vector<Eigen::Matrix<double, 6, 1>> moves;
-  for (std::size_t left_out = 0; left_out < stations.size(); ++left_out) {
-    std::vector<HandEyeStation> rest = stations;
-    rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(left_out));
-    if (!handEyeMotionProblem(rest, options).empty()) continue;
-    const Eigen::Isometry3d again = solveHandEye(rest, setup, options).camera;
-    Eigen::Matrix<double, 6, 1> move;
-    move.head<3>() = again.translation() - camera.translation();
-    const Eigen::AngleAxisd turn(again.linear() * camera.linear().transpose());
-    move.tail<3>() = turn.angle() * turn.axis();
-    moves.push_back(move);
+HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& given,
+                              const HandEyeOptions& options) {
+  ArmRig rig{sensors, board_on_tool, -1};
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    const bool other_side = sensors[s].on_tool != board_on_tool;
+    if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0) rig.main_camera = static_cast<int>(s);
+    if (sensors[s].type != SensorType::kCamera && !other_side) {
+      throw InputError("hand-eye calibration: sensor " + std::to_string(s) + " (a " + sensorTypeName(sensors[s].type) + ") is " +
+                       (board_on_tool ? "on the tool with the board" : "fixed like the board") +
+                       ": it sees the board in one place only, which fixes no range sensor");
+    }
   }
-  spread->setZero();
-  const double m = static_cast<double>(moves.size());
-  if (moves.size() < 2) return static_cast<int>(moves.size());
-  Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
-  for (const auto& move : moves) mean += move / m;
-  for (const auto& move : moves) *spread += (move - mean).cwiseAbs2();
-  *spread = ((m - 1.0) / m * *spread).cwiseSqrt();
-  return static_cast<int>(moves.size());
-}
-}  // namespace
-
-HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& given, HandEyeSetup setup, const HandEyeOptions& options) {
+  if (rig.main_camera < 0) {
+    throw InputError(std::string("hand-eye calibration: no camera ") + (board_on_tool ? "fixed in the base frame watches the board on the tool"
+                                                                                      : "on the tool watches the fixed board"));
+  }
   std::vector<HandEyeStation> stations;
   for (const HandEyeStation& s : given) {
-    if (s.views.empty()) continue;
-    for (const PlaneMeasurement& view : s.views) {
-      if (!view.pose_covariance.allFinite() || view.pose_covariance.llt().info() != Eigen::Success) {
+    bool main_seen = false;
+    for (const HandEyeView& view : s.views) {
+      if (view.sensor < 0 || view.sensor >= static_cast<int>(sensors.size())) {
+        throw InputError("hand-eye calibration: a view of sensor " + std::to_string(view.sensor) + ", which the rig does not have");
+      }
+      if (sensors[view.sensor].type == SensorType::kCamera &&
+          (!view.pattern.pose_covariance.allFinite() || view.pattern.pose_covariance.llt().info() != Eigen::Success)) {
         throw InputError("hand-eye calibration: a camera view has no usable pose covariance (not positive definite)");
       }
+      main_seen |= view.sensor == rig.main_camera;
     }
-    stations.push_back(s);
+    if (main_seen) stations.push_back(s);  // the main camera pins every station's board
   }
   const std::string problem = handEyeMotionProblem(stations, options);
-  if (!problem.empty()) throw InputError("hand-eye calibration (" + handEyeSetupName(setup) + "): " + problem);
-  HandEyeResult result = solveHandEye(stations, setup, options);
-  result.spread_solves = spreadWithoutEachStation(stations, setup, options, result.camera, &result.camera_spread);
+  if (!problem.empty()) {
+    throw InputError("hand-eye calibration (" + handEyeSetupName(board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand) +
+                     "): " + problem);
+  }
+  HandEyeResult result = solveArmRig(rig, stations, options);
+  result.spread_solves = spreadWithoutEachStation(rig, stations, options, result.sensors, &result.sensor_spreads);
+  result.camera_spread = result.sensor_spreads[rig.main_camera];
   return result;
 }
 
-namespace {
-// The unknowns and the problem that holds them (for the covariance).
-struct HandEyeGraph {
-  PoseState camera, board;
-  std::vector<PoseState> tools;
-  std::unique_ptr<ceres::Problem> problem;
-  HandEyeGraph(const Eigen::Isometry3d& camera_start, const Eigen::Isometry3d& board_start) : camera(camera_start), board(board_start) {}
-};
-
-std::unique_ptr<HandEyeGraph> solveGraph(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, const HandEyeOptions& options,
-                                         const Eigen::Isometry3d& camera_start, const Eigen::Isometry3d& board_start) {
-  auto graph = std::make_unique<HandEyeGraph>(camera_start, board_start);
-  graph->problem = std::make_unique<ceres::Problem>();
-  ceres::Problem& problem = *graph->problem;
-  // Reserved first: the residual blocks hold pointers into each tool's state.
-  graph->tools.reserve(stations.size());
-  for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
-  for (std::size_t k = 0; k < stations.size(); ++k) {
-    PoseState& tool = graph->tools[k];
-    for (const PlaneMeasurement& view : stations[k].views) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ViewResidual, 6, 4, 3, 4, 3, 4, 3>(new ViewResidual(view, setup)), nullptr,
-                               graph->camera.rotation.coeffs().data(), graph->camera.translation.data(), graph->board.rotation.coeffs().data(),
-                               graph->board.translation.data(), tool.rotation.coeffs().data(), tool.translation.data());
-    }
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
-                             new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
-    problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
-  }
-  problem.SetManifold(graph->camera.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
-  problem.SetManifold(graph->board.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-14;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  if (!summary.IsSolutionUsable()) throw InputError("hand-eye calibration: the solver failed: " + summary.message);
-  return graph;
+HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, const HandEyeOptions& options) {
+  return calibrateArmRig({{SensorType::kCamera, setup == HandEyeSetup::kEyeInHand}}, setup == HandEyeSetup::kEyeToHand, stations, options);
 }
-
-HandEyeResult solveHandEye(std::vector<HandEyeStation> stations, HandEyeSetup setup, const HandEyeOptions& options) {
-  HandEyeResult result;
-  result.setup = setup;
-  result.flipped_views = numberCornersAlike(&stations);
-  const std::pair<const char*, cv::HandEyeCalibrationMethod> methods[] = {{"Tsai", cv::CALIB_HAND_EYE_TSAI},
-                                                                          {"Park", cv::CALIB_HAND_EYE_PARK},
-                                                                          {"Horaud", cv::CALIB_HAND_EYE_HORAUD},
-                                                                          {"Andreff", cv::CALIB_HAND_EYE_ANDREFF},
-                                                                          {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
-  for (const auto& [name, method] : methods) result.closed_forms.push_back({name, openCvHandEye(stations, setup, method)});
-  const Eigen::Isometry3d start = result.closed_forms[1].camera;  // Park and Martin
-  std::vector<Eigen::Isometry3d> boards;
-  for (const HandEyeStation& s : stations)
-    for (const PlaneMeasurement& view : s.views) boards.push_back(boardFrom(s.base_from_tool, start, view, setup));
-
-  // Solved with the views' and the arm's own noise; when the views then disagree far beyond it (a real
-  // arm's kinematics, a real camera's intrinsics), solved again with that scatter added to every view.
-  std::unique_ptr<HandEyeGraph> graph = solveGraph(stations, setup, options, start, chordalMean(boards));
-  const auto [rotation_scatter, translation_scatter] = unmodelledScatter(stations, graph->camera.pose(), graph->board.pose(), setup, options);
-  if (translation_scatter > 0.0) {
-    result.unmodelled_rotation = rotation_scatter;
-    result.unmodelled_translation = translation_scatter;
-    // The views of one still pose share that error (the same arm pose, the same image of the board): each
-    // takes it times their count, so together they weigh as one view would.
-    for (HandEyeStation& s : stations) {
-      const double shared = static_cast<double>(s.views.size());
-      for (PlaneMeasurement& view : s.views) {
-        view.pose_covariance.topLeftCorner<3, 3>() += shared * rotation_scatter * rotation_scatter * Eigen::Matrix3d::Identity();
-        view.pose_covariance.bottomRightCorner<3, 3>() += shared * translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
-      }
-    }
-    graph = solveGraph(stations, setup, options, graph->camera.pose(), graph->board.pose());
-  }
-  PoseState& camera = graph->camera;
-  PoseState& board = graph->board;
-  const std::vector<PoseState>& tools = graph->tools;
-  ceres::Problem& problem_graph = *graph->problem;
-  result.camera = camera.pose();
-  result.board = board.pose();
-
-  ceres::Covariance covariance(ceres::Covariance::Options{});
-  const std::vector<std::pair<const double*, const double*>> blocks = {
-      {camera.rotation.coeffs().data(), camera.rotation.coeffs().data()},
-      {camera.translation.data(), camera.translation.data()},
-      {board.rotation.coeffs().data(), board.rotation.coeffs().data()},
-      {board.translation.data(), board.translation.data()}};
-  if (covariance.Compute(blocks, &problem_graph)) {
-    result.camera_sigma = sigmasOf(covariance, camera);
-    result.board_sigma = sigmasOf(covariance, board);
-  }
-
-  double squared_distance = 0.0, squared_angle = 0.0;
-  int views = 0;
-  for (std::size_t k = 0; k < stations.size(); ++k) {
-    const Eigen::Isometry3d reported = stations[k].base_from_tool, solved = tools[k].pose();
-    result.tool_shift.push_back((solved.translation() - reported.translation()).norm());
-    result.tool_turn.push_back(rotationAngle(reported.inverse() * solved));
-    const double shift_sigmas = result.tool_shift.back() / options.tool_translation_sigma;
-    const double turn_sigmas = result.tool_turn.back() / options.tool_rotation_sigma;
-    if (std::max(shift_sigmas, turn_sigmas) > options.loss_sigmas) result.poor_stations.push_back(static_cast<int>(k));
-    // Against the arm's reported pose: what a poor pose leaves unexplained.
-    double distance = 0.0, angle = 0.0;
-    for (const PlaneMeasurement& view : stations[k].views) {
-      const Eigen::Isometry3d predicted = setup == HandEyeSetup::kEyeInHand ? result.camera.inverse() * reported.inverse() * result.board
-                                                                            : result.camera.inverse() * reported * result.board;
-      const double d = (predicted.translation() - view.sensor_from_pattern.translation()).norm();
-      const double a = rotationAngle(view.sensor_from_pattern.inverse() * predicted);
-      distance += d / stations[k].views.size();
-      angle += a / stations[k].views.size();
-      squared_distance += d * d;
-      squared_angle += a * a;
-      ++views;
-    }
-    result.view_distance.push_back(distance);
-    result.view_angle.push_back(angle);
-  }
-  result.rms_distance = std::sqrt(squared_distance / std::max(views, 1));
-  result.rms_angle = std::sqrt(squared_angle / std::max(views, 1));
-  return result;
-}
-}  // namespace
 
 }  // namespace vocal

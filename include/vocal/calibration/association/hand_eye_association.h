@@ -1,7 +1,7 @@
 #pragma once
 // The still poses of a robot arm (hand-eye), from the tool's pose as tf reports it: the arm stands still
 // when its tool does, which the arm's own pose stream says at its own rate (100-1000 Hz), however few
-// images the camera took there. Each still span of the tool collects the camera's views within it.
+// images the camera took there. Each still span of the tool collects every sensor's views within it.
 
 #include <string>
 #include <vector>
@@ -29,12 +29,13 @@ struct ToolStillnessOptions {
 struct HandEyeAssociation {
   std::vector<HandEyeStation> stations;  // in time order, each with at least one view
   int still_spans = 0;          // the tool's still spans found
-  int spans_without_view = 0;   // ... in which the camera saw no board
-  int views_in_motion = 0;      // camera views outside every still span (the arm moving)
+  int spans_without_view = 0;   // ... in which no sensor saw the board
+  int views_in_motion = 0;      // views outside every still span (the arm moving)
   int views_without_tool = 0;   // ... taken where the tool's pose is not known (before, after or between tf)
 };
 
-// `samples` in any order; `views`: the camera's observations (plane_measurements set), any order.
+// `samples` in any order; `views`: every sensor's observations (a camera's plane_measurements, a range
+// sensor's points), any order.
 HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, const std::vector<TimedObservation>& views,
                                           const ToolStillnessOptions& options = {});
 

@@ -51,18 +51,21 @@ void writeStaticTransformLaunch(const std::string& path, const std::string& refe
                                 const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
                                 const std::vector<std::string>* withheld = nullptr);
 
-// A hand-eye result (hand_eye_calibration.h) as the same three files: the camera in the tool frame
-// (eye-in-hand) or in the reference frame (eye-to-hand), as a user pastes it into the arm's URDF; the
-// YAML also gives the board's pose, the poor arm poses and OpenCV's closed forms.
+// A hand-eye result (hand_eye_calibration.h) as the same three files: each sensor in its parent, the
+// tool frame (on the tool) or the reference frame (fixed), as a user pastes it into the arm's URDF; the
+// YAML also gives the board's pose, the poor arm poses and OpenCV's closed forms for the main camera.
 struct HandEyeFrames {
   std::string reference_frame, tool_frame;
-  SensorSpec camera;
+  std::vector<SensorSpec> sensors;
+  std::vector<bool> on_tool;  // per sensor
+  const std::string& parentOf(std::size_t sensor) const { return on_tool[sensor] ? tool_frame : reference_frame; }
 };
-// Why the camera stays out of the URDF and launch file ("" where it may go in): its spread across the
+// Why a sensor stays out of the URDF and launch file ("" where it may go in): its spread across the
 // arm's poses is over `tolerance`, or none could be computed - unless `publish_uncertain`.
-std::string handEyeWithheld(const HandEyeResult& result, const SpreadTolerance& tolerance, bool publish_uncertain);
-void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
-void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
-void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::string& withheld);
+std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, const SpreadTolerance& tolerance, bool publish_uncertain);
+// `withheld`: per sensor, handEyeWithheld.
+void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld);
+void writeHandEyeUrdf(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld);
+void writeHandEyeLaunch(const std::string& path, const HandEyeFrames& frames, const HandEyeResult& result, const std::vector<std::string>& withheld);
 
 }  // namespace vocal

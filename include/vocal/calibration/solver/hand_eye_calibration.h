@@ -1,9 +1,11 @@
 #pragma once
 // Hand-eye calibration (calibration/solver/): a camera and the board where a robot arm moves one of them.
 // In:  still poses of the arm, each with the tool's pose in the robot's base frame as the arm reports it
-//      (tf) and the camera's views of the board at that pose (PnP poses with their covariance).
+//      (tf) and each sensor's views of the board at that pose (a camera's PnP poses with their
+//      covariance, a range sensor's board points).
 // Out: the camera's pose on the tool and the board's in the base frame (eye-in-hand), or the camera's
-//      in the base frame and the board's on the tool (eye-to-hand), with standard deviations; how far
+//      in the base frame and the board's on the tool (eye-to-hand), and every other sensor's in its
+//      parent (the tool or the base frame), with standard deviations; how far
 //      each arm pose had to move to fit (a poor pose is named, not followed); OpenCV's closed forms on
 //      the same poses, side by side.
 //
@@ -28,10 +30,24 @@ enum class HandEyeSetup {
 };
 std::string handEyeSetupName(HandEyeSetup setup);  // "eye-in-hand", "eye-to-hand"
 
+// One sensor of an arm's rig: a camera or a range sensor (RGB-D, 3D lidar), on the tool or fixed in the
+// base frame.
+struct HandEyeSensor {
+  SensorType type = SensorType::kCamera;
+  bool on_tool = true;
+};
+
+// One sensor's view of the board at one still pose of the arm.
+struct HandEyeView {
+  int sensor = 0;
+  PlaneMeasurement pattern;             // a camera's: the pattern's pose and covariance
+  std::vector<Eigen::Vector3d> points;  // a range sensor's board points, in its frame
+};
+
 // One still pose of the arm.
 struct HandEyeStation {
   Eigen::Isometry3d base_from_tool = Eigen::Isometry3d::Identity();  // as the arm reports it
-  std::vector<PlaneMeasurement> views;  // the camera's views of the board while the arm stood there
+  std::vector<HandEyeView> views;  // every sensor's views of the board while the arm stood there
   double first_stamp = 0.0, last_stamp = 0.0;  // seconds, to find it again in the recording
 };
 
@@ -57,6 +73,11 @@ struct HandEyeClosedForm {
 
 struct HandEyeResult {
   HandEyeSetup setup = HandEyeSetup::kEyeInHand;
+  // Every sensor in its parent (tool <- sensor on the tool, base <- sensor fixed), standard deviations
+  // as camera_sigma, and its spread across the arm's poses as camera_spread.
+  std::vector<Eigen::Isometry3d> sensors;
+  std::vector<Eigen::Matrix<double, 6, 1>> sensor_sigmas, sensor_spreads;
+  int main_camera = 0;  // the camera the closed forms are for; `camera` below is its pose
   // Eye-in-hand: tool <- camera and base <- board. Eye-to-hand: base <- camera and tool <- board.
   Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
@@ -87,8 +108,18 @@ struct HandEyeResult {
 // would fix it; empty when the stations can.
 std::string handEyeMotionProblem(const std::vector<HandEyeStation>& stations, const HandEyeOptions& options = {});
 
+// One camera (sensor 0): on the tool over a fixed board (eye-in-hand) or fixed, the board on the tool.
 // Throws InputError for fewer than 3 stations with a view, a view without a usable covariance, or a
 // degenerate motion (handEyeMotionProblem's message).
 HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, HandEyeSetup setup, const HandEyeOptions& options = {});
+
+// Several sensors in one graph: `board_on_tool` (eye-to-hand) or the board fixed in the base frame; the
+// first camera on the other side from the board (on the tool when the board is fixed, fixed when it is
+// on the tool) is the main camera, started from OpenCV's closed form; every other sensor is started
+// from the board's poses that solution gives (a camera's views; a range sensor's planes, which must turn
+// about two axes at least). Throws InputError as calibrateHandEye, for no such camera, and for a sensor
+// on the board's side that is not a camera (it would see the board in one place only).
+HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& stations,
+                              const HandEyeOptions& options = {});
 
 }  // namespace vocal
