@@ -6,8 +6,8 @@ result (real), the arm poses named poor, and the run time.
 usage: /usr/bin/python3 bench/hand_eye_sessions.py [--work DIR] [--seeds N]
 
 The real Franka recording comes from ../shared/data/real_rigs (a loud note when it is not there);
-simulated sessions (eye-in-hand and eye-to-hand, with and without one arm pose reported 5 mm off, seeds
-1..N) are generated into --work (default /tmp/vocal_hand_eye_sessions) once and reused.
+simulated sessions (eye-in-hand, eye-to-hand, and eye-to-hand with a lidar and an RGB-D camera beside; with
+and without one arm pose reported 5 mm off; seeds 1..N) are generated into --work (default /tmp/vocal_hand_eye_sessions) once and reused.
 """
 import argparse
 import math
@@ -56,14 +56,21 @@ def calibrate(rig, bag, out):
     return yaml.safe_load(open(path)), seconds
 
 
-def row(name, result, truth, seconds):
+def row(name, result, truth, seconds, others=None):
+    """`others`: the truth of the rig's other sensors by name, printed after the camera's cell."""
     camera = result["sensors"][0]
     ours = error(matrix(camera["translation"], camera["rotation"]), truth)
     closed = {c["method"]: error(matrix(c["translation"], c["rotation"]), truth) for c in result["closed_forms"]}
     cells = " | ".join("%.2f / %.2f" % closed[m] for m in ("Tsai", "Park", "Horaud", "Andreff", "Daniilidis"))
     poor = ",".join(str(p) for p in result["poor_arm_poses"]) or "-"
-    print("| %s | **%.2f / %.2f** | %s | %s | %s | %.1f |" % (
-        name, ours[0], ours[1], cells, poor, "yes" if camera["published"] else "no", seconds), flush=True)
+    beside = ""
+    for sensor in result["sensors"][1:]:
+        pose = others[sensor["name"]]["pose"]
+        e = error(matrix(sensor["translation"], sensor["rotation"]), matrix(pose["translation"], pose["rotation"]))
+        beside += "; %s %.2f / %.2f" % (sensor["name"], e[0], e[1])
+    published = all(s["published"] for s in result["sensors"])
+    print("| %s | **%.2f / %.2f**%s | %s | %s | %s | %.1f |" % (
+        name, ours[0], ours[1], beside, cells, poor, "yes" if published else "no", seconds), flush=True)
 
 
 def main():
@@ -71,7 +78,7 @@ def main():
     parser.add_argument("--work", default="/tmp/vocal_hand_eye_sessions")
     parser.add_argument("--seeds", type=int, default=3)
     args = parser.parse_args()
-    print("| session | vocal mm / mrad | Tsai | Park | Horaud | Andreff | Daniilidis | poor arm poses | published | s |")
+    print("| session | vocal mm / mrad (the sensors beside) | Tsai | Park | Horaud | Andreff | Daniilidis | poor arm poses | published | s |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     if os.path.exists(os.path.join(REAL, "session.bag")):
         result, seconds = calibrate(os.path.join(ROOT, "config", "franka_eye_in_hand_rig.yaml"), os.path.join(REAL, "session.bag"),
@@ -79,19 +86,23 @@ def main():
         row("real Franka wrist camera (vs the authors' result)", result, matrix(*FRANKA_REFERENCE), seconds)
     else:
         print("*** real Franka recording not found at %s: its row is SKIPPED ***" % os.path.abspath(REAL))
-    for setup in ("eye-in-hand", "eye-to-hand"):
+    for setup, beside in (("eye-in-hand", False), ("eye-to-hand", False), ("eye-to-hand", True)):
         for poor in (0, 5):
             for seed in range(1, args.seeds + 1):
-                folder = os.path.join(args.work, "%s_poor%d_seed%d" % (setup, poor, seed))
+                folder = os.path.join(args.work, "%s%s_poor%d_seed%d" % (setup, "_beside" if beside else "", poor, seed))
                 if not os.path.exists(os.path.join(folder, "session.bag")):
                     command = [os.path.join(TOOLS, "simulate_calibration_session"), folder, "--" + setup, "--seed", str(seed)]
                     if poor:
                         command += ["--poor-pose", str(poor)]
+                    if beside:
+                        command += ["--beside"]
                     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-                truth = yaml.safe_load(open(os.path.join(folder, "ground_truth.yaml")))["camera"]["pose"]
+                truth = yaml.safe_load(open(os.path.join(folder, "ground_truth.yaml")))
                 result, seconds = calibrate(os.path.join(folder, "rig.yaml"), os.path.join(folder, "session.bag"), folder)
-                name = "simulated %s, seed %d%s" % (setup, seed, ", pose %d reported 5 mm off" % poor if poor else "")
-                row(name, result, matrix(truth["translation"], truth["rotation"]), seconds)
+                name = "simulated %s%s, seed %d%s" % (setup, " + lidar + RGB-D" if beside else "", seed,
+                                                      ", pose %d reported 5 mm off" % poor if poor else "")
+                camera = truth["camera"]["pose"]
+                row(name, result, matrix(camera["translation"], camera["rotation"]), seconds, truth.get("sensors"))
     return 0
 
 

@@ -311,29 +311,42 @@ struct ArmRig {
 };
 
 // What the cameras' views disagree by beyond their PnP covariance and the arm's repeatability: a real
-// arm's kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either.
-// Per axis, the views' median squared error (rotation, translation) when the median view's error under
-// the modelled covariance is over twice what 6 degrees of freedom give (chi-square median 5.35); zero
-// otherwise. The median: one poor arm pose among several does not raise it.
+// arm's kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either,
+// and alike for every image of one still pose. So per still pose and camera, the mean of its views'
+// errors against its modelled covariance (the views' PnP covariance over their count, plus the arm's);
+// when the median still pose's is over twice what 6 degrees of freedom give (chi-square median 5.35),
+// the still poses' median squared mean error per axis (rotation, translation); zero otherwise. The
+// median: one poor arm pose among several does not raise it.
 std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector<HandEyeStation>& stations,
                                             const std::vector<Eigen::Isometry3d>& poses, const Eigen::Isometry3d& board,
                                             const HandEyeOptions& options) {
   std::vector<double> chi2, rotation, translation;
   for (const HandEyeStation& s : stations) {
-    for (const HandEyeView& view : s.views) {
-      if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
-      const Mounting mounting = rig.mounting(view.sensor);
-      const Eigen::Matrix<double, 6, 1> e = viewError(s, view.pattern, mounting, poses[view.sensor], board);
-      // The tool's turn moves the board seen by its lever: from the tool to the board.
-      const double lever = mounting.board_on_tool ? board.translation().norm()
-                                                  : poses[view.sensor].translation().norm() + view.pattern.sensor_from_pattern.translation().norm();
-      Eigen::Matrix<double, 6, 6> modelled = view.pattern.pose_covariance;
-      modelled.topLeftCorner<3, 3>() += std::pow(options.tool_rotation_sigma, 2) * Eigen::Matrix3d::Identity();
-      modelled.bottomRightCorner<3, 3>() +=
+    for (std::size_t camera = 0; camera < rig.sensors.size(); ++camera) {
+      if (rig.sensors[camera].type != SensorType::kCamera) continue;
+      const Mounting mounting = rig.mounting(static_cast<int>(camera));
+      Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
+      Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+      double lever = 0.0;
+      int n = 0;
+      for (const HandEyeView& view : s.views) {
+        if (view.sensor != static_cast<int>(camera)) continue;
+        mean += viewError(s, view.pattern, mounting, poses[camera], board);
+        covariance += view.pattern.pose_covariance;
+        // The tool's turn moves the board seen by its lever: from the tool to the board.
+        lever = mounting.board_on_tool ? board.translation().norm()
+                                       : poses[camera].translation().norm() + view.pattern.sensor_from_pattern.translation().norm();
+        ++n;
+      }
+      if (n == 0) continue;
+      mean /= n;
+      covariance /= static_cast<double>(n) * n;  // of the mean of n independent views
+      covariance.topLeftCorner<3, 3>() += std::pow(options.tool_rotation_sigma, 2) * Eigen::Matrix3d::Identity();
+      covariance.bottomRightCorner<3, 3>() +=
           (std::pow(options.tool_translation_sigma, 2) + std::pow(options.tool_rotation_sigma * lever, 2)) * Eigen::Matrix3d::Identity();
-      chi2.push_back(e.dot(modelled.ldlt().solve(e)));
-      rotation.push_back(e.head<3>().squaredNorm() / 3.0);
-      translation.push_back(e.tail<3>().squaredNorm() / 3.0);
+      chi2.push_back(mean.dot(covariance.ldlt().solve(mean)));
+      rotation.push_back(mean.head<3>().squaredNorm() / 3.0);
+      translation.push_back(mean.tail<3>().squaredNorm() / 3.0);
     }
   }
   const auto median = [](std::vector<double> v) {
