@@ -221,6 +221,16 @@ TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {
   const std::string folder = vocal_test::makeTempFolder("hand_eye_rig");
   const std::string camera = "{name: wrist, type: camera, frame_id: cam, image_topic: /i, camera_info_topic: /c";
   const std::string board = "target: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, width: 0.25, height: 0.18";
+  // Cameras alone need no board size: the pattern's squares; a range sensor needs it.
+  vocal_test::writeText(folder + "/no_size.yaml", "reference_frame: base\ntarget: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, "
+                                                  "parent: base}\nsensors:\n  - " + camera + ", parent: tool}\n");
+  const vocal::RigDescription no_size = vocal::readRigDescription(folder + "/no_size.yaml");
+  EXPECT_NEAR(no_size.target.width, 0.236, 1e-12);
+  EXPECT_NEAR(no_size.target.height, 0.1652, 1e-12);
+  vocal_test::writeText(folder + "/no_size_lidar.yaml", "reference_frame: base\ntarget: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, "
+                                                        "parent: tool}\nsensors:\n  - " + camera + "}\n  - {name: l, type: lidar3d, frame_id: l, cloud_topic: /p}\n");
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readRigDescription(folder + "/no_size_lidar.yaml"); }),
+            folder + "/no_size_lidar.yaml: target: missing 'width'");
   vocal_test::writeText(folder + "/in_hand.yaml", "reference_frame: base\n" + board + ", parent: base}\nsensors:\n  - " + camera + ", parent: tool}\n");
   const vocal::RigDescription in_hand = vocal::readRigDescription(folder + "/in_hand.yaml");
   ASSERT_TRUE(in_hand.handEye());

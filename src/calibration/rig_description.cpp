@@ -52,7 +52,8 @@ void rejectUnknownKeys(const YAML::Node& node, const std::set<std::string>& know
   }
 }
 
-TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
+// `cameras_only`: the board's size may be left out (a camera sees only the pattern): the pattern's squares.
+TargetDescription readTarget(const YAML::Node& node, const std::string& where, bool cameras_only) {
   if (!node.IsMap()) throw InputError(where + ": expected a map");
   rejectUnknownKeys(node, {"type", "rows", "cols", "square_size", "width", "height", "parent"}, where);
   const std::string type = required<std::string>(node, "type", where);
@@ -61,8 +62,13 @@ TargetDescription readTarget(const YAML::Node& node, const std::string& where) {
   target.pattern.rows = required<int>(node, "rows", where);
   target.pattern.cols = required<int>(node, "cols", where);
   target.pattern.square_size = required<double>(node, "square_size", where);
-  target.width = required<double>(node, "width", where);
-  target.height = required<double>(node, "height", where);
+  if (cameras_only && !node["width"] && !node["height"]) {
+    target.width = (target.pattern.cols + 1) * target.pattern.square_size;
+    target.height = (target.pattern.rows + 1) * target.pattern.square_size;
+  } else {
+    target.width = required<double>(node, "width", where);
+    target.height = required<double>(node, "height", where);
+  }
   if (node["parent"]) target.parent = required<std::string>(node, "parent", where);
   checkTargetDescription(target, where);
   return target;
@@ -168,7 +174,13 @@ RigDescription readRigDescription(const std::string& path) {
   RigDescription rig;
   rig.reference_frame = required<std::string>(root, "reference_frame", path);
   if (!root["target"]) throw InputError(path + ": missing 'target'");
-  rig.target = readTarget(root["target"], path + ": target");
+  bool cameras_only = root["sensors"] && root["sensors"].IsSequence();
+  if (cameras_only) {
+    for (const YAML::Node& sensor : root["sensors"]) {
+      cameras_only = cameras_only && sensor.IsMap() && sensor["type"] && sensor["type"].IsScalar() && sensor["type"].Scalar() == "camera";
+    }
+  }
+  rig.target = readTarget(root["target"], path + ": target", cameras_only);
   if (!root["sensors"] || !root["sensors"].IsSequence() || root["sensors"].size() == 0) {
     throw InputError(path + ": 'sensors' must list at least one sensor");
   }

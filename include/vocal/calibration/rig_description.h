@@ -36,7 +36,9 @@ namespace vocal {
 
 struct TargetDescription {
   TargetPattern pattern;  // rows / cols count inner corners
-  double width = 0.9;     // metres: the whole board, what range sensors see
+  // Metres: the whole board, what range sensors see. A rig of cameras alone may leave both out: the
+  // pattern's squares then.
+  double width = 0.9;
   double height = 0.7;
   // Empty: moved by hand, a new pose per still period. reference_frame: fixed there, one unknown pose
   // for the whole session. Another frame: held by it (a board in an arm's gripper, its pose from tf).
