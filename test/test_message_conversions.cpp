@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "test_support.h"
 #include "vocal/core/voxel_cloud_map.h"
 #include "vocal/nodelets/message_conversions.h"
@@ -99,6 +101,37 @@ TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
 
 // Found by fuzzing: width x point_step in 32 bits wrapped to 0 and passed the size check, then the
 // points were read far past the data.
+// image_transport's compressed images: a JPEG and a PNG decode to their pixels; a header claiming more
+// than a camera gives, or bytes that are neither, are refused before decoding, naming the topic.
+TEST(MessageConversions, CompressedImagesDecodeAndHugeOrGarbledOnesAreRefused) {
+  cv::Mat grey(48, 64, CV_8UC1);
+  for (int y = 0; y < grey.rows; ++y)
+    for (int x = 0; x < grey.cols; ++x) grey.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(x * 4);
+  for (const char* format : {".png", ".jpg"}) {
+    sensor_msgs::CompressedImage msg;
+    cv::imencode(format, grey, msg.data);
+    const vocal::ColorImage image = vocal::fromCompressedColorImage(msg, "/cam/image_raw/compressed");
+    ASSERT_EQ(image.width(), 64) << format;
+    ASSERT_EQ(image.height(), 48) << format;
+    EXPECT_NEAR(image(40, 10).g, 160, 3) << format;  // JPEG within a few grey levels
+  }
+  sensor_msgs::CompressedImage huge;
+  cv::imencode(".png", grey, huge.data);
+  huge.format = "png";
+  for (const int at : {16, 20}) huge.data[at] = 0x00, huge.data[at + 1] = 0x01, huge.data[at + 2] = 0x86, huge.data[at + 3] = 0xa0;  // 100000
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromCompressedColorImage(huge, "/cam/image_raw/compressed"); }),
+            "/cam/image_raw/compressed: the compressed image (format 'png') is not a JPEG or PNG of at most 64 megapixels (its header says "
+            "100000x100000)");
+  sensor_msgs::CompressedImage garbled;
+  garbled.format = "jpeg";
+  garbled.data = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromCompressedColorImage(garbled, "/cam/image_raw/compressed"); }),
+            "/cam/image_raw/compressed: the compressed image (format 'jpeg') is not a JPEG or PNG of at most 64 megapixels (its header says "
+            "0x0)");
+  EXPECT_TRUE(vocal::isCompressedImageTopic("/cam/image_raw/compressed"));
+  EXPECT_FALSE(vocal::isCompressedImageTopic("/cam/image_raw"));
+}
+
 TEST(MessageConversions, CloudWhoseSizeWrapsIn32BitsIsRefused) {
   sensor_msgs::PointCloud2 cloud = vocal::toLidarPointCloud2({Eigen::Vector3d(1, 2, 3)}, {0}, "velodyne", ros::Time(1));
   cloud.width = 65536;

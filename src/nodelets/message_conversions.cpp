@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <sensor_msgs/image_encodings.h>
@@ -212,8 +214,46 @@ ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what
   return image;
 }
 
+namespace {
+// The width and height a PNG's IHDR or a JPEG's start-of-frame declares, read before decoding, so that a
+// crafted header cannot make the decoder allocate gigabytes; {0, 0} for neither.
+std::pair<std::uint32_t, std::uint32_t> declaredImageSize(const std::vector<std::uint8_t>& data) {
+  const auto big_endian = [&](std::size_t at, int bytes) {
+    std::uint32_t value = 0;
+    for (int i = 0; i < bytes; ++i) value = value << 8 | data[at + i];
+    return value;
+  };
+  static const std::uint8_t kPng[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+  if (data.size() >= 24 && std::equal(std::begin(kPng), std::end(kPng), data.begin())) return {big_endian(16, 4), big_endian(20, 4)};
+  if (data.size() < 4 || data[0] != 0xff || data[1] != 0xd8) return {0, 0};
+  // JPEG: markers from byte 2, each 0xff, a code and (but for standalone ones) a 2-byte length.
+  for (std::size_t at = 2; at + 9 <= data.size();) {
+    if (data[at] != 0xff) return {0, 0};
+    const std::uint8_t code = data[at + 1];
+    if (code == 0xff) {  // fill byte
+      ++at;
+      continue;
+    }
+    if (code >= 0xc0 && code <= 0xcf && code != 0xc4 && code != 0xc8 && code != 0xcc) return {big_endian(at + 7, 2), big_endian(at + 5, 2)};
+    if (code == 0xd8 || code == 0x01 || (code >= 0xd0 && code <= 0xd7)) {
+      at += 2;
+      continue;
+    }
+    at += 2 + big_endian(at + 2, 2);
+  }
+  return {0, 0};
+}
+}  // namespace
+
 ColorImage fromCompressedColorImage(const sensor_msgs::CompressedImage& msg, const std::string& what) {
   if (msg.data.empty()) throw InputError(what + ": the compressed image is empty");
+  // No camera gives more than 64 megapixels; a header that says so is not believed.
+  constexpr std::uint64_t kMostPixels = 64ull << 20;
+  const auto [width, height] = declaredImageSize(msg.data);
+  if (width == 0 || height == 0 || static_cast<std::uint64_t>(width) * height > kMostPixels) {
+    throw InputError(what + ": the compressed image (format '" + msg.format + "') is not a JPEG or PNG of at most 64 megapixels (its header says " +
+                     std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
   cv::Mat decoded;
   try {
     decoded = cv::imdecode(cv::Mat(1, static_cast<int>(msg.data.size()), CV_8UC1, const_cast<std::uint8_t*>(msg.data.data())), cv::IMREAD_COLOR);

@@ -130,6 +130,13 @@ void imageMessages(const std::uint8_t* data, std::size_t size) {
       for (int x = 0; x < image.width(); ++x) require(std::isfinite(image(x, y)) && image(x, y) >= 0.0f, "depth >= 0");
   });
   refusedOrTaken([&] { vocal::toRgbdFrame(color, depth, "/camera/rgb/image_raw", "/camera/depth/image_raw"); });
+  refusedOrTaken([&] {  // the colour message's bytes as image_transport's compressed image
+    sensor_msgs::CompressedImage compressed;
+    compressed.format = "jpeg";
+    compressed.data = color.data;
+    const vocal::ColorImage image = vocal::fromCompressedColorImage(compressed, "/camera/rgb/image_raw/compressed");
+    require(image.width() > 0 && image.height() > 0, "a decoded image has pixels");
+  });
 }
 
 void cameraInfoMessage(const std::uint8_t* data, std::size_t size) {
@@ -257,7 +264,7 @@ const std::vector<FuzzTarget>& fuzzTargets() {
       {"camera_yaml", "camera.yaml, ROS camera_info layout (readCameraYaml)", cameraYaml},
       {"tum_trajectory", "TUM trajectory text (readTumTrajectory)", tumTrajectory},
       {"tum_image_list", "TUM rgb.txt / depth.txt (readTumImageList)", tumImageList},
-      {"image_messages", "Image -> colour, depth, RGB-D frame (fromColorImage, fromDepthImage, toRgbdFrame)",
+      {"image_messages", "Image -> colour, depth, RGB-D frame; CompressedImage -> colour (fromColorImage, fromDepthImage, toRgbdFrame, fromCompressedColorImage)",
        imageMessages},
       {"camera_info_message", "CameraInfo -> camera and lens (fromCameraInfo, lensDistortionFromCameraInfo)",
        cameraInfoMessage},
