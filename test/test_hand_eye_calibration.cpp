@@ -128,6 +128,24 @@ TEST(HandEyeCalibration, EyeToHandWithALidarAndAnRgbdCameraBeside) {
             "hand-eye calibration: no camera fixed in the base frame watches the board on the tool");
 }
 
+// Eye-in-hand with an RGB-D camera on the wrist beside the camera: its board points against the fixed
+// board, in the same graph, within 2 mm / 2 mrad of its mount on the tool.
+TEST(HandEyeCalibration, EyeInHandWithAnRgbdCameraOnTheWrist) {
+  const vocal::SimulatedArm arm = vocal::simulateArm({});
+  Eigen::Isometry3d tool_from_rgbd = arm.camera;
+  tool_from_rgbd.translation() += Eigen::Vector3d(0.03, 0.0, 0.0);
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 19);
+  std::mt19937 rng(23);
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    stations[k].views.push_back(
+        {1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.true_tool[k] * tool_from_rgbd, 0.36, 0.27, 0.01, 0.003, &rng)});
+  }
+  const vocal::HandEyeResult result =
+      vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}, {vocal::SensorType::kRgbd, true}}, false, stations);
+  expectWithin(errorOf(result.sensors[0], arm.camera), 0.001, 0.001, "camera");
+  expectWithin(errorOf(result.sensors[1], tool_from_rgbd), 0.002, 0.002, "wrist rgbd");
+}
+
 // A chessboard's corners may be found in either order (the board turned 180 degrees): the views found
 // the other way are turned back and the result is the same.
 TEST(HandEyeCalibration, ABoardFoundInTheOtherOrderIsTurnedBack) {

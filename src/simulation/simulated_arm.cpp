@@ -112,7 +112,8 @@ std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, con
 std::vector<Eigen::Vector3d> simulateRangeView(const SimulatedArm& arm, int k, const Eigen::Isometry3d& base_from_sensor, double width,
                                                double height, double spacing, double noise, std::mt19937* rng) {
   std::normal_distribution<double> along_ray(0.0, noise);
-  const Eigen::Isometry3d sensor_from_board = base_from_sensor.inverse() * arm.true_tool[k] * arm.board;
+  const Eigen::Isometry3d base_from_board = arm.setup == HandEyeSetup::kEyeInHand ? arm.board : arm.true_tool[k] * arm.board;
+  const Eigen::Isometry3d sensor_from_board = base_from_sensor.inverse() * base_from_board;
   std::vector<Eigen::Vector3d> points;
   for (double x = -width / 2; x <= width / 2; x += spacing) {
     for (double y = -height / 2; y <= height / 2; y += spacing) {

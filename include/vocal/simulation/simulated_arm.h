@@ -54,8 +54,8 @@ std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, con
                                                     int views, double pixel_noise, std::mt19937* rng);
 
 // A range sensor's board points at pose k: the board's `width` x `height` rectangle sampled on a grid
-// `spacing` apart, seen from `base_from_sensor` (fixed in the base frame), with `noise` metres along
-// each ray; in the sensor's frame. Eye-to-hand arms only (the board on the tool).
+// `spacing` apart, seen from `base_from_sensor` (where the sensor is at pose k: fixed, or on the tool
+// then), with `noise` metres along each ray; in the sensor's frame.
 std::vector<Eigen::Vector3d> simulateRangeView(const SimulatedArm& arm, int k, const Eigen::Isometry3d& base_from_sensor, double width,
                                                double height, double spacing, double noise, std::mt19937* rng);
 
