@@ -9,11 +9,12 @@
 //      each arm pose had to move to fit (a poor pose is named, not followed); OpenCV's closed forms on
 //      the same poses, side by side.
 //
-// One Ceres graph: the two unknown transforms, and the tool's pose at every still pose as an unknown
-// measured by the arm with its repeatability under a Cauchy loss (one arm pose millimetres off then
-// moves itself instead of the result), each camera view a 6-DoF residual whitened by its PnP
-// covariance. Started from OpenCV's calibrateHandEye (Park and Martin), whose 180-degree board
-// symmetry is resolved first (a chessboard's corners may be found in either order).
+// One Ceres graph: each sensor's pose in its parent and the board's in its parent, and the tool's pose at
+// every still pose as an unknown measured by the arm with its repeatability under a Cauchy loss (one arm
+// pose millimetres off then moves itself instead of the result); each camera view a 6-DoF residual
+// whitened by its PnP covariance, each range view its points on the board's plane. Started from OpenCV's
+// calibrateHandEye (Park and Martin) for the main camera, after the board's 180-degree symmetry is
+// resolved (a chessboard's corners may be found in either order).
 
 #include <string>
 #include <vector>
@@ -92,20 +93,21 @@ struct HandEyeResult {
   // that is beyond HandEyeOptions::loss_sigmas (a poor arm pose, or a view of something else).
   std::vector<double> tool_shift, tool_turn;
   std::vector<int> poor_stations;
-  // Per station: the board as the camera saw it against the board as the solution puts it, at the
-  // board's centre (m) and in angle (rad), over its views; and their RMS over every view.
+  // Per station: the board as the cameras saw it against the board as the solution puts it, at the
+  // board's centre (m) and in angle (rad), the mean over its camera views; and the RMS over every one.
   std::vector<double> view_distance, view_angle;
   double rms_distance = 0.0, rms_angle = 0.0;
-  // What the views disagreed by beyond their PnP covariance and the arm's repeatability, per axis (rad,
-  // m), added to every view's covariance before the solve (zero when the model explained them).
+  // What the still poses' camera views disagreed by beyond their PnP covariance and the arm's
+  // repeatability, per axis (rad, m), added to each view's covariance times its pose's view count before
+  // the final solve (zero when the model explained them).
   double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
   int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
   std::vector<HandEyeClosedForm> closed_forms;
 };
 
-// The smallest rotation between two stations' tool poses that counts, and why the motion cannot fix the
-// camera (the classic degeneracy: every turn about one axis, or too small), in words with the motion that
-// would fix it; empty when the stations can.
+// Why the arm's motion between the stations cannot fix the camera (the classic degeneracy: fewer than 3
+// poses, every turn about one axis, or every turn too small), in words with the motion that would fix
+// it; empty when it can.
 std::string handEyeMotionProblem(const std::vector<HandEyeStation>& stations, const HandEyeOptions& options = {});
 
 // One camera (sensor 0): on the tool over a fixed board (eye-in-hand) or fixed, the board on the tool.
