@@ -56,13 +56,13 @@ TEST(HandEyeCalibration, EyeInHandAndEyeToHandWithinAMillimetreOfTheTruth) {
     options.setup = setup;
     const vocal::SimulatedArm arm = vocal::simulateArm(options);
     const vocal::HandEyeResult result = vocal::calibrateHandEye(stationsOf(arm, 7), setup);
-    expectWithin(errorOf(result.camera, arm.camera), 0.001, 0.001, "camera");
+    expectWithin(errorOf(result.camera(), arm.camera), 0.001, 0.001, "camera");
     expectWithin(errorOf(result.board, arm.board), 0.001, 0.001, "board");
     EXPECT_TRUE(result.poor_stations.empty());
     EXPECT_EQ(result.unmodelled_translation, 0.0) << "the views' noise is what their covariance says";
     // Honest sigmas: the error within 4 of them, and they are not absurdly large.
-    EXPECT_LT(errorOf(result.camera, arm.camera).metres, 4 * result.camera_sigma.head<3>().norm() + 1e-4);
-    EXPECT_LT(result.camera_sigma.head<3>().norm(), 0.002);
+    EXPECT_LT(errorOf(result.camera(), arm.camera).metres, 4 * result.cameraSigma().head<3>().norm() + 1e-4);
+    EXPECT_LT(result.cameraSigma().head<3>().norm(), 0.002);
     EXPECT_EQ(result.spread_solves, options.poses);
     EXPECT_EQ(result.closed_forms.size(), 5u);
   }
@@ -78,7 +78,7 @@ TEST(HandEyeCalibration, APoorArmPoseIsNamedAndDoesNotPullTheResult) {
     options.poor_pose = 4;
     const vocal::SimulatedArm arm = vocal::simulateArm(options);
     const vocal::HandEyeResult result = vocal::calibrateHandEye(stationsOf(arm, 11), setup);
-    const PoseError ours = errorOf(result.camera, arm.camera);
+    const PoseError ours = errorOf(result.camera(), arm.camera);
     expectWithin(ours, 0.001, 0.001, "camera");
     EXPECT_EQ(result.poor_stations, std::vector<int>{4});
     EXPECT_GT(result.tool_shift[4], 0.004) << "the poor pose's tool moved back by about its 5 mm";
@@ -163,7 +163,7 @@ TEST(HandEyeCalibration, ABoardFoundInTheOtherOrderIsTurnedBack) {
   }
   const vocal::HandEyeResult turned = vocal::calibrateHandEye(stations, HandEyeSetup::kEyeInHand);
   EXPECT_EQ(turned.flipped_views, 9);
-  expectWithin(errorOf(turned.camera, as_found.camera), 1e-6, 1e-6, "turned views");
+  expectWithin(errorOf(turned.camera(), as_found.camera()), 1e-6, 1e-6, "turned views");
 }
 
 // The classic degeneracy, refused with the motion that would fix it: turns about one axis only, turns

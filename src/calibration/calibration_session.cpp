@@ -70,6 +70,7 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
       memory_options_(memory) {
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
+  arm_ = rig_.handEye();
 }
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
@@ -169,16 +170,15 @@ std::string CalibrationSession::memorySummary() const {
 }
 
 void CalibrationSession::addToolPose(double stamp, const Eigen::Isometry3d& reference_from_tool) {
-  const std::optional<HandEyeRig> arm = rig_.handEye();
-  if (!arm) throw InputError("tool pose: the rig has no sensor or target on a moving frame (no 'parent' other than " + rig_.reference_frame + ")");
+  if (!arm_) throw InputError("tool pose: the rig has no sensor or target on a moving frame (no 'parent' other than " + rig_.reference_frame + ")");
   if (!std::isfinite(stamp) || !reference_from_tool.matrix().allFinite()) {
-    throw InputError("tool pose of '" + arm->tool_frame + "': not finite");
+    throw InputError("tool pose of '" + arm_->tool_frame + "': not finite");
   }
   tool_poses_.push_back({stamp, reference_from_tool});
 }
 
 HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOptions& options) const {
-  if (!rig_.handEye()) throw InputError("hand-eye association: the rig has no sensor or target on a moving frame");
+  if (!arm_) throw InputError("hand-eye association: the rig has no sensor or target on a moving frame");
   return associateToolStillness(tool_poses_, timedObservations(), options);
 }
 
@@ -187,7 +187,7 @@ bool CalibrationSession::roomFor(std::size_t bytes) {
   if (full_) return false;
   if (!(budget > 0.0) || held_bytes_ + bytes <= budget) return true;
   // An arm's still poses are the tool's (handEyeAssociation), not the target's: nothing to let go by.
-  if (rig_.handEye()) return !(full_ = true);
+  if (arm_) return !(full_ = true);
   letGoOfWhatNoStillPoseUses();
   // What the still poses keep fills the budget: compacting again would free next to nothing.
   full_ = held_bytes_ + bytes > 0.75 * budget;

@@ -148,11 +148,9 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
                        "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
     }
-    if (on_tool && board_on_tool) {
-      if (sensor.spec.type != SensorType::kCamera) {
-        throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' with the board, so it sees the board in one place "
-                         "only, which fixes no " + sensorTypeName(sensor.spec.type));
-      }
+    if (on_tool && board_on_tool && sensor.spec.type != SensorType::kCamera) {
+      throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' with the board, so it sees the board in one place "
+                       "only, which fixes no " + sensorTypeName(sensor.spec.type));
     }
     if (!on_tool && !board_on_tool && sensor.spec.type != SensorType::kCamera) {
       throw InputError(where + ": it is fixed like the board, so it sees the board in one place only, which fixes no " +

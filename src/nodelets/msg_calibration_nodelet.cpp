@@ -154,13 +154,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   void calibrateHandEyeRig(std_srvs::Trigger::Response& response) {
     const RigDescription& rig = session_->rig();
     const HandEyeAssociation association = session_->handEyeAssociation();
-    HandEyeFrames frames{rig.reference_frame, arm_->tool_frame, rig.specs(), {}};
-    std::vector<HandEyeSensor> sensors;
-    for (const RigSensorDescription& d : rig.sensors) {
-      frames.on_tool.push_back(!d.parent.empty());
-      sensors.push_back({d.spec.type, !d.parent.empty()});
-    }
-    const HandEyeResult result = calibrateArmRig(sensors, !arm_->eye_in_hand, association.stations);
+    const HandEyeFrames frames = handEyeFrames(rig, *arm_);
+    const HandEyeResult result = calibrateArmRig(frames.solverSensors(), !arm_->eye_in_hand, association.stations);
     std::ostringstream summary;
     summary << "calibrated " << rig.sensors.size() << " sensor" << (rig.sensors.size() == 1 ? "" : "s") << " (" << handEyeSetupName(result.setup)
             << ") from " << association.stations.size() << " still arm poses";
@@ -189,8 +184,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     for (const int k : result.poor_stations) summary << "; poor arm pose " << k + 1 << " (it does not pull the result)";
     for (const HandEyeClosedForm& c : result.closed_forms) {
       char line[160];
-      std::snprintf(line, sizeof(line), "%s %.2f mm / %.3f deg", c.method.c_str(), 1000 * (c.camera.translation() - result.camera.translation()).norm(),
-                    rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
+      std::snprintf(line, sizeof(line), "%s %.2f mm / %.3f deg", c.method.c_str(), 1000 * (c.camera.translation() - result.camera().translation()).norm(),
+                    rotationAngle(result.camera().inverse() * c.camera) * 180 / M_PI);
       summary << (&c == &result.closed_forms.front() ? "; OpenCV's closed forms for " + rig.sensors[result.main_camera].spec.name + " against it: "
                                                      : std::string(", "))
               << line;

@@ -191,13 +191,8 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   std::printf("%zu still poses of the arm with the board in view (of %d still; %d views while the arm moved, %d where tf gave no "
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
-  vocal::HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}};
-  std::vector<vocal::HandEyeSensor> sensors;
-  for (const vocal::RigSensorDescription& d : rig.sensors) {
-    frames.on_tool.push_back(!d.parent.empty());
-    sensors.push_back({d.spec.type, !d.parent.empty()});
-  }
-  const vocal::HandEyeResult result = vocal::calibrateArmRig(sensors, !arm.eye_in_hand, association.stations);
+  const vocal::HandEyeFrames frames = vocal::handEyeFrames(rig, arm);
+  const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations);
   const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
   std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s   sigma t (mm) / r (mrad), spread across the arm's poses\n",
               vocal::handEyeSetupName(result.setup).c_str(), "x", "y", "z", "qx", "qy", "qz", "qw");
@@ -221,8 +216,8 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   }
   std::printf("OpenCV's calibrateHandEye on the same poses, for %s, against this result:\n", rig.sensors[result.main_camera].spec.name.c_str());
   for (const vocal::HandEyeClosedForm& c : result.closed_forms) {
-    std::printf("  %-10s %6.2f mm / %.3f deg\n", c.method.c_str(), 1000 * (c.camera.translation() - result.camera.translation()).norm(),
-                vocal::rotationAngle(result.camera.inverse() * c.camera) * 180 / M_PI);
+    std::printf("  %-10s %6.2f mm / %.3f deg\n", c.method.c_str(), 1000 * (c.camera.translation() - result.camera().translation()).norm(),
+                vocal::rotationAngle(result.camera().inverse() * c.camera) * 180 / M_PI);
   }
   if (args.has("report")) {
     std::printf("arm poses (bag stamps), how far the solve moved the tool, and the board against the solution:\n");

@@ -171,6 +171,7 @@ class CalibrationSession {
   StillnessOptions stillness_;
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
+  std::optional<HandEyeRig> arm_;                // rig_.handEye(), once
   std::vector<FramePoseSample> tool_poses_;      // a hand-eye rig's tool frame, as tf gave it
   // A range message as kept until the solve: its candidates' points (most of a session's memory) in
   // floats, whose micrometres at lidar range are far below any sensor's noise; converted back to

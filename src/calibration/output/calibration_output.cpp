@@ -196,6 +196,18 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
 
 }  // namespace
 
+HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
+  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}};
+  for (const RigSensorDescription& d : rig.sensors) frames.on_tool.push_back(!d.parent.empty());
+  return frames;
+}
+
+std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
+  std::vector<HandEyeSensor> out;
+  for (std::size_t s = 0; s < sensors.size(); ++s) out.push_back({sensors[s].type, on_tool[s]});
+  return out;
+}
+
 std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, const SpreadTolerance& tolerance, bool publish_uncertain) {
   if (publish_uncertain) return "";
   char line[320];

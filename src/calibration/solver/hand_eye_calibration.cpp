@@ -446,7 +446,9 @@ Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandE
   return misfit(front, in_parent) <= misfit(back, flipped) ? front : back;
 }
 
-HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> stations, const HandEyeOptions& options) {
+// `all_closed_forms`: every OpenCV method for the user to compare (the answer), or only Park and Martin's,
+// which starts the graph (a jackknife re-solve).
+HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> stations, const HandEyeOptions& options, bool all_closed_forms) {
   HandEyeResult result;
   result.setup = rig.board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand;
   result.main_camera = rig.main_camera;
@@ -458,10 +460,14 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
                                                                           {"Andreff", cv::CALIB_HAND_EYE_ANDREFF},
                                                                           {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
   for (const auto& [name, method] : methods) {
-    result.closed_forms.push_back({name, openCvHandEye(stations, rig.main_camera, main_on_tool, method)});
+    if (all_closed_forms || method == cv::CALIB_HAND_EYE_PARK) {
+      result.closed_forms.push_back({name, openCvHandEye(stations, rig.main_camera, main_on_tool, method)});
+    }
   }
   std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
-  starts[rig.main_camera] = result.closed_forms[1].camera;  // Park and Martin
+  starts[rig.main_camera] = std::find_if(result.closed_forms.begin(), result.closed_forms.end(), [](const HandEyeClosedForm& c) {
+                              return c.method == "Park";
+                            })->camera;
   const Mounting main_mounting = rig.mounting(rig.main_camera);
   std::vector<Eigen::Isometry3d> boards;
   for (const HandEyeStation& s : stations) {
@@ -505,7 +511,6 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
   result.board = graph->board.pose();
-  result.camera = result.sensors[rig.main_camera];
 
   ceres::Covariance covariance(ceres::Covariance::Options{});
   std::vector<std::pair<const double*, const double*>> blocks;
@@ -520,7 +525,6 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     for (std::size_t s = 0; s < rig.sensors.size(); ++s) result.sensor_sigmas[s] = sigmasOf(covariance, graph->sensors[s]);
     result.board_sigma = sigmasOf(covariance, graph->board);
   }
-  result.camera_sigma = result.sensor_sigmas[rig.main_camera];
 
   double squared_distance = 0.0, squared_angle = 0.0;
   int views = 0;
@@ -564,7 +568,7 @@ int spreadWithoutEachStation(const ArmRig& rig, const std::vector<HandEyeStation
     if (!handEyeMotionProblem(rest, options).empty()) continue;
     std::vector<Eigen::Isometry3d> again;
     try {
-      again = solveArmRig(rig, rest, options).sensors;
+      again = solveArmRig(rig, rest, options, false).sensors;
     } catch (const InputError&) {
       continue;  // a sensor's planes no longer fix it without that pose
     }
@@ -664,9 +668,8 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
     throw InputError("hand-eye calibration (" + handEyeSetupName(board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand) +
                      "): " + problem);
   }
-  HandEyeResult result = solveArmRig(rig, stations, options);
+  HandEyeResult result = solveArmRig(rig, stations, options, true);
   result.spread_solves = spreadWithoutEachStation(rig, stations, options, result.sensors, &result.sensor_spreads);
-  result.camera_spread = result.sensor_spreads[rig.main_camera];
   return result;
 }
 

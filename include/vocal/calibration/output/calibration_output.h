@@ -16,6 +16,7 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/extraction/lidar_ring_offsets.h"
+#include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
@@ -59,7 +60,10 @@ struct HandEyeFrames {
   std::vector<SensorSpec> sensors;
   std::vector<bool> on_tool;  // per sensor
   const std::string& parentOf(std::size_t sensor) const { return on_tool[sensor] ? tool_frame : reference_frame; }
+  std::vector<HandEyeSensor> solverSensors() const;  // what calibrateArmRig takes
 };
+// A hand-eye rig's frames (`arm`: rig.handEye()).
+HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm);
 // Why a sensor stays out of the URDF and launch file ("" where it may go in): its spread across the
 // arm's poses is over `tolerance`, or none could be computed - unless `publish_uncertain`.
 std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, const SpreadTolerance& tolerance, bool publish_uncertain);

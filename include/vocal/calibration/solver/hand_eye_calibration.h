@@ -69,26 +69,24 @@ struct HandEyeOptions {
 // A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
 struct HandEyeClosedForm {
   std::string method;  // Tsai, Park, Horaud, Andreff, Daniilidis
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  // as HandEyeResult::camera
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  // as HandEyeResult::camera()
 };
 
 struct HandEyeResult {
   HandEyeSetup setup = HandEyeSetup::kEyeInHand;
-  // Every sensor in its parent (tool <- sensor on the tool, base <- sensor fixed), standard deviations
-  // as camera_sigma, and its spread across the arm's poses as camera_spread.
+  // Every sensor in its parent (tool <- sensor on the tool, base <- sensor fixed); standard deviations,
+  // translation (m) along and rotation (rad) about the axes of the frame each is expressed in; and each
+  // re-solved without each station in turn (those that leave a motion that can fix it): the jackknife
+  // standard deviation per axis, zero with fewer than 2 re-solves.
   std::vector<Eigen::Isometry3d> sensors;
   std::vector<Eigen::Matrix<double, 6, 1>> sensor_sigmas, sensor_spreads;
-  int main_camera = 0;  // the camera the closed forms are for; `camera` below is its pose
-  // Eye-in-hand: tool <- camera and base <- board. Eye-to-hand: base <- camera and tool <- board.
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
-  // Translation (m) along and rotation (rad) about the axes of the frame each is expressed in.
-  Eigen::Matrix<double, 6, 1> camera_sigma = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 1> board_sigma = Eigen::Matrix<double, 6, 1>::Zero();
-  // The camera re-solved without each station in turn (those that leave a motion that can fix it): the
-  // jackknife standard deviation per axis, as camera_sigma; zero with fewer than 2 re-solves.
-  Eigen::Matrix<double, 6, 1> camera_spread = Eigen::Matrix<double, 6, 1>::Zero();
   int spread_solves = 0;
+  int main_camera = 0;  // the camera the closed forms are for
+  // Eye-in-hand: tool <- camera and base <- board. Eye-to-hand: base <- camera and tool <- board.
+  const Eigen::Isometry3d& camera() const { return sensors[main_camera]; }
+  const Eigen::Matrix<double, 6, 1>& cameraSigma() const { return sensor_sigmas[main_camera]; }
+  Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 1> board_sigma = Eigen::Matrix<double, 6, 1>::Zero();
   // Per station: how far the solve moved the tool from where the arm reported it (m, rad), and whether
   // that is beyond HandEyeOptions::loss_sigmas (a poor arm pose, or a view of something else).
   std::vector<double> tool_shift, tool_turn;
