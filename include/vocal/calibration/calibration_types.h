@@ -49,6 +49,9 @@ struct TargetObservation {
   // Seconds: the first and last message of the still run it pools (0 when not associated by time), so
   // a pose can be found again in the recording (overlays) and compared across recordings.
   double first_stamp = 0.0, last_stamp = 0.0;
+  // A sensor mounted behind joints (JointedMounts, graph_calibration.h): each joint of its chain's
+  // position while it was still (radians or metres, as the encoders read them); empty for a rigid mount.
+  std::vector<double> joint_positions;
 };
 
 }  // namespace vocal

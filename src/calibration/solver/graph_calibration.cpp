@@ -152,50 +152,144 @@ struct PlaneState {
   double offset;
 };
 
+// A sensor behind joints at one still pose: its chain and that pose's joint positions, and the joints'
+// offset blocks (one per chain joint).
+struct ChainAt {
+  const std::vector<JointDescription>* joints = nullptr;
+  std::vector<int> chain;
+  std::vector<double> positions;
+  std::vector<double*> offsets;
+  std::vector<double*> corrections;  // the pose's reading corrections, one per chain joint
+};
+
+// A residual on (sensor rotation, sensor translation, a, b) for a sensor behind joints: the sensor's pose
+// is the chain's at the pose's positions plus the offsets (blocks 4...) and the pose's reading corrections
+// (the next blocks) times its mount (blocks 0, 1).
+template <typename Residual>
+struct ThroughJoints {
+  Residual residual;
+  const std::vector<JointDescription>* joints;
+  std::vector<int> chain;
+  std::vector<double> positions;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* out) const {
+    const std::size_t n = chain.size();
+    std::vector<T> added(n);
+    std::vector<const T*> added_blocks(n);
+    for (std::size_t i = 0; i < n; ++i) added[i] = blocks[4 + i][0] + blocks[4 + n + i][0], added_blocks[i] = &added[i];
+    Eigen::Quaternion<T> chain_rotation;
+    Eigen::Matrix<T, 3, 1> chain_translation;
+    chainTransform<T>(*joints, chain, positions.data(), added_blocks.data(), &chain_rotation, &chain_translation);
+    const Eigen::Map<const Eigen::Quaternion<T>> mount_rotation(blocks[0]);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> mount_translation(blocks[1]);
+    const Eigen::Quaternion<T> rotation = chain_rotation * mount_rotation;
+    const Eigen::Matrix<T, 3, 1> translation = chain_translation + chain_rotation * mount_translation;
+    return residual(rotation.coeffs().data(), translation.data(), blocks[2], blocks[3], out);
+  }
+};
+
+// A residual on (sensor rotation, sensor translation, a, b), through the sensor's joints when `chain` is set.
+template <typename Residual, int kSize, int kA, int kB>
+void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
+                       const ChainAt* chain, double* a, double* b) {
+  if (!chain) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kA, kB>(new Residual(residual)), loss,
+                              sensor->rotation.coeffs().data(), sensor->translation.data(), a, b);
+    return;
+  }
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<ThroughJoints<Residual>, 4>(
+      new ThroughJoints<Residual>{residual, chain->joints, chain->chain, chain->positions});
+  std::vector<double*> blocks = {sensor->rotation.coeffs().data(), sensor->translation.data(), a, b};
+  for (const int size : {4, 3, kA, kB}) cost->AddParameterBlock(size);
+  for (double* offset : chain->offsets) cost->AddParameterBlock(1), blocks.push_back(offset);
+  for (double* correction : chain->corrections) cost->AddParameterBlock(1), blocks.push_back(correction);
+  cost->SetNumResiduals(kSize);
+  problem->AddResidualBlock(cost, loss, blocks);
+}
+
 // A plane residual on the target pose's plane, or (with board edges) on its board's pose.
 template <typename Residual, int kSize>
 void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                      PlaneState* plane, SensorState* board) {
+                      PlaneState* plane, SensorState* board, const ChainAt* chain) {
   if (plane) {
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, 3, 1>(new Residual(residual)), loss,
-                              sensor->rotation.coeffs().data(), sensor->translation.data(), plane->normal.data(), &plane->offset);
+    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, plane->normal.data(), &plane->offset);
     return;
   }
-  problem->AddResidualBlock(
-      new ceres::AutoDiffCostFunction<OnBoardPlane<Residual>, kSize, 4, 3, 4, 3>(new OnBoardPlane<Residual>{residual}), loss,
-      sensor->rotation.coeffs().data(), sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+  addSensorResidual<OnBoardPlane<Residual>, kSize, 4, 3>(problem, OnBoardPlane<Residual>{residual}, loss, sensor, chain,
+                                                         board->rotation.coeffs().data(), board->translation.data());
 }
 
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
-                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board) {
+                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board, const ChainAt* chain) {
   for (const Eigen::Vector3d& p : outline) {
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<OutlinePointResidual, 1, 4, 3, 4, 3>(
-                                  new OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height}),
-                              new ceres::CauchyLoss(edges.loss_sigmas), sensor->rotation.coeffs().data(),
-                              sensor->translation.data(), board->rotation.coeffs().data(), board->translation.data());
+    addSensorResidual<OutlinePointResidual, 1, 4, 3>(problem, OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height},
+                                                     new ceres::CauchyLoss(edges.loss_sigmas), sensor, chain,
+                                                     board->rotation.coeffs().data(), board->translation.data());
   }
+}
+
+// A still pose's reading of a joint as its true position less the reading: a prior of the reading's sigma.
+struct ReadingCorrectionPrior {
+  double sigma;
+  template <typename T>
+  bool operator()(const T* correction, T* residual) const {
+    residual[0] = correction[0] / T(sigma);
+    return true;
+  }
+};
+
+// The joints' offsets as Ceres blocks (one per joint of `mounts`), and each still pose's reading
+// corrections (target pose, joint), what a sensor behind joints needs.
+struct JointOffsets {
+  const JointedMounts* mounts = nullptr;
+  std::vector<double>* offsets = nullptr;
+  std::map<std::pair<int, int>, double>* corrections = nullptr;
+};
+
+// The correction of joint j's reading at still pose k, with its prior the first time.
+double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, int k, int j) {
+  const auto [entry, added] = joints.corrections->emplace(std::make_pair(k, j), 0.0);
+  if (added) {
+    const JointDescription& joint = joints.mounts->joints[j];
+    const double sigma = joint.type == JointType::kPrismatic ? joints.mounts->prismatic_reading_sigma : joints.mounts->reading_sigma;
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReadingCorrectionPrior, 1, 1>(new ReadingCorrectionPrior{sigma}), nullptr,
+                              &entry->second);
+    if (joint.type == JointType::kFixed) problem->SetParameterBlockConstant(&entry->second);
+  }
+  return &entry->second;
 }
 
 // An observation's residuals on its pose's plane (or, with board edges, its board), for a sensor whose
 // state is `sensor`. Huber on each whitened block: down-weighted once its residuals pass huber_sigmas
 // standard deviations on average.
 void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o, SensorType type, const CalibrationOptions& options,
-                             SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards) {
+                             SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
+                             const JointOffsets& joints) {
   const BoardEdgeOptions& edges = options.board_edges;
   PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
+  std::optional<ChainAt> at;
+  if (joints.mounts && joints.mounts->jointed(o.sensor)) {
+    at = ChainAt{&joints.mounts->joints, joints.mounts->chains[o.sensor], o.joint_positions, {}, {}};
+    for (const int j : at->chain) {
+      at->offsets.push_back(&(*joints.offsets)[j]);
+      at->corrections.push_back(readingCorrection(problem, joints, o.target_pose, j));
+    }
+  }
+  const ChainAt* chain = at ? &*at : nullptr;
   if (!o.plane_measurements.empty()) {
     for (const PlaneMeasurement& measurement : o.plane_measurements) {
       addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
-                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board);
-      if (board) addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board);
+                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board, chain);
+      if (board) addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board, chain);
     }
     return;
   }
   const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
   addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
-                                                  new ceres::HuberLoss(threshold), sensor, plane, board);
-  if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board);
+                                                  new ceres::HuberLoss(threshold), sensor, plane, board, chain);
+  if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
@@ -212,11 +306,12 @@ ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
 // One sensor fitted alone to solved boards held constant: its observations at poses with a board, from
 // `sensor`'s current state. The problem, for its covariance; none when no observation has a board.
 std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservation*>& its, SensorType type, const CalibrationOptions& options,
-                                         SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards) {
+                                         SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
+                                         const JointOffsets& joints) {
   auto alone = std::make_unique<ceres::Problem>();
   for (const TargetObservation* o : its) {
     if (!planes->count(o->target_pose)) continue;
-    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards);
+    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints);
   }
   if (alone->NumResidualBlocks() == 0) return nullptr;
   alone->SetManifold(sensor->rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
@@ -253,6 +348,93 @@ void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& list
     // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
     // rotation sigmas in radians of angle are twice the tangent's.
     result->sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
+  }
+}
+
+// Each joint's range over the still poses of the sensors behind it (in the graph), and whether its offset
+// can be solved: a joint's offset turns (shifts) everything after it in the chain, which the mount at
+// the chain's end takes up exactly unless a joint after it moved over the session.
+std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, const std::vector<TargetObservation>& observations,
+                                                   const std::vector<bool>& isolated) {
+  const std::size_t joint_count = mounts.joints.size();
+  std::vector<double> low(joint_count, std::numeric_limits<double>::infinity()), high(joint_count, -std::numeric_limits<double>::infinity());
+  for (const TargetObservation& o : observations) {
+    if (!mounts.jointed(o.sensor) || isolated[o.sensor]) continue;
+    const std::vector<int>& chain = mounts.chains[o.sensor];
+    for (std::size_t i = 0; i < chain.size() && i < o.joint_positions.size(); ++i) {
+      low[chain[i]] = std::min(low[chain[i]], o.joint_positions[i]);
+      high[chain[i]] = std::max(high[chain[i]], o.joint_positions[i]);
+    }
+  }
+  std::vector<JointCalibration> joints(joint_count);
+  const auto moved = [&](int j) {
+    const JointDescription& joint = mounts.joints[j];
+    if (joint.type == JointType::kFixed || !(high[j] >= low[j])) return false;
+    return high[j] - low[j] >= (joint.type == JointType::kPrismatic ? mounts.min_prismatic_motion : mounts.min_motion);
+  };
+  std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false);
+  for (std::size_t s = 0; s < mounts.chains.size(); ++s) {
+    if (!mounts.jointed(static_cast<int>(s)) || isolated[s]) continue;
+    const std::vector<int>& chain = mounts.chains[s];
+    bool later_moved = mounts.knownMount(static_cast<int>(s)).has_value();  // nothing to take the offsets up
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      in_a_chain[*it] = true;
+      solvable[*it] = solvable[*it] || later_moved;
+      later_moved = later_moved || moved(*it);
+    }
+  }
+  for (std::size_t j = 0; j < joint_count; ++j) {
+    const JointDescription& joint = mounts.joints[j];
+    joints[j].offset = joint.offset;
+    joints[j].motion = high[j] >= low[j] ? high[j] - low[j] : 0.0;
+    if (joint.type == JointType::kFixed) {
+      joints[j].held = "a fixed joint";
+    } else if (!in_a_chain[j]) {
+      joints[j].held = "no calibrated sensor is behind it";
+    } else if (!solvable[j]) {
+      joints[j].held = "no joint after it moved over the session, so the mount of the sensor behind it takes up its offset: move the "
+                       "joints after it between still poses, or give the sensor's mount";
+    }
+  }
+  return joints;
+}
+
+// The solved joint offsets' standard deviations from `problem`'s covariance.
+void setJointStandardDeviations(ceres::Problem* problem, std::vector<double>& offsets, CalibrationResult* result) {
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (double& offset : offsets)
+    if (problem->HasParameterBlock(&offset) && !problem->IsParameterBlockConstant(&offset)) blocks.emplace_back(&offset, &offset);
+  ceres::Covariance::Options covariance_options;
+  ceres::Covariance covariance(covariance_options);
+  if (blocks.empty() || !covariance.Compute(blocks, problem)) return;
+  for (std::size_t j = 0; j < offsets.size(); ++j) {
+    if (!problem->HasParameterBlock(&offsets[j]) || problem->IsParameterBlockConstant(&offsets[j])) continue;
+    double variance = 0.0;
+    covariance.GetCovarianceBlock(&offsets[j], &offsets[j], &variance);
+    result->joints[j].standard_deviation = std::sqrt(std::max(variance, 0.0));
+  }
+  const JointedMounts& mounts = result->mounts;
+  for (std::size_t j = 0; j < offsets.size(); ++j) {
+    JointCalibration& joint = result->joints[j];
+    const bool prismatic = mounts.joints[j].type == JointType::kPrismatic;
+    if (!joint.held.empty() || joint.standard_deviation <= (prismatic ? mounts.max_prismatic_offset_sigma : mounts.max_offset_sigma)) continue;
+    // The joints after it in the chains it is in: their motion is what separates its offset from the mounts.
+    std::string after;
+    double motion = 0.0;
+    for (const std::vector<int>& chain : mounts.chains) {
+      const auto at = std::find(chain.begin(), chain.end(), static_cast<int>(j));
+      for (auto it = at == chain.end() ? chain.end() : at + 1; it != chain.end(); ++it) {
+        if (mounts.joints[*it].type == JointType::kFixed || after.find("'" + mounts.joints[*it].name + "'") != std::string::npos) continue;
+        after += (after.empty() ? "'" : " and '") + mounts.joints[*it].name + "'";
+        motion = std::max(motion, result->joints[*it].motion);
+      }
+    }
+    char line[400];
+    std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move %s over more than its %.2f %s between still poses, or "
+                  "give the mount of the sensor behind it",
+                  1000.0 * joint.standard_deviation, prismatic ? "mm" : "mrad", after.c_str(), motion,
+                  after.empty() ? "" : "rad");
+    joint.weak = line;
   }
 }
 
@@ -297,6 +479,34 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     }
     isolated[s] = true;
   }
+  // Sensors behind joints: their mounts are the unknowns, each observation's pose composed through the chain.
+  const JointedMounts& mounts = options.mounts;
+  if (!mounts.chains.empty() && static_cast<int>(mounts.chains.size()) != sensor_count) {
+    throw InputError("calibration: the joints name chains for " + std::to_string(mounts.chains.size()) + " sensors of " +
+                     std::to_string(sensor_count));
+  }
+  const auto jointed = [&](int s) { return mounts.jointed(s); };
+  for (int s = 0; s < sensor_count; ++s) {
+    if (!jointed(s)) continue;
+    if (s == options.reference_sensor) {
+      throw InputError("calibration: the reference sensor '" + sensors[s].name + "' is behind joints; give the pose of a sensor mounted rigidly");
+    }
+    if (sensors[s].type == SensorType::kLaser2d) {
+      throw InputError("calibration: the 2D laser '" + sensors[s].name + "' is behind joints, which is not supported yet; mount it rigidly");
+    }
+    for (const int j : mounts.chains[s]) {
+      if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: sensor '" + sensors[s].name + "''s chain names no joint");
+    }
+  }
+  std::vector<double> joint_offsets;
+  for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
+  std::map<std::pair<int, int>, double> reading_corrections;  // a std::map: its values stay where they are (Ceres blocks)
+  const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections};
+  // The chain's pose (rig frame) when o was made: the identity for a rigid mount.
+  const auto chainAt = [&](const TargetObservation& o) {
+    return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions, joint_offsets)
+                             : Eigen::Isometry3d::Identity();
+  };
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
   std::vector<std::map<int, Eigen::Vector3d>> centres(sensor_count);  // the board's centre as each saw it
@@ -312,6 +522,15 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       centres[o.sensor][o.target_pose] = boardCentreSeen(o);
     }
     ++observation_count[o.sensor];
+    if (jointed(o.sensor)) {
+      bool finite = o.joint_positions.size() == mounts.chains[o.sensor].size();
+      for (const double q : o.joint_positions) finite = finite && std::isfinite(q);
+      if (!finite) {
+        throw InputError("calibration: sensor '" + sensors[o.sensor].name + "' is behind " + std::to_string(mounts.chains[o.sensor].size()) +
+                         " joints, but its view at still pose " + std::to_string(o.target_pose) + " has " +
+                         std::to_string(o.joint_positions.size()) + " finite joint positions");
+      }
+    }
   }
   std::map<std::pair<int, int>, const TargetObservation*> observation_of;  // (sensor, target pose)
   for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
@@ -319,8 +538,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   if (options.consensus_filter) {
     // Isolated sensors cast no votes: they are out because they disagree with the rest.
     std::vector<std::map<int, Plane>> voting = planes;
+    // Nor do sensors behind joints: their planes move with the joints, not only with the board.
     for (int s = 0; s < sensor_count; ++s)
-      if (isolated[s]) voting[s].clear();
+      if (isolated[s] || jointed(s)) voting[s].clear();
     rejected = rejectInconsistentObservations(voting, options.consensus, &centres);
     for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
@@ -354,9 +574,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int added = 1; added < plane_sensors; ++added) {
     int best_parent = -1, best_child = -1;
     std::size_t best_shared = 0;
-    // An isolated sensor is placed from the others but places none of them, after every other.
+    // An isolated sensor is placed from the others but places none of them, after every other; so is
+    // one behind joints (its pose differs per still pose).
     for (int a = 0; a < sensor_count; ++a) {
-      if (!placed[a] || isolated[a]) continue;
+      if (!placed[a] || isolated[a] || jointed(a)) continue;
       for (int b = 0; b < sensor_count; ++b) {
         if (placed[b] || isLaser(b)) continue;
         const std::size_t shared = sharedPoses(a, b).size();
@@ -374,27 +595,41 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     }
     std::vector<Plane> in_parent, in_child;
     BoardCentres centres;
+    // A child behind joints: the parent's views carried into the chain's last link at each pose (joint
+    // offsets at their initial values), where its mount is fixed.
+    const bool child_jointed = jointed(best_child);
     for (int k : sharedPoses(best_parent, best_child)) {
-      in_parent.push_back(planes[best_parent][k]);
+      const Eigen::Isometry3d link_from_parent =
+          child_jointed ? chainAt(*observation_of.at({best_child, k})).inverse() * initial[best_parent] : Eigen::Isometry3d::Identity();
+      in_parent.push_back(transformPlane(link_from_parent, planes[best_parent][k]));
       in_child.push_back(planes[best_child][k]);
       if (edges.enabled) {
-        centres.in_a.push_back(boardCentreSeen(*observation_of.at({best_parent, k})));
+        centres.in_a.push_back(link_from_parent * boardCentreSeen(*observation_of.at({best_parent, k})));
         centres.in_b.push_back(boardCentreSeen(*observation_of.at({best_child, k})));
       }
     }
-    initial[best_child] = initial[best_parent] * alignPlanes(in_parent, in_child,
-                                                             "calibration of '" + sensors[best_child].name + "' against '" +
-                                                                 sensors[best_parent].name + "'",
-                                                             edges.enabled ? &centres : nullptr);
+    if (const std::optional<Eigen::Isometry3d>& known = mounts.knownMount(best_child)) {
+      initial[best_child] = *known;
+      placed[best_child] = true;
+      continue;
+    }
+    initial[best_child] = (child_jointed ? Eigen::Isometry3d::Identity() : initial[best_parent]) *
+                          alignPlanes(in_parent, in_child,
+                                      "calibration of '" + sensors[best_child].name + "' against '" + sensors[best_parent].name + "'",
+                                      edges.enabled ? &centres : nullptr);
     placed[best_child] = true;
   }
 
-  // Target planes in the rig frame, from the placed plane-seeing sensors in the graph.
+  // Where sensor s was (rig frame) at still pose k, as initialised.
+  const auto initialAt = [&](int s, int k) { return chainAt(*observation_of.at({s, k})) * initial[s]; };
+  // Target planes in the rig frame, from the placed plane-seeing sensors in the graph (rigid ones first).
   std::map<int, Plane> rig_planes;
-  for (int s = 0; s < sensor_count; ++s) {
-    if (isolated[s]) continue;
-    for (const auto& entry : planes[s]) {
-      if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initial[s], entry.second);
+  for (const bool behind_joints : {false, true}) {
+    for (int s = 0; s < sensor_count; ++s) {
+      if (isolated[s] || jointed(s) != behind_joints) continue;
+      for (const auto& entry : planes[s]) {
+        if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initialAt(s, entry.first), entry.second);
+      }
     }
   }
   // With edges, the board's pose per target pose: from a camera that saw it where one did (cameras
@@ -404,10 +639,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int s = 0; s < sensor_count && edges.enabled; ++s)
     if (!isLaser(s) && !isolated[s]) board_sources.push_back(s);
   std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return sensors[s].type == SensorType::kCamera; });
+  std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return !jointed(s); });
   for (int s : board_sources) {
     for (const auto& entry : planes[s]) {
       if (rig_boards.count(entry.first)) continue;
-      rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initial[s], rig_planes[entry.first],
+      rig_boards[entry.first] = boardPoseSeen(*observation_of.at({s, entry.first}), initialAt(s, entry.first), rig_planes[entry.first],
                                               edges.width >= edges.height);
     }
   }
@@ -448,7 +684,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers (or isolated sensors) saw it: no plane
     if (rejected.count({o.sensor, o.target_pose}) || isolated[o.sensor]) continue;
-    addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state);
+    addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state);
+  }
+  // Joint offsets: each solved where a joint after it in some sensor's chain moved over the session, else
+  // held (the mount takes it up).
+  std::vector<JointCalibration> joint_results = jointOffsetsSolvable(mounts, observations, isolated);
+  for (std::size_t j = 0; j < joint_offsets.size(); ++j) {
+    if (problem.HasParameterBlock(&joint_offsets[j]) && !joint_results[j].held.empty()) problem.SetParameterBlockConstant(&joint_offsets[j]);
   }
   for (int s = 0; s < sensor_count; ++s) {
     if (problem.HasParameterBlock(sensor_state[s].rotation.coeffs().data()))  // not an isolated sensor's
@@ -463,6 +705,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
+  for (int s = 0; s < sensor_count; ++s) {
+    if (!mounts.knownMount(s) || !problem.HasParameterBlock(sensor_state[s].translation.data())) continue;
+    problem.SetParameterBlockConstant(sensor_state[s].rotation.coeffs().data());
+    problem.SetParameterBlockConstant(sensor_state[s].translation.data());
+  }
 
   const ceres::Solver::Options solver_options = solverOptions(options);
   ceres::Solver::Summary summary;
@@ -475,7 +722,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const TargetObservation& o : observations)
       if (o.sensor == s && !rejected.count({o.sensor, o.target_pose})) its.push_back(&o);
     // None: it shares no pose the others fixed, and its closed form stays.
-    isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state);
+    isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state);
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes
     const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
@@ -484,6 +731,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
 
   CalibrationResult result;
   result.warnings = warnings;
+  result.mounts = mounts;
+  for (std::size_t j = 0; j < joint_offsets.size(); ++j) result.mounts.joints[j].offset = joint_results[j].offset = joint_offsets[j];
+  result.joints = joint_results;
   for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
   for (const auto& entry : board_state) {
     Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
@@ -520,7 +770,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     residual.plane_distance = residual.plane_angle = std::numeric_limits<double>::quiet_NaN();
     const auto plane = plane_state.find(o.target_pose);
     if (plane != plane_state.end() && !o.points.empty()) {
-      const Eigen::Isometry3d& pose = result.sensors[o.sensor].reference_from_sensor;
+      const Eigen::Isometry3d pose = result.rigFromSensorAt(o);
       double squared = 0.0;
       for (const Eigen::Vector3d& p : o.points) squared += std::pow(plane->second.normal.dot(pose * p) + plane->second.offset, 2);
       residual.rms = std::sqrt(squared / o.points.size());
@@ -580,8 +830,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   // from the graph, each isolated one from its own fit.
   std::vector<int> in_graph;
   for (int s = 0; s < sensor_count; ++s)
-    if (s != options.reference_sensor && !isolated[s]) in_graph.push_back(s);
+    if (s != options.reference_sensor && !isolated[s] && !mounts.knownMount(s)) in_graph.push_back(s);
   setStandardDeviations(&problem, in_graph, sensor_state, &result);
+  setJointStandardDeviations(&problem, joint_offsets, &result);
   for (int s = 0; s < sensor_count; ++s)
     if (isolated_problems[s]) setStandardDeviations(isolated_problems[s].get(), {s}, sensor_state, &result);
   return result;
@@ -620,6 +871,19 @@ ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometr
   return view;
 }
 
+const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {
+  static const std::optional<Eigen::Isometry3d> none;
+  return jointed(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;
+}
+
+Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
+  const Eigen::Isometry3d& pose = sensors.at(o.sensor).reference_from_sensor;
+  if (!mounts.jointed(o.sensor)) return pose;
+  std::vector<double> offsets;
+  for (const JointDescription& joint : mounts.joints) offsets.push_back(joint.offset);
+  return chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions, offsets) * pose;
+}
+
 std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors,
                                                          const std::vector<const TargetObservation*>& its, const CalibrationResult& solved,
                                                          const CalibrationOptions& options) {
@@ -636,7 +900,12 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
     if (o->sensor != s) throw InputError("calibration: fitting one sensor alone, but the observations name two");
     if (options.board_edges.enabled ? boards.count(o->target_pose) : planes.count(o->target_pose)) pointers.push_back(o);
   }
-  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards)) return std::nullopt;
+  std::vector<double> joint_offsets;
+  for (const JointDescription& joint : solved.mounts.joints) joint_offsets.push_back(joint.offset);
+  std::map<std::pair<int, int>, double> reading_corrections;
+  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections})) {
+    return std::nullopt;
+  }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = state.rotation.normalized().toRotationMatrix();
   pose.translation() = state.translation;

@@ -90,10 +90,10 @@ HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::ve
     if (!result) continue;
     std::vector<Eigen::Vector3d> board;
     for (const TargetObservation* o : others)
-      for (const Eigen::Vector3d& p : o->points) board.push_back(result->sensors[o->sensor].reference_from_sensor * p);
+      for (const Eigen::Vector3d& p : o->points) board.push_back(result->rigFromSensorAt(*o) * p);
     if (board.size() < 3) continue;
     const PrincipalAxes plane = principalAxesOf(board);
-    const Eigen::Isometry3d& placed = result->sensors[sensor].reference_from_sensor;
+    const Eigen::Isometry3d placed = result->rigFromSensorAt(*own);
     for (const Eigen::Vector3d& p : own->points) {
       const double distance = plane.axes.col(2).dot(placed * p - plane.centroid);
       squares += distance * distance;

@@ -121,7 +121,8 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
   std::sort(its.begin(), its.end(), [](const TargetObservation* a, const TargetObservation* b) { return a->target_pose < b->target_pose; });
   PlacementChange change;
   constexpr std::size_t kLeast = 4;  // poses in each part
-  if (its.size() < 2 * kLeast) return change;
+  // Behind joints the sensor is somewhere else at every pose: no one placement to split.
+  if (its.size() < 2 * kLeast || options.mounts.jointed(sensor)) return change;
   const SensorTrustOptions& trust = options.trust;
   // Each view's centre and normal once, not once per split.
   std::vector<ViewInSensor> views;

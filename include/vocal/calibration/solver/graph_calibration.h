@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/joint_chain.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/consensus_filter.h"
 #include "vocal/calibration/solver/observability.h"
@@ -57,6 +58,31 @@ struct SensorTrustOptions {
   double max_scale = 0.01;
 };
 
+// Sensors mounted behind a robot's joints (a camera on a pan-tilt head): at each still pose the sensor
+// sits at its chain's pose for that pose's joint positions (TargetObservation::joint_positions) times its
+// mount in the chain's last link, the unknown in place of its pose in the rig frame. The joints' zero
+// offsets are unknowns of the same graph.
+struct JointedMounts {
+  std::vector<JointDescription> joints;  // offset: the initial value
+  std::vector<std::vector<int>> chains;  // per sensor (or none): its joints from the rig frame (jointChain); empty: rigid
+  // Per sensor (or none): a mount known from the robot's model (CAD), held; its joints' offsets are then
+  // all solvable. Unset: the mount is an unknown.
+  std::vector<std::optional<Eigen::Isometry3d>> known_mounts;
+  // Radians (metres for a prismatic joint) a joint must move over the session for the offsets before it
+  // to be told from a sensor's mount.
+  double min_motion = 0.05, min_prismatic_motion = 0.02;
+  // How far a still pose's joint reading may be from the joint's true position: the encoder's counts,
+  // the gears' backlash, the link's flex (radians; metres for a prismatic joint). Each still pose's
+  // readings are corrected within it (a prior), so that the views' own precision does not overstate the
+  // offsets'.
+  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;
+  // An offset solved less well than this is named weak (radians; metres).
+  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
+
+  bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
+  const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
+};
+
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
@@ -77,10 +103,12 @@ struct CalibrationOptions {
   // them. Never the reference sensor.
   std::vector<int> isolated_sensors;
   SensorTrustOptions trust;
+  JointedMounts mounts;
 };
 
 struct SensorCalibration {
-  Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();  // in the rig frame
+  // In the rig frame; a sensor behind joints (JointedMounts): its mount in its chain's last link.
+  Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d pairwise_estimate = Eigen::Isometry3d::Identity();      // chained closed form
   // From the solver's covariance: translation (m) along and rotation (rad) about the rig frame's axes.
   Vector6d standard_deviation = Vector6d::Zero();
@@ -116,8 +144,22 @@ struct ObservationResidual {
   double range = 0.0;  // metres from the sensor to its view's centre
 };
 
+// A joint's zero offset as solved.
+struct JointCalibration {
+  double offset = 0.0;  // radians (metres), added to the encoder's reading
+  double standard_deviation = 0.0;
+  // The offset could not be told from a mount (no joint after it in a sensor's chain moved): held at its
+  // initial value, and why, for the user. Empty: solved.
+  std::string held;
+  double motion = 0.0;  // the range its positions covered over the still poses
+  // Solved, but its standard deviation is over max_offset_sigma: what would fix it better, for the user.
+  std::string weak;
+};
+
 struct CalibrationResult {
   std::vector<SensorCalibration> sensors;
+  JointedMounts mounts;                 // the options', each joint's offset as solved
+  std::vector<JointCalibration> joints;  // per joint of mounts.joints
   std::vector<ObservationResidual> observations;  // in the order of the input
   double rms = 0.0;  // over every point
   std::vector<ObservabilityWarning> warnings;  // weakly constrained DoF, checked before solving
@@ -126,6 +168,10 @@ struct CalibrationResult {
   std::map<int, Eigen::Isometry3d> boards;
   bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
+
+  // Where the sensor of `o` was in the rig frame when it made it: its pose, or behind joints its chain
+  // at o's joint positions (offsets as solved) times its mount.
+  Eigen::Isometry3d rigFromSensorAt(const TargetObservation& o) const;
 };
 
 // One view against a board (rig frame) with the sensor at `rig_from_sensor`: the distance at the view's
@@ -157,8 +203,9 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
 
 // Throws InputError naming the sensor when one never sees the target, shares no target pose with the
 // rest (the sensor graph is not connected), or its planes cannot fix its pose (with board edges: its
-// planes and the board's centres), or board edges are enabled without the board's size; and for an
-// isolated sensor that is the reference or not a sensor of the rig.
+// planes and the board's centres), or board edges are enabled without the board's size; for an
+// isolated sensor that is the reference or not a sensor of the rig; and for joints (options.mounts): a
+// reference or 2D laser behind joints, a jointed observation without one position per joint of its chain.
 CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                const CalibrationOptions& options = {});
 

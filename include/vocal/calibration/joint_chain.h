@@ -1,0 +1,80 @@
+#pragma once
+// A robot's joints between the rig's reference frame and a sensor's link (a camera on a pan-tilt head):
+// URDF's model of them, each joint's child frame at `origin` in its parent, moved about (revolute) or
+// along (prismatic) its axis, in the child frame, by the joint's position plus its zero offset. Kept
+// free of ROS (the rig YAML's `joints:` list and a URDF, urdf_joints.h, both give these); the forward
+// kinematics is templated so that Ceres differentiates the calibration graph through it.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace vocal {
+
+enum class JointType { kRevolute, kPrismatic, kFixed };
+
+JointType parseJointType(const std::string& name, const std::string& where);  // revolute, continuous, prismatic, fixed
+std::string jointTypeName(JointType type);
+
+struct JointDescription {
+  std::string name;
+  JointType type = JointType::kRevolute;
+  std::string parent, child;  // frames
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // the child frame at position 0, in the parent
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit, in the child frame
+  // Radians (metres): what the joint's encoder reads at its true zero, added to every reading - the
+  // calibrated unknown (robot_calibration's calibration_offsets). The initial value; the truth in a
+  // simulation's ground truth.
+  double offset = 0.0;
+};
+
+// The joints from `base` down to `link`, in order (empty when link is base). Throws InputError naming
+// `where`, the link and the base when no chain of joints leads from one to the other.
+std::vector<int> jointChain(const std::vector<JointDescription>& joints, const std::string& base, const std::string& link,
+                            const std::string& where);
+
+// One joint's parent_from_child at `position` (offset included by the caller).
+template <typename T>
+void jointTransform(const JointDescription& joint, const T& position, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
+  const Eigen::Quaternion<T> origin_rotation(joint.origin.rotation().cast<T>());
+  const Eigen::Matrix<T, 3, 1> origin_translation = joint.origin.translation().cast<T>();
+  const Eigen::Matrix<T, 3, 1> axis = joint.axis.cast<T>();
+  if (joint.type == JointType::kRevolute) {
+    // The quaternion of a turn by `position` about `axis`, written out (Eigen's AngleAxis is not autodiff-safe).
+    using std::cos;
+    using std::sin;
+    const T half = position * T(0.5);
+    const Eigen::Quaternion<T> turn(cos(half), sin(half) * axis.x(), sin(half) * axis.y(), sin(half) * axis.z());
+    *rotation = origin_rotation * turn;
+    *translation = origin_translation;
+  } else if (joint.type == JointType::kPrismatic) {
+    *rotation = origin_rotation;
+    *translation = origin_translation + origin_rotation * (axis * position);
+  } else {
+    *rotation = origin_rotation;
+    *translation = origin_translation;
+  }
+}
+
+// base_from_link through `chain` (jointChain) with each joint at positions[i] + offsets[chain[i]].
+template <typename T>
+void chainTransform(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const double* positions,
+                    const T* const* offsets, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
+  *rotation = Eigen::Quaternion<T>::Identity();
+  *translation = Eigen::Matrix<T, 3, 1>::Zero();
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    Eigen::Quaternion<T> q;
+    Eigen::Matrix<T, 3, 1> t;
+    jointTransform(joints[chain[i]], T(positions[i]) + offsets[i][0], &q, &t);
+    *translation = *translation + *rotation * t;
+    *rotation = *rotation * q;
+  }
+}
+
+// The same in doubles: base_from_link with the chain's joints at `positions` (one per chain joint) plus
+// offsets[joint] (one per joint of `joints`).
+Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
+                            const std::vector<double>& offsets);
+
+}  // namespace vocal

@@ -1,0 +1,55 @@
+#include "vocal/calibration/joint_chain.h"
+
+#include "vocal/core/errors.h"
+
+namespace vocal {
+
+JointType parseJointType(const std::string& name, const std::string& where) {
+  if (name == "revolute" || name == "continuous") return JointType::kRevolute;
+  if (name == "prismatic") return JointType::kPrismatic;
+  if (name == "fixed") return JointType::kFixed;
+  throw InputError(where + ": joint type '" + name + "' is unknown: expected revolute, continuous, prismatic or fixed");
+}
+
+std::string jointTypeName(JointType type) {
+  switch (type) {
+    case JointType::kRevolute: return "revolute";
+    case JointType::kPrismatic: return "prismatic";
+    case JointType::kFixed: return "fixed";
+  }
+  return "?";
+}
+
+std::vector<int> jointChain(const std::vector<JointDescription>& joints, const std::string& base, const std::string& link,
+                            const std::string& where) {
+  // Up from the link, each frame having one parent joint (a tree, as URDF's), until the base.
+  std::vector<int> up;
+  std::string frame = link;
+  while (frame != base) {
+    int parent_joint = -1;
+    for (std::size_t j = 0; j < joints.size(); ++j)
+      if (joints[j].child == frame) parent_joint = static_cast<int>(j);
+    if (parent_joint < 0 || up.size() > joints.size()) {
+      throw InputError(where + ": no chain of joints leads from '" + base + "' to '" + link + "' (the frame '" + frame +
+                       "' is no joint's child)");
+    }
+    up.push_back(parent_joint);
+    frame = joints[parent_joint].parent;
+  }
+  return {up.rbegin(), up.rend()};
+}
+
+Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
+                            const std::vector<double>& offsets) {
+  std::vector<const double*> chain_offsets;
+  for (const int j : chain) chain_offsets.push_back(&offsets.at(j));
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+  chainTransform<double>(joints, chain, positions.data(), chain_offsets.data(), &q, &t);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = q.normalized().toRotationMatrix();
+  pose.translation() = t;
+  return pose;
+}
+
+}  // namespace vocal
