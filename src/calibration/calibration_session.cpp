@@ -71,6 +71,8 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
   arm_ = rig_.handEye();
+  mounts_ = rig_.jointedMounts();
+  joint_readings_.resize(mounts_.joints.size());
 }
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
@@ -175,6 +177,45 @@ void CalibrationSession::addToolPose(double stamp, const Eigen::Isometry3d& refe
     throw InputError("tool pose of '" + arm_->tool_frame + "': not finite");
   }
   tool_poses_.push_back({stamp, reference_from_tool});
+}
+
+void CalibrationSession::addJointState(double stamp, const std::vector<std::string>& names, const std::vector<double>& positions) {
+  if (names.size() != positions.size()) {
+    throw InputError("joint state: " + std::to_string(names.size()) + " names but " + std::to_string(positions.size()) + " positions");
+  }
+  if (!std::isfinite(stamp)) throw InputError("joint state: its stamp is not finite");
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!std::isfinite(positions[i])) continue;
+    for (std::size_t j = 0; j < mounts_.joints.size(); ++j) {
+      if (mounts_.joints[j].name != names[i]) continue;
+      std::vector<JointReading>& own = joint_readings_[j];
+      const JointReading reading{stamp, positions[i]};
+      // In time order (a recording's joint states may arrive slightly out of order).
+      if (own.empty() || own.back().stamp <= stamp) {
+        own.push_back(reading);
+      } else {
+        own.insert(std::upper_bound(own.begin(), own.end(), stamp, [](double t, const JointReading& r) { return t < r.stamp; }), reading);
+      }
+    }
+  }
+}
+
+std::size_t CalibrationSession::jointReadings() const {
+  std::size_t n = 0;
+  for (const std::vector<JointReading>& own : joint_readings_) n += own.size();
+  return n;
+}
+
+JointPositionCounts CalibrationSession::jointPositionCounts() const {
+  JointPositionCounts counts;
+  associate(timedObservations(), &counts);
+  return counts;
+}
+
+std::vector<TargetObservation> CalibrationSession::associate(std::vector<TimedObservation> timed, JointPositionCounts* counts) const {
+  std::vector<TargetObservation> associated = associateStillTarget(rig_.specs(), std::move(timed), stillness_);
+  if (mounts_.chains.empty()) return associated;
+  return attachJointPositions(std::move(associated), mounts_, joint_readings_, rig_.specs(), joint_stillness_, counts);
 }
 
 HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOptions& options) const {
@@ -382,12 +423,12 @@ std::vector<CalibrationSession::RingOffsetTrial> CalibrationSession::ringOffsetT
   std::optional<std::vector<TargetObservation>> with;  // every lidar's offsets applied: the same for each trial
   for (std::size_t s = 0; s < offsets.size(); ++s) {
     if (!offsets[s] || !offsets[s]->applied) continue;
-    if (!with) with = associateStillTarget(rig_.specs(), timedObservations(offsets), stillness_);
+    if (!with) with = associate(timedObservations(offsets));
     std::vector<std::optional<RingOffsets>> without = offsets;
     without[s]->applied = false;
     RingOffsetTrial trial;
     trial.sensor = static_cast<int>(s);
-    trial.without = associateStillTarget(rig_.specs(), timedObservations(without), stillness_);
+    trial.without = associate(timedObservations(without));
     trial.with = *with;
     trials.push_back(std::move(trial));
   }
@@ -555,9 +596,7 @@ std::vector<SensorDataCounts> CalibrationSession::counts() const {
   return counts;
 }
 
-std::vector<TargetObservation> CalibrationSession::associatedObservations() const {
-  return associateStillTarget(rig_.specs(), timedObservations(), stillness_);
-}
+std::vector<TargetObservation> CalibrationSession::associatedObservations() const { return associate(timedObservations()); }
 
 CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) const {
   return calibrate(associatedObservations(), options);
@@ -566,6 +605,13 @@ CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) cons
 CalibrationOptions CalibrationSession::calibrationOptions(CalibrationOptions options) const {
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
+  if (options.mounts.chains.empty()) {
+    const JointedMounts given = options.mounts;  // its settings (motion, sigmas), the rig's joints and chains
+    options.mounts = mounts_;
+    options.mounts.min_motion = given.min_motion, options.mounts.min_prismatic_motion = given.min_prismatic_motion;
+    options.mounts.reading_sigma = given.reading_sigma, options.mounts.prismatic_reading_sigma = given.prismatic_reading_sigma;
+    options.mounts.max_offset_sigma = given.max_offset_sigma, options.mounts.max_prismatic_offset_sigma = given.max_prismatic_offset_sigma;
+  }
   if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
     // The rig's board: its pattern's columns run along its width (checkTargetDescription).
     options.board_edges.width = rig_.target.width;
@@ -590,8 +636,17 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   const std::string& reference_name = rig_.sensors[reference].spec.name;
   if (!unassociated.empty() && unassociated.rfind("sensor '" + reference_name + "' ", 0) == 0) throw InputError("calibration: " + unassociated);
   CalibrationResult result = calibrateRigWithTrust(rig_.specs(), associated, calibrationOptions(options));
+  // A sensor behind joints whose every view was dropped for its joints (moving, or never read): why.
+  for (std::size_t s = 0; s < rig_.sensors.size(); ++s) {
+    if (!mounts_.jointed(static_cast<int>(s)) || in_a_pose[s] || seen[s].target_found == 0) continue;
+    const JointPositionCounts joints = jointPositionCounts();
+    if (joints.kept + joints.moving + joints.unread == 0) continue;
+    result.sensors[s].distrust = "its views were all dropped for its joints (" + std::to_string(joints.moving) + " while they moved, " +
+                                 std::to_string(joints.unread) + " without a reading on " + rig_.joint_states_topic + "; first: " +
+                                 joints.first + "); not calibrated, the others were solved without it";
+  }
   for (std::size_t s = 0; s < rig_.sensors.size() && !unassociated.empty(); ++s) {
-    if (unassociated.rfind("sensor '" + rig_.sensors[s].spec.name + "' ", 0) == 0) {
+    if (unassociated.rfind("sensor '" + rig_.sensors[s].spec.name + "' ", 0) == 0 && result.sensors[s].distrust.find("for its joints") == std::string::npos) {
       result.sensors[s].distrust = "it " + unassociated.substr(unassociated.find("' ") + 2) + "; not calibrated, the others were solved without it";
     }
   }

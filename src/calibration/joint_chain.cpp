@@ -52,4 +52,9 @@ Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const s
   return pose;
 }
 
+const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {
+  static const std::optional<Eigen::Isometry3d> none;
+  return jointed(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;
+}
+
 }  // namespace vocal

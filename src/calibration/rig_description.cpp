@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "vocal/calibration/urdf_joints.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/yaml_file.h"
 #include "vocal/core/se3.h"
@@ -19,12 +20,36 @@ std::vector<SensorSpec> RigDescription::specs() const {
   return out;
 }
 
+bool RigDescription::behindJoints(int sensor) const {
+  const std::string& parent = sensors.at(sensor).parent;
+  if (parent.empty()) return false;
+  for (const JointDescription& joint : joints)
+    if (joint.child == parent) return true;
+  return false;
+}
+
+JointedMounts RigDescription::jointedMounts() const {
+  JointedMounts mounts;
+  mounts.joints = joints;
+  bool any = false;
+  for (std::size_t s = 0; s < sensors.size(); ++s) any = any || behindJoints(static_cast<int>(s));
+  if (!any) return mounts;
+  mounts.chains.resize(sensors.size());
+  mounts.known_mounts.resize(sensors.size());
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (!behindJoints(static_cast<int>(s))) continue;
+    mounts.chains[s] = jointChain(joints, reference_frame, sensors[s].parent, "sensor '" + sensors[s].spec.name + "'");
+    if (sensors[s].pose_known) mounts.known_mounts[s] = sensors[s].pose;
+  }
+  return mounts;
+}
+
 std::optional<HandEyeRig> RigDescription::handEye() const {
   HandEyeRig arm;
   arm.eye_in_hand = target.parent.empty() || target.parent == reference_frame;
   if (!arm.eye_in_hand) arm.tool_frame = target.parent;
-  for (const RigSensorDescription& s : sensors)
-    if (arm.tool_frame.empty() && !s.parent.empty()) arm.tool_frame = s.parent;
+  for (std::size_t s = 0; s < sensors.size(); ++s)
+    if (arm.tool_frame.empty() && !sensors[s].parent.empty() && !behindJoints(static_cast<int>(s))) arm.tool_frame = sensors[s].parent;
   if (arm.tool_frame.empty()) return std::nullopt;
   // The main camera: the first on the other side from the board.
   for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s) {
@@ -91,7 +116,7 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 
 namespace {
 
-Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
+Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where, const std::string& key = "pose") {
   std::vector<double> v;
   try {
     v = node.as<std::vector<double>>();
@@ -100,7 +125,7 @@ Eigen::Isometry3d readPose(const YAML::Node& node, const std::string& where) {
   }
   const Eigen::Quaterniond q = v.size() == 7 ? Eigen::Quaterniond(v[6], v[3], v[4], v[5]) : Eigen::Quaterniond::Identity();
   if (v.size() != 7 || !(std::abs(q.norm() - 1.0) < 1e-3) || !Eigen::Vector3d(v[0], v[1], v[2]).allFinite()) {
-    throw InputError(where + ": 'pose' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
+    throw InputError(where + ": '" + key + "' must be [x, y, z, qx, qy, qz, qw] with a unit quaternion");
   }
   return poseFromTranslationQuaternion(Eigen::Vector3d(v[0], v[1], v[2]), q);
 }
@@ -124,6 +149,50 @@ CropBox readCropBox(const YAML::Node& node, const std::string& where) {
 }  // namespace
 
 namespace {
+// [x, y, z] as a vector, naming the key.
+Eigen::Vector3d readVector3(const YAML::Node& node, const std::string& where) {
+  std::vector<double> v;
+  try {
+    v = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    v.clear();
+  }
+  if (v.size() != 3 || !Eigen::Vector3d(v[0], v[1], v[2]).allFinite()) throw InputError(where + " must be [x, y, z]");
+  return {v[0], v[1], v[2]};
+}
+
+std::vector<JointDescription> readJoints(const YAML::Node& list, const std::string& where) {
+  if (!list.IsSequence()) throw InputError(where + ": expected a list of joints");
+  std::vector<JointDescription> joints;
+  std::set<std::string> names, children;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node node = list[i];
+    std::string at = where + "[" + std::to_string(i) + "]";
+    if (!node.IsMap()) throw InputError(at + ": expected a map");
+    JointDescription joint;
+    joint.name = required<std::string>(node, "name", at);
+    at += " '" + joint.name + "'";
+    rejectUnknownKeys(node, {"name", "type", "parent", "child", "origin", "axis", "offset"}, at);
+    joint.type = parseJointType(required<std::string>(node, "type", at), at);
+    joint.parent = required<std::string>(node, "parent", at);
+    joint.child = required<std::string>(node, "child", at);
+    if (node["origin"]) joint.origin = readPose(node["origin"], at, "origin");
+    if (node["axis"]) {
+      const Eigen::Vector3d axis = readVector3(node["axis"], at + ": 'axis'");
+      if (!(axis.norm() > 1e-9)) throw InputError(at + ": 'axis' is zero");
+      joint.axis = axis.normalized();
+    } else if (joint.type != JointType::kFixed) {
+      throw InputError(at + ": missing 'axis'");
+    }
+    if (node["offset"]) joint.offset = required<double>(node, "offset", at);
+    if (!std::isfinite(joint.offset)) throw InputError(at + ": 'offset' is not finite");
+    if (!names.insert(joint.name).second) throw InputError(at + ": the name is used twice");
+    if (!children.insert(joint.child).second) throw InputError(at + ": its child '" + joint.child + "' is another joint's child too");
+    joints.push_back(joint);
+  }
+  return joints;
+}
+
 // What a hand-eye rig may be: one frame that moves (the tool), the board fixed in the reference frame or
 // on the tool, a camera on the other side from the board, and no range sensor on the board's side (it
 // would see the board in one place only).
@@ -168,7 +237,7 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
 RigDescription readRigDescription(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "rig description");
   if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
-  rejectUnknownKeys(root, {"reference_frame", "target", "sensors"}, path);
+  rejectUnknownKeys(root, {"reference_frame", "target", "sensors", "joints", "urdf", "joint_states_topic"}, path);
   RigDescription rig;
   rig.reference_frame = required<std::string>(root, "reference_frame", path);
   if (!root["target"]) throw InputError(path + ": missing 'target'");
@@ -179,6 +248,15 @@ RigDescription readRigDescription(const std::string& path) {
     }
   }
   rig.target = readTarget(root["target"], path + ": target", cameras_only);
+  if (root["joints"] && root["urdf"]) throw InputError(path + ": give the joints in 'joints' or a 'urdf', not both");
+  if (root["joints"]) rig.joints = readJoints(root["joints"], path + ": joints");
+  if (root["urdf"]) {
+    rig.urdf = required<std::string>(root, "urdf", path);
+    const std::size_t slash = path.find_last_of('/');
+    const std::string file = rig.urdf.front() == '/' || slash == std::string::npos ? rig.urdf : path.substr(0, slash + 1) + rig.urdf;
+    rig.joints = readUrdfJoints(file);
+  }
+  if (root["joint_states_topic"]) rig.joint_states_topic = required<std::string>(root, "joint_states_topic", path);
   if (!root["sensors"] || !root["sensors"].IsSequence() || root["sensors"].size() == 0) {
     throw InputError(path + ": 'sensors' must list at least one sensor");
   }
@@ -192,7 +270,7 @@ RigDescription readRigDescription(const std::string& path) {
     sensor.spec.name = required<std::string>(node, "name", where);
     where += " '" + sensor.spec.name + "'";
     rejectUnknownKeys(node, {"name", "type", "frame_id", "image_topic", "camera_info_topic", "depth_topic", "cloud_topic",
-                             "scan_topic", "pose", "crop_box", "parent"},
+                             "scan_topic", "pose", "crop_box", "parent", "pose_known"},
                       where);
     if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
     try {
@@ -219,13 +297,25 @@ RigDescription readRigDescription(const std::string& path) {
     }
     if (node["parent"]) sensor.parent = required<std::string>(node, "parent", where);
     if (sensor.parent == rig.reference_frame) sensor.parent.clear();
-    if (node["pose"]) {
-      sensor.pose = readPose(node["pose"], where);
-      if (rig.reference_sensor < 0) rig.reference_sensor = static_cast<int>(i);
-    }
+    if (node["pose_known"]) sensor.pose_known = required<bool>(node, "pose_known", where);
     rig.sensors.push_back(sensor);
+    const bool jointed = rig.behindJoints(static_cast<int>(i));
+    if (node["pose"]) {
+      rig.sensors.back().pose = readPose(node["pose"], where);
+      // A sensor behind joints is never the reference: its pose is a mount in a moving link.
+      if (rig.reference_sensor < 0 && !jointed) rig.reference_sensor = static_cast<int>(i);
+    }
+    if (sensor.pose_known && !(jointed && node["pose"])) {
+      throw InputError(where + ": 'pose_known' holds the 'pose' of a sensor behind joints (its mount in its parent link); " +
+                       (jointed ? std::string("give its 'pose'") : "its parent '" + sensor.parent + "' is no joint's child"));
+    }
+    if (jointed) jointChain(rig.joints, rig.reference_frame, sensor.parent, where);  // throws when no chain leads there
   }
   if (const std::optional<HandEyeRig> arm = rig.handEye()) {
+    if (!rig.joints.empty()) {
+      throw InputError(path + ": a robot arm's tool frame from tf ('" + arm->tool_frame + "') and joints in one rig are not supported yet: "
+                       "calibrate them in sessions of their own");
+    }
     checkHandEyeRig(rig, *arm, path);
     rig.reference_sensor = -1;
     return rig;
@@ -247,8 +337,25 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
   file << std::setprecision(10) << "reference_frame: " << rig.reference_frame << "\n"
        << "target: {type: checkerboard, rows: " << p.rows << ", cols: " << p.cols << ", square_size: " << p.square_size
        << ", width: " << rig.target.width << ", height: " << rig.target.height
-       << (rig.target.parent.empty() ? "" : ", parent: " + rig.target.parent) << "}\n"
-       << "sensors:\n";
+       << (rig.target.parent.empty() ? "" : ", parent: " + rig.target.parent) << "}\n";
+  const auto writePose = [&](const Eigen::Isometry3d& pose) {
+    const Eigen::Vector3d t = pose.translation();
+    const Eigen::Quaterniond q(pose.rotation());
+    file << "[" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]";
+  };
+  if (rig.joint_states_topic != "/joint_states") file << "joint_states_topic: " << rig.joint_states_topic << "\n";
+  if (!rig.urdf.empty()) {
+    file << "urdf: " << rig.urdf << "\n";
+  } else if (!rig.joints.empty()) {
+    file << "joints:\n";
+    for (const JointDescription& joint : rig.joints) {
+      file << "  - {name: " << joint.name << ", type: " << jointTypeName(joint.type) << ", parent: " << joint.parent << ", child: " << joint.child
+           << ", offset: " << joint.offset << ",\n     origin: ";
+      writePose(joint.origin);
+      file << ", axis: [" << joint.axis.x() << ", " << joint.axis.y() << ", " << joint.axis.z() << "]}\n";
+    }
+  }
+  file << "sensors:\n";
   for (const RigSensorDescription& s : rig.sensors) {
     file << "  - {name: " << s.spec.name << ", type: " << sensorTypeName(s.spec.type) << ", frame_id: " << s.spec.frame_id;
     if (!s.parent.empty()) file << ", parent: " << s.parent;
@@ -264,11 +371,10 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
       file << ", crop_box: [" << b.min.x() << ", " << b.min.y() << ", " << b.min.z() << ", " << b.max.x() << ", " << b.max.y()
            << ", " << b.max.z() << "]";
     }
+    if (s.pose_known) file << ", pose_known: true";
     if (s.pose) {
-      const Eigen::Vector3d t = s.pose->translation();
-      const Eigen::Quaterniond q(s.pose->rotation());
-      file << ",\n     pose: [" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z()
-           << ", " << q.w() << "]";
+      file << ",\n     pose: ";
+      writePose(*s.pose);
     }
     file << "}\n";
   }

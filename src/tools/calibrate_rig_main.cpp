@@ -56,7 +56,11 @@ const char kUsage[] =
     "  --quiet             no progress line\n"
     "A rig whose camera has a moving frame as its `parent` (a robot arm's tool), or whose target has, is a\n"
     "hand-eye rig: the tool's pose comes from the bag's /tf and /tf_static, the arm's still poses from its\n"
-    "stillness; --report adds each arm pose's fit, --tolerance-mm / --tolerance-mrad and --publish-uncertain hold.\n";
+    "stillness; --report adds each arm pose's fit, --tolerance-mm / --tolerance-mrad and --publish-uncertain hold.\n"
+    "A sensor whose `parent` is a link of the rig's joints (a `joints:` list or a `urdf:`) is behind them (a camera\n"
+    "on a pan-tilt head): the joints' positions come from the bag's sensor_msgs/JointState (joint_states_topic,\n"
+    "/joint_states), its views count only where they were still, and each joint's zero offset is solved with the\n"
+    "rest; --report adds the range each joint covered.\n";
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
 // still pose's observations fit the result.
@@ -123,6 +127,27 @@ void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayR
                 100 * vocal::median(on_board), worst->target_pose, 100 * worst->agreement.on_board,
                 worst->rejected ? ", rejected" : "",
                 1000 * vocal::median(off_plane), poses.size());
+  }
+}
+
+// The joints' offsets as solved, or held and why, and what their readings gave the still poses.
+void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSession& session, const vocal::CalibrationResult& result) {
+  const vocal::JointPositionCounts counts = session.jointPositionCounts();
+  std::printf("joints: %zu readings on %s; views of the sensors behind them: %d kept, %d dropped while the joints moved, %d without a "
+              "reading%s%s\n",
+              session.jointReadings(), rig.joint_states_topic.c_str(), counts.kept, counts.moving, counts.unread,
+              counts.first.empty() ? "" : " (first: ", counts.first.empty() ? "" : (counts.first + ")").c_str());
+  std::printf("joint offsets (added to each reading), sigma, and the range the still poses covered:\n");
+  for (std::size_t j = 0; j < result.joints.size(); ++j) {
+    const vocal::JointCalibration& joint = result.joints[j];
+    if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
+    const bool prismatic = result.mounts.joints[j].type == vocal::JointType::kPrismatic;
+    const char* unit = prismatic ? "mm" : "mrad";
+    std::printf("  %-20s %+8.2f %s +- %.2f, moved %.3f %s", result.mounts.joints[j].name.c_str(), 1000 * joint.offset, unit,
+                1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
+    if (!joint.held.empty()) std::printf("; held: %s", joint.held.c_str());
+    if (!joint.weak.empty()) std::printf("; %s", joint.weak.c_str());
+    std::printf("\n");
   }
 }
 
@@ -271,6 +296,13 @@ int run(const vocal::CommandLine& args) {
   std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
   for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
   if (const std::optional<vocal::HandEyeRig> arm = rig.handEye()) return runHandEye(args, rig, *arm, session, bag, tolerance);
+  const bool jointed = !rig.jointedMounts().chains.empty();
+  if (jointed && session.jointReadings() == 0) {
+    std::string names;
+    for (const vocal::JointDescription& joint : rig.jointedMounts().joints) names += (names.empty() ? "" : ", ") + joint.name;
+    throw vocal::InputError(bag + ": the rig has sensors behind joints, but the bag has no sensor_msgs/JointState on " + rig.joint_states_topic +
+                            " naming any of them (" + names + "); record the robot's joint states, or set joint_states_topic in the rig");
+  }
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
   options.board_edges.enabled = args.has("edges");
@@ -293,17 +325,19 @@ int run(const vocal::CommandLine& args) {
   std::printf("memory: %s%s\n", session.memorySummary().c_str(), session.memory().full ? " (raise --max-held-mb to keep them)" : "");
   printRingOffsets(rig, ring_offsets);
   const vocal::CalibrationResult result = session.calibrate(associated, options);
+  if (jointed) printJoints(rig, session, result);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw",
               "sigma t (mm) / r (mrad), rms (mm), observations (rejected), off the others' board (mm / mrad)");
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorCalibration& c = result.sensors[s];
     const Eigen::Vector3d t = c.reference_from_sensor.translation();
     const Eigen::Quaterniond q(c.reference_from_sensor.rotation());
-    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f, %.2f, %d (%d), %.1f / %.1f%s\n",
+    const std::string parent = vocal::sensorParent(result, s, rig.reference_frame);
+    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f, %.2f, %d (%d), %.1f / %.1f%s%s\n",
                 rig.sensors[s].spec.name.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
                 1000 * c.standard_deviation.head<3>().norm(), 1000 * c.standard_deviation.tail<3>().norm(), 1000 * c.rms,
                 c.observations, c.rejected_observations, 1000 * c.disagreement_distance, 1000 * c.disagreement_angle,
-                c.isolated ? " (isolated)" : "");
+                c.isolated ? " (isolated)" : "", parent == rig.reference_frame ? "" : (" (in " + parent + ")").c_str());
   }
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).

@@ -12,6 +12,7 @@
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -128,6 +129,16 @@ double faultAmount(const std::vector<SimulatedSensorFault>& faults, int sensor_i
 }
 }  // namespace
 
+std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target) {
+  RigSimulationOptions poses;
+  poses.target_poses = options.target_poses;
+  poses.seed = options.seed;
+  poses.turn_range = options.turn_range;
+  poses.target_width = target.width;
+  poses.target_height = target.height;
+  return simulateRig(std::vector<SimulatedSensor>{}, poses).reference_from_target;
+}
+
 SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<SimulatedSensor>& sensors, const RigDescription& rig,
                                                      const SimulatedSessionOptions& options, const std::string& bag_path) {
   // Each sensor's rate and the timeline, checked before anything is written.
@@ -146,15 +157,12 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   }
   rosbag::Bag bag;
   openBag(&bag, bag_path, rosbag::bagmode::Write);
-  // The still poses: those of the rig simulator (spread tilts facing the rig).
-  RigSimulationOptions poses;
-  poses.target_poses = options.target_poses;
-  poses.seed = options.seed;
-  poses.turn_range = options.turn_range;
-  poses.target_width = rig.target.width;
-  poses.target_height = rig.target.height;
   SimulatedSessionSummary summary;
-  summary.reference_from_target = simulateRig(std::vector<SimulatedSensor>{}, poses).reference_from_target;
+  summary.reference_from_target = simulatedStillPoses(options, rig.target);
+  if (options.head && (options.head_sensor < 0 || options.head_sensor >= static_cast<int>(sensors.size()) ||
+                       options.head->angles.size() != summary.reference_from_target.size())) {
+    throw InputError("simulated session: the pan-tilt head names no sensor of the rig, or not one aim per still pose");
+  }
 
   std::mt19937 rng(options.seed);
   std::vector<double> ring_bias(options.lidar_model == LidarModel::kOuster64 ? 64 : 16, 0.0);
@@ -178,9 +186,27 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   std::vector<std::pair<double, std::size_t>> messages;
   for (std::size_t s = 0; s < sensors.size(); ++s)
     for (int i = 0; 0.013 * s + i / rates[s] < duration - 1e-9; ++i) messages.emplace_back(0.013 * s + i / rates[s], s);
+  // The head's joint states: index sensors.size().
+  const std::size_t joint_states = sensors.size();
+  for (int i = 0; options.head && i / options.joint_state_rate < duration - 1e-9; ++i) messages.emplace_back(i / options.joint_state_rate, joint_states);
   std::sort(messages.begin(), messages.end());
+  std::vector<int> joint_direction(options.head ? options.head->joints.size() : 0, 0);  // of each joint's last motion (backlash)
+  std::vector<double> last_angles;
   try {
     for (const auto& [time, s] : messages) {
+      if (s == joint_states) {
+        const std::vector<double> angles = options.head->anglesAt(time, options.still_seconds, options.moving_seconds);
+        for (std::size_t j = 0; j < angles.size() && !last_angles.empty(); ++j)
+          if (std::abs(angles[j] - last_angles[j]) > 1e-9) joint_direction[j] = angles[j] > last_angles[j] ? 1 : -1;
+        last_angles = angles;
+        sensor_msgs::JointState state;
+        state.header.stamp = ros::Time(1000.0 + time);
+        for (const JointDescription& joint : options.head->joints) state.name.push_back(joint.name);
+        state.position = options.head->reported(angles, joint_direction);
+        bag.write(options.joint_states_topic, state.header.stamp, state);
+        ++summary.messages;
+        continue;
+      }
       const int k = std::min(options.target_poses - 1, static_cast<int>(time / pose_seconds));
       const double into_pose = time - k * pose_seconds;
       const double alpha = into_pose < options.still_seconds ? 0.0 : (into_pose - options.still_seconds) / options.moving_seconds;
@@ -202,6 +228,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.time = time;
       SimulatedSensor placed = sensors[s];
       placed.reference_from_sensor = faultyPlacement(sensors[s], options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
+      if (options.head && static_cast<int>(s) == options.head_sensor) {
+        placed.reference_from_sensor = options.head->baseFromSensor(options.head->anglesAt(time, options.still_seconds, options.moving_seconds));
+      }
       view.sensor = &placed;
       const RigSensorDescription& d = rig.sensors[s];
       const ros::Time stamp(1000.0 + time + faultAmount(options.faults, static_cast<int>(s), SimulatedSensorFault::Kind::kTimeOffset, 0.0));
@@ -270,7 +299,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
   openBag(&bag, bag_path, rosbag::bagmode::Read);
   const RigDescription& rig = session->rig();
   // Topic -> (sensor, what arrives there).
-  enum class Kind { kImage, kInfo, kDepth, kCloud, kScan };
+  enum class Kind { kImage, kInfo, kDepth, kCloud, kScan, kJointState };
   std::map<std::string, std::vector<std::pair<int, Kind>>> routes;
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& d = rig.sensors[s];
@@ -281,6 +310,8 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
     if (d.spec.type == SensorType::kLidar3d) routes[d.cloud_topic].push_back({i, Kind::kCloud});
     if (d.spec.type == SensorType::kLaser2d) routes[d.scan_topic].push_back({i, Kind::kScan});
   }
+  // The joints' positions, when a sensor is behind joints (not a sensor's: index -1).
+  if (!rig.jointedMounts().chains.empty()) routes[rig.joint_states_topic].push_back({-1, Kind::kJointState});
   std::vector<std::string> topics;
   for (const auto& route : routes) topics.push_back(route.first);
 
@@ -335,6 +366,18 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
       ++summary.messages;
       if (progress) progress(summary.messages);
       for (const auto& [sensor, kind] : routes.at(m.getTopic())) {
+        if (kind == Kind::kJointState) {
+          try {
+            const auto state = m.instantiate<sensor_msgs::JointState>();
+            if (!state) throw InputError(m.getTopic() + ": not a sensor_msgs/JointState");
+            // Stamped by the driver; an unstamped one (some publish 0) at its recording time.
+            const double stamp = state->header.stamp.isZero() ? m.getTime().toSec() : state->header.stamp.toSec();
+            session->addJointState(stamp, state->name, state->position);
+          } catch (const InputError& e) {
+            drop(m.getTopic(), m.getTime(), e.what());
+          }
+          continue;
+        }
         const std::string& name = rig.sensors[sensor].spec.name;
         try {
           std::future<CalibrationSession::Extraction> extraction;

@@ -9,6 +9,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
+#include "vocal/core/se3.h"
 #include "vocal/simulation/rig_simulator.h"
 #include "vocal/simulation/simulated_arm.h"
 #include "vocal/tools/calibration_bag.h"
@@ -57,6 +58,13 @@ const char kUsage[] =
     "  --stand             the board stands on two posts with feet, carried with it (no one holds it)\n"
     "  --crop-lidar M      each lidar cloud cropped to the returns within M metres of a still pose's board\n"
     "  --seed S            (default 1)\n"
+    "  --pan-tilt          an RGB-D camera (head_camera) on a pan-tilt head, turned towards the board at each\n"
+    "                      still pose, in front of the lidar (the reference) and the 2D laser fixed on the\n"
+    "                      robot: the head's joints on /joint_states at 200 Hz, each off by a drawn zero\n"
+    "                      offset (+-0.03 rad), 12-bit encoders, 1 mrad of backlash; rig.yaml lists the\n"
+    "                      joints (offsets unknown), ground_truth.yaml their true offsets and the camera's\n"
+    "                      mount on the tilt link\n"
+    "  --pose-known        (with --pan-tilt) rig.yaml gives the camera's mount as known (pose_known: true)\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n"
     "\n"
@@ -112,14 +120,29 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   return 0;
 }
 
+// --pan-tilt: the lidar (the reference) and the 2D laser of the example rig, and an RGB-D camera whose pose
+// is its mount on the head's tilt link (looking along the link's x, 6 cm ahead of the tilt axis).
+constexpr int kHeadCamera = 2;
+std::vector<vocal::SimulatedSensor> panTiltRig() {
+  std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(0, 1, 1, 0);
+  vocal::SimulatedSensor camera;
+  camera.spec = {"head_camera", vocal::SensorType::kRgbd, "head_camera_depth_optical_frame"};
+  camera.reference_from_sensor.linear() = vocal::rotationFromRollPitchYaw(0.01, -0.02, 0.015) * vocal::bodyFromOpticalRotation();
+  camera.reference_from_sensor.translation() = Eigen::Vector3d(0.06, 0.01, 0.03);
+  sensors.push_back(camera);
+  return sensors;
+}
+
 int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
   vocal::makeFolders(dir);
   if (args.has("eye-in-hand") || args.has("eye-to-hand")) return simulateHandEye(args, dir);
+  const bool pan_tilt = args.has("pan-tilt");
+  if (args.has("pose-known") && !pan_tilt) throw vocal::InputError("option --pose-known: with --pan-tilt");
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   std::vector<vocal::SimulatedSensor> sensors =
-      vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
+      pan_tilt ? panTiltRig() : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
   const vocal::LidarModel lidar_model = vocal::parseLidarModel(args.text("lidar-model", "vlp16"), "option --lidar-model");
   if (lidar_model == vocal::LidarModel::kLivox) vocal::pointLidarsAhead(&sensors);  // it sees a cone ahead, not all round
   vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target, unless given
@@ -186,12 +209,30 @@ int run(const vocal::CommandLine& args) {
     begin = end + 1;
   }
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
-  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
+  vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
+  vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, target, true);
+  if (pan_tilt) {
+    // The head aims the camera (its simulated pose: the mount on the tilt link) at each still pose's board.
+    vocal::SimulatedPanTiltOptions head_options;
+    head_options.seed = options.seed;
+    head_options.wander = 0.3;
+    options.head = vocal::simulatePanTilt(vocal::simulatedStillPoses(options, target), sensors[kHeadCamera].reference_from_sensor, head_options);
+    options.head_sensor = kHeadCamera;
+    rig.joints = truth.joints = options.head->joints;
+    for (vocal::JointDescription& joint : rig.joints) joint.offset = 0.0;  // the unknowns
+    rig.sensors[kHeadCamera].parent = truth.sensors[kHeadCamera].parent = options.head->joints.back().child;
+    if (args.has("pose-known")) rig.sensors[kHeadCamera].pose = truth.sensors[kHeadCamera].pose, rig.sensors[kHeadCamera].pose_known = true;
+  }
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
-  vocal::writeRigDescription(dir + "/ground_truth.yaml", vocal::describeSimulatedRig(sensors, target, true));
+  vocal::writeRigDescription(dir + "/ground_truth.yaml", truth);
   const vocal::SimulatedSessionSummary summary = vocal::writeSimulatedCalibrationBag(sensors, rig, options, dir + "/session.bag");
   std::printf("wrote %zu messages of %zu sensors at %d target poses to %s/session.bag; rig.yaml, ground_truth.yaml\n",
               summary.messages, sensors.size(), options.target_poses, dir.c_str());
+  if (options.head) {
+    std::printf("the head's joints on /joint_states at %.0f Hz; true zero offsets:", options.joint_state_rate);
+    for (const vocal::JointDescription& joint : options.head->joints) std::printf(" %s %+.4f rad", joint.name.c_str(), joint.offset);
+    std::printf("\n");
+  }
   return 0;
 }
 }  // namespace
@@ -202,5 +243,6 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose"},
-                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside"}, 1);
+                        {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
+                         "pan-tilt", "pose-known"}, 1);
 }

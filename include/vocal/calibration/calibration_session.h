@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vocal/calibration/association/hand_eye_association.h"
+#include "vocal/calibration/association/joint_positions.h"
 #include "vocal/calibration/association/still_target_association.h"
 #include "vocal/calibration/extraction/lidar_ring_offsets.h"
 #include "vocal/calibration/extraction/static_background.h"
@@ -107,7 +108,17 @@ class CalibrationSession {
   // The arm's still poses with the camera's views in each (a hand-eye rig; throws InputError otherwise).
   HandEyeAssociation handEyeAssociation(const ToolStillnessOptions& options = {}) const;
 
-  // Still periods associated, then calibrateRig with the rig's reference sensor and pose. Throws
+  // A sensor_msgs/JointState: each named joint's position at `stamp` (joints the rig's sensors are not
+  // behind are ignored; a reading that is not finite is skipped). Throws InputError when names and
+  // positions differ in number or the stamp is not finite.
+  void addJointState(double stamp, const std::vector<std::string>& names, const std::vector<double>& positions);
+  // The joints' readings kept per joint of the rig (rig().joints), and what attaching them to the still
+  // poses' views kept and dropped (JointPositionCounts).
+  std::size_t jointReadings() const;
+  JointPositionCounts jointPositionCounts() const;
+
+  // Still periods associated (a sensor behind joints keeps the views where its joints were still, with their
+  // positions: attachJointPositions), then calibrateRig with the rig's reference sensor and pose. Throws
   // InputError naming the sensor (no target seen, not connected, degenerate) as calibrateRig does, and
   // for a sensor that saw the target but in no still pose, why (its spacing, the run it would need).
   CalibrationResult calibrate(CalibrationOptions options = {}) const;
@@ -148,6 +159,8 @@ class CalibrationSession {
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
+  // Still poses (associateStillTarget), the views of sensors behind joints with their positions (attachJointPositions).
+  std::vector<TargetObservation> associate(std::vector<TimedObservation> timed, JointPositionCounts* counts = nullptr) const;
   bool record(int sensor, double stamp, std::vector<Eigen::Vector3d> points, std::vector<PlaneMeasurement> planes);
   bool recordRange(int sensor, double stamp, TargetSearch search);
   TargetExtractionOptions extractionFor(int sensor) const;
@@ -172,6 +185,9 @@ class CalibrationSession {
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
   std::optional<HandEyeRig> arm_;                // rig_.handEye(), once
+  JointedMounts mounts_;                         // rig_.jointedMounts(), once
+  std::vector<std::vector<JointReading>> joint_readings_;  // per joint of mounts_, in time order
+  JointStillnessOptions joint_stillness_;
   std::vector<FramePoseSample> tool_poses_;      // a hand-eye rig's tool frame, as tf gave it
   // A range message as kept until the solve: its candidates' points (most of a session's memory) in
   // floats, whose micrometres at lidar range are far below any sensor's noise; converted back to

@@ -21,6 +21,18 @@
 //   target: {type: checkerboard, rows: 6, cols: 9, square_size: 0.0236, width: 0.3, height: 0.2, parent: panda_link0}
 //   sensors:
 //     - {name: wrist_camera, type: camera, frame_id: camera_color_optical_frame, parent: panda_EE, image_topic: ...}
+//
+// A sensor behind a robot's joints (a camera on a pan-tilt head): its `parent` is a link of the joints
+// the rig names, in a `joints:` list or a URDF (`urdf: robot.urdf`, relative to the YAML's folder), and
+// their positions come from sensor_msgs/JointState on `joint_states_topic` (/joint_states). Each joint's
+// zero offset is calibrated; the sensor's mount in its link too, unless `pose_known: true` holds its
+// `pose` (there: in its parent link):
+//
+//   joints:
+//     - {name: head_pan_joint, type: revolute, parent: base_link, child: head_pan_link, origin: [x, y, z, qx, qy, qz, qw], axis: [0, 0, 1]}
+//     - {name: head_tilt_joint, type: revolute, parent: head_pan_link, child: head_tilt_link, origin: [...], axis: [0, 1, 0]}
+//   sensors:
+//     - {name: head_camera, type: rgbd, frame_id: head_camera_optical_frame, parent: head_tilt_link, depth_topic: ...}
 
 #include <optional>
 #include <string>
@@ -31,6 +43,7 @@
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/extraction/target_extraction.h"
+#include "vocal/calibration/joint_chain.h"
 
 namespace vocal {
 
@@ -51,8 +64,10 @@ struct RigSensorDescription {
   std::optional<Eigen::Isometry3d> pose;  // in reference_frame
   std::optional<CropBox> crop_box;        // range sensors: where the target is searched
   // A frame that moves (an arm's tool) that the sensor is mounted on, its pose in reference_frame from
-  // tf; empty: mounted rigidly in reference_frame (a `parent` naming reference_frame reads as empty).
+  // tf, or a link behind the rig's joints; empty: mounted rigidly in reference_frame (a `parent` naming
+  // reference_frame reads as empty).
   std::string parent;
+  bool pose_known = false;  // behind joints: `pose` is its mount in `parent`, known (held)
 };
 
 // Where an arm moves a camera or the board (RigDescription::handEye), in the rig's terms.
@@ -67,10 +82,19 @@ struct RigDescription {
   TargetDescription target;
   std::vector<RigSensorDescription> sensors;
   int reference_sensor = 0;  // the first sensor with a pose (-1 for a hand-eye rig: the base frame is the reference)
+  // The robot's joints (a `joints:` list, or those of `urdf`), and where their positions arrive.
+  std::vector<JointDescription> joints;
+  std::string urdf;  // the file they were read from (as given), empty for a list
+  std::string joint_states_topic = "/joint_states";
 
   std::vector<SensorSpec> specs() const;
-  // Set when a sensor or the board is on a frame that moves.
+  // Set when a sensor or the board is on a frame that moves (tf's, not a link of `joints`).
   std::optional<HandEyeRig> handEye() const;
+  // Whether the sensor sits behind joints (its parent is a link of `joints`).
+  bool behindJoints(int sensor) const;
+  // Each sensor's chain from reference_frame (jointChain) and known mounts, for the graph: only the joints
+  // a sensor is behind (CalibrationOptions::mounts). Empty chains when no sensor is behind joints.
+  JointedMounts jointedMounts() const;
 };
 
 // Throws InputError starting with `where` for a pattern under 2 x 2 inner corners, a square size or board
@@ -83,7 +107,9 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // scan), a malformed crop_box or one on a camera, duplicate names, no sensor with a pose, a reference that is a 2D laser, a bad target;
 // and for the moving frames of a hand-eye rig (RigDescription::handEye): two moving frames, a camera on
 // the tool over a board moved by hand, a range sensor on the board's side, a 2D laser, no camera on the
-// other side from the board.
+// other side from the board; for joints: a joint with a missing or malformed key, an unknown type, a zero
+// axis, a name or child used twice, a URDF that cannot be read, a sensor's parent no joint chain reaches
+// from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig.
 RigDescription readRigDescription(const std::string& path);
 
 // Writes what readRigDescription reads (every sensor with a pose writes it). Throws InputError naming

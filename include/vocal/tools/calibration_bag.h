@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "vocal/calibration/rig_description.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_pan_tilt.h"
 #include "vocal/simulation/simulated_room.h"
 #include "vocal/simulation/simulated_sensor_data.h"
 
@@ -69,6 +71,12 @@ struct SimulatedSessionOptions {
   // Metres: each lidar cloud cropped to the returns within this of a still pose's board centre (a driver
   // or filter that keeps only the region where the board was; 0: the whole scan).
   double lidar_crop = 0.0;
+  // A sensor on a pan-tilt head (simulated_pan_tilt.h): sensors[head_sensor] sits at the head's pose (its
+  // reference_from_sensor unused), the head's joints on joint_states_topic at joint_state_rate.
+  std::optional<SimulatedPanTilt> head;
+  int head_sensor = -1;
+  std::string joint_states_topic = "/joint_states";
+  double joint_state_rate = 200.0;
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
   int depth_height = 240;
   std::uint32_t seed = 1;
@@ -78,6 +86,9 @@ struct SimulatedSessionSummary {
   std::size_t messages = 0;
   std::vector<Eigen::Isometry3d> reference_from_target;  // the still poses
 };
+
+// The board's still poses of a session (rig frame): the rig simulator's spread tilts facing the rig.
+std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target);
 
 // Each sensor publishes at its own rate and phase, unsynchronised, while the target follows one
 // timeline (still, then carried, per pose). Throws InputError naming the bag when it cannot be written,

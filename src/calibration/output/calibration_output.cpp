@@ -59,6 +59,13 @@ std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors,
                     1000 * spread->standard_deviation[s].head<3>().norm(), 1000 * spread->standard_deviation[s].tail<3>().norm(),
                     1000 * tolerance.translation, 1000 * tolerance.rotation);
       withheld[s] = line;
+    } else if (result.mounts.jointed(static_cast<int>(s))) {
+      // Its mount is right only with its joints' offsets: a weak one leaves the sensor where tf puts it uncertain.
+      for (const int j : result.mounts.chains[s]) {
+        if (j < static_cast<int>(result.joints.size()) && !result.joints[j].weak.empty() && withheld[s].empty()) {
+          withheld[s] = "uncertain: the offset of joint '" + result.mounts.joints[j].name + "' it is behind is " + result.joints[j].weak;
+        }
+      }
     }
   }
   return withheld;
@@ -84,7 +91,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     file << "  - name: " << sensors[s].name << "\n"
          << "    type: " << sensorTypeName(sensors[s].type) << "\n"
          << "    frame_id: " << sensors[s].frame_id << "\n"
-         << "    parent: " << reference_frame << "\n"
+         << "    parent: " << sensorParent(result, s, reference_frame) << "\n"
          << "    translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
          << "    rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
          << "    translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]"
@@ -126,7 +133,30 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     file << "    rms_m: " << c.rms << "\n"
          << "    observations: " << c.observations << "\n";
   }
+  if (!result.mounts.chains.empty()) {
+    // Each joint a sensor is behind: its zero offset (added to the encoder's reading), and robot_calibration's block of them.
+    file << "joints:  # offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
+    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
+      const JointCalibration& joint = result.joints[j];
+      if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
+      file << "  - name: " << result.mounts.joints[j].name << "\n"
+           << "    offset: " << joint.offset << "\n"
+           << "    offset_stddev: " << joint.standard_deviation << "\n"
+           << "    motion: " << joint.motion << "  # the range its readings covered over the still poses\n"
+           << "    solved: " << (joint.held.empty() ? "true" : "false") << "\n";
+      if (!joint.held.empty()) file << "    held_because: " << quoted(joint.held) << "\n";
+      if (!joint.weak.empty()) file << "    weak: " << quoted(joint.weak) << "\n";
+    }
+    file << "calibration:  # robot_calibration's calibration_offsets\n";
+    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
+      if (result.joints[j].held.empty()) file << "  " << result.mounts.joints[j].name << ": " << result.joints[j].offset << "\n";
+  }
   finish(file, path);
+}
+
+std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame) {
+  if (!result.mounts.jointed(static_cast<int>(s))) return reference_frame;
+  return result.mounts.joints.at(result.mounts.chains[s].back()).child;
 }
 
 std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child) {
@@ -163,7 +193,12 @@ void writeUrdfSnippet(const std::string& path, const std::string& reference_fram
       file << "<!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
       continue;
     }
-    file << urdfFixedJoint(reference_frame, sensors[s].frame_id, result.sensors[s].reference_from_sensor);
+    file << urdfFixedJoint(sensorParent(result, s, reference_frame), sensors[s].frame_id, result.sensors[s].reference_from_sensor);
+  }
+  for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
+    if (!result.joints[j].held.empty()) continue;
+    file << "<!-- joint " << result.mounts.joints[j].name << ": its reading's zero is off by " << result.joints[j].offset
+         << "; in its <joint>: <calibration rising=\"" << result.joints[j].offset << "\"/>, or add it to the driver's reading -->\n";
   }
   finish(file, path);
 }
@@ -179,7 +214,8 @@ void writeStaticTransformLaunch(const std::string& path, const std::string& refe
       file << "  <!-- " << sensors[s].frame_id << " withheld: " << why << " (see calibration.yaml) -->\n";
       continue;
     }
-    file << staticTransformNode(sensors[s].name + "_extrinsic", reference_frame, sensors[s].frame_id, result.sensors[s].reference_from_sensor);
+    file << staticTransformNode(sensors[s].name + "_extrinsic", sensorParent(result, s, reference_frame), sensors[s].frame_id,
+                                result.sensors[s].reference_from_sensor);
   }
   file << "</launch>\n";
   finish(file, path);

@@ -871,11 +871,6 @@ ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometr
   return view;
 }
 
-const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {
-  static const std::optional<Eigen::Isometry3d> none;
-  return jointed(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;
-}
-
 Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
   const Eigen::Isometry3d& pose = sensors.at(o.sensor).reference_from_sensor;
   if (!mounts.jointed(o.sensor)) return pose;

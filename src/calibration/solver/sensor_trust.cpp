@@ -47,7 +47,7 @@ std::string disagreementCause(const SensorSpec& spec, const SensorCalibration& s
     off += v.off;
     if (!std::isnan(v.angle)) angles.push_back(v.angle);
   }
-  char text[400];
+  char text[520];
   const bool angles_agree = angles.empty() || median(angles) <= trust.max_angle;
   if (scaleIsSignificant(sensor, trust) && angles_agree) {  // a scale leaves each view's angle right
     std::snprintf(text, sizeof(text),
@@ -78,7 +78,7 @@ std::string disagreementCause(const SensorSpec& spec, const SensorCalibration& s
   }
   std::snprintf(text, sizeof(text),
                 "%d of %zu still poses disagree, in no pattern: it moves between poses (is it on a joint - a pan-tilt head, an arm - "
-                "or loosely mounted?) or the segment taken for the board is not the board (set a crop_box, check the target size)%s",
+                "or loosely mounted? a sensor on joints: name them in the rig, 'joints:' or 'urdf:', and its 'parent' link) or the segment taken for the board is not the board (set a crop_box, check the target size)%s",
                 off, views.size(), other_sources <= 1 ? "; with only one other sensor to compare with, either of the two may be at fault" : "");
   return text;
 }

@@ -26,8 +26,9 @@ namespace vocal {
 // Per sensor, why its result must stay out of /tf_static, the URDF and the launch file ("" where it may
 // go in): the whole result is not trusted; or the sensor is not (SensorCalibration::distrust: it disagrees
 // with the others), its spread across still poses is over `tolerance`, or there is no spread to judge it
-// by (`spread` null) - these three unless `publish_uncertain`. The reference
-// sensor, held fixed, goes in whenever the result is trusted.
+// by (`spread` null), or, behind joints, a joint of its chain whose offset is weak (JointCalibration::weak)
+// - these four unless `publish_uncertain`. The reference sensor, held fixed, goes in whenever the result is
+// trusted.
 std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
                                          const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain);
 
@@ -35,7 +36,10 @@ std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors,
 // each sensor's jackknife standard deviations over the still poses (translation_spread, rotation_spread);
 // with `ring_offsets` (per sensor), each 3D lidar's range offset per ring and whether its board returns were
 // corrected by them. With `withheld` (withheldSensors), the YAML marks each sensor published or not and
-// why, and the URDF and launch file leave the withheld ones out (a comment says why).
+// why, and the URDF and launch file leave the withheld ones out (a comment says why). A sensor behind
+// joints is written in its chain's last link (sensorParent); the YAML then gives each joint's offset with
+// its sigma, and a `calibration:` block of the offsets as robot_calibration's calibration_offsets; the
+// URDF names the <calibration rising="..."/> each joint needs.
 void writeCalibrationYaml(const std::string& path, const std::string& reference_frame,
                           const std::vector<SensorSpec>& sensors, const CalibrationResult& result,
                           const PoseJackknife* spread = nullptr,
@@ -46,6 +50,8 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
 std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child);
 std::string staticTransformNode(const std::string& name, const std::string& parent, const std::string& child,
                                 const Eigen::Isometry3d& parent_from_child);
+// The frame sensor s's result is in: its chain's last link behind joints, else reference_frame.
+std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame);
 void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
                       const CalibrationResult& result, const std::vector<std::string>* withheld = nullptr);
 void writeStaticTransformLaunch(const std::string& path, const std::string& reference_frame,

@@ -58,31 +58,6 @@ struct SensorTrustOptions {
   double max_scale = 0.01;
 };
 
-// Sensors mounted behind a robot's joints (a camera on a pan-tilt head): at each still pose the sensor
-// sits at its chain's pose for that pose's joint positions (TargetObservation::joint_positions) times its
-// mount in the chain's last link, the unknown in place of its pose in the rig frame. The joints' zero
-// offsets are unknowns of the same graph.
-struct JointedMounts {
-  std::vector<JointDescription> joints;  // offset: the initial value
-  std::vector<std::vector<int>> chains;  // per sensor (or none): its joints from the rig frame (jointChain); empty: rigid
-  // Per sensor (or none): a mount known from the robot's model (CAD), held; its joints' offsets are then
-  // all solvable. Unset: the mount is an unknown.
-  std::vector<std::optional<Eigen::Isometry3d>> known_mounts;
-  // Radians (metres for a prismatic joint) a joint must move over the session for the offsets before it
-  // to be told from a sensor's mount.
-  double min_motion = 0.05, min_prismatic_motion = 0.02;
-  // How far a still pose's joint reading may be from the joint's true position: the encoder's counts,
-  // the gears' backlash, the link's flex (radians; metres for a prismatic joint). Each still pose's
-  // readings are corrected within it (a prior), so that the views' own precision does not overstate the
-  // offsets'.
-  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;
-  // An offset solved less well than this is named weak (radians; metres).
-  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
-
-  bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
-  const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
-};
-
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
