@@ -4,10 +4,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
+
+#include <yaml-cpp/yaml.h>
+
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl_parser/kdl_parser.hpp>
 
 #include "test_support.h"
 
+#include "vocal/calibration/association/joint_positions.h"
+#include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/urdf_joints.h"
 #include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -157,4 +167,222 @@ TEST(JointedCalibration, RefusesWhatItCannotSolve) {
   const vocal::CalibrationResult result = vocal::calibrateRig(session.specs, observations, session.options);
   EXPECT_FALSE(result.joints[0].held.empty());
   EXPECT_LT(result.joints[1].motion, 1e-9);
+}
+
+namespace {
+// A head and an arm-like chain with rotated origins, a prismatic joint, a fixed joint and a slanted axis.
+const char kTestUrdf[] = R"(<?xml version="1.0"?>
+<robot name="test_robot">
+  <link name="base_link"/><link name="torso"/><link name="pan"/><link name="tilt"/><link name="camera_mount"/>
+  <joint name="torso_lift" type="prismatic">
+    <parent link="base_link"/><child link="torso"/><origin xyz="0.1 0 0.4" rpy="0 0 0.2"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0.4" effort="1" velocity="1"/>
+  </joint>
+  <joint name="head_pan" type="continuous">
+    <parent link="torso"/><child link="pan"/><origin xyz="0.05 0.02 0.6" rpy="0.01 -0.02 0.3"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="head_tilt" type="revolute">
+    <parent link="pan"/><child link="tilt"/><origin xyz="0.03 0 0.08" rpy="0.1 0.05 -0.1"/><axis xyz="0.1 1 0.05"/>
+    <calibration rising="0.0123"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+  <joint name="mount" type="fixed">
+    <parent link="tilt"/><child link="camera_mount"/><origin xyz="0.06 0.01 0.03" rpy="-1.57 0 -1.57"/>
+  </joint>
+</robot>
+)";
+}  // namespace
+
+TEST(JointedCalibration, UrdfJointsMatchKdlsForwardKinematics) {
+  const std::vector<vocal::JointDescription> joints = vocal::urdfJointsFromString(kTestUrdf, "test URDF");
+  ASSERT_EQ(joints.size(), 4u);
+  const std::vector<int> chain = vocal::jointChain(joints, "base_link", "camera_mount", "test");
+  ASSERT_EQ(chain.size(), 4u);
+  std::vector<double> offsets(joints.size(), 0.0);
+  for (std::size_t j = 0; j < joints.size(); ++j)
+    if (joints[j].name == "head_tilt") EXPECT_DOUBLE_EQ(joints[j].offset, 0.0123);  // robot_calibration's rising
+  KDL::Tree tree;
+  ASSERT_TRUE(kdl_parser::treeFromString(kTestUrdf, tree));
+  KDL::Chain kdl_chain;
+  ASSERT_TRUE(tree.getChain("base_link", "camera_mount", kdl_chain));
+  KDL::ChainFkSolverPos_recursive solver(kdl_chain);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> position(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> positions;
+    KDL::JntArray q(kdl_chain.getNrOfJoints());
+    unsigned int moving = 0;
+    for (const int j : chain) {
+      positions.push_back(joints[j].type == vocal::JointType::kFixed ? 0.0 : position(rng));
+      if (joints[j].type != vocal::JointType::kFixed) q(moving++) = positions.back();
+    }
+    KDL::Frame frame;
+    ASSERT_GE(solver.JntToCart(q, frame), 0);
+    const Eigen::Isometry3d ours = vocal::chainPose(joints, chain, positions, offsets);
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_NEAR(ours.translation()[r], frame.p(r), 1e-9);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(ours.linear()(r, c), frame.M(r, c), 1e-9);
+    }
+  }
+  EXPECT_NE(vocal_test::inputErrorOf([] { vocal::urdfJointsFromString("<robot><link", "robot_description"); })
+                .find("robot_description: not a URDF robot description"),
+            std::string::npos);
+  EXPECT_NE(vocal_test::inputErrorOf([&] { vocal::jointChain(joints, "base_link", "gripper", "sensor 'x'"); })
+                .find("sensor 'x': no chain of joints leads from 'base_link' to 'gripper'"),
+            std::string::npos);
+}
+
+TEST(JointedCalibration, RigYamlNamesTheJointsOrTheUrdf) {
+  const std::string dir = vocal_test::makeTempFolder("jointed_rig");
+  const std::string sensors =
+      "sensors:\n"
+      "  - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /points, pose: [0, 0, 1, 0, 0, 0, 1]}\n"
+      "  - {name: head, type: rgbd, frame_id: head_optical, parent: tilt, depth_topic: /d, camera_info_topic: /i}\n";
+  const std::string head = "reference_frame: base_link\ntarget: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}\n";
+  const std::string joints =
+      "joints:\n"
+      "  - {name: pan, type: revolute, parent: base_link, child: pan_link, origin: [0, 0, 1.2, 0, 0, 0, 1], axis: [0, 0, 1]}\n"
+      "  - {name: tilt, type: revolute, parent: pan_link, child: tilt, axis: [0, 1, 0], offset: 0.01}\n";
+  vocal_test::writeText(dir + "/rig.yaml", head + joints + sensors);
+  const vocal::RigDescription rig = vocal::readRigDescription(dir + "/rig.yaml");
+  EXPECT_FALSE(rig.handEye());
+  EXPECT_EQ(rig.reference_sensor, 0);
+  const vocal::JointedMounts mounts = rig.jointedMounts();
+  ASSERT_EQ(mounts.chains.size(), 2u);
+  EXPECT_TRUE(mounts.chains[0].empty());
+  EXPECT_EQ(mounts.chains[1], (std::vector<int>{0, 1}));
+  EXPECT_DOUBLE_EQ(mounts.joints[1].offset, 0.01);
+  // Written and read back alike.
+  vocal::writeRigDescription(dir + "/again.yaml", rig);
+  const vocal::RigDescription again = vocal::readRigDescription(dir + "/again.yaml");
+  ASSERT_EQ(again.joints.size(), 2u);
+  EXPECT_EQ(again.sensors[1].parent, "tilt");
+  EXPECT_TRUE(again.joints[0].origin.isApprox(rig.joints[0].origin));
+
+  // The same from a URDF beside the YAML.
+  vocal_test::writeText(dir + "/robot.urdf", kTestUrdf);
+  vocal_test::writeText(dir + "/urdf_rig.yaml", head + "urdf: robot.urdf\n" + sensors.substr(0, sensors.find("  - {name: head")) +
+                                                    "  - {name: head, type: camera, frame_id: c, parent: camera_mount, image_topic: /c, "
+                                                    "camera_info_topic: /ci, pose: [0, 0, 0, 0, 0, 0, 1], pose_known: true}\n");
+  const vocal::RigDescription from_urdf = vocal::readRigDescription(dir + "/urdf_rig.yaml");
+  const vocal::JointedMounts urdf_mounts = from_urdf.jointedMounts();
+  ASSERT_EQ(urdf_mounts.chains[1].size(), 4u);
+  EXPECT_TRUE(urdf_mounts.knownMount(1).has_value());
+
+  // What a user gets wrong, named.
+  const auto errorOf = [&](const std::string& text) {
+    vocal_test::writeText(dir + "/bad.yaml", text);
+    return vocal_test::inputErrorOf([&] { vocal::readRigDescription(dir + "/bad.yaml"); });
+  };
+  EXPECT_NE(errorOf(head + joints + sensors.substr(0, sensors.find("  - {name: head")) +
+                    "  - {name: head, type: rgbd, frame_id: h, parent: wrist, depth_topic: /d, camera_info_topic: /i, pose_known: true}\n")
+                .find("'pose_known' holds the 'pose' of a sensor behind joints"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "joints:\n  - {name: pan, type: revolute, parent: base_link, child: pan_link}\n" + sensors).find("'pan': missing 'axis'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "joints:\n  - {name: pan, type: ball, parent: base_link, child: pan_link, axis: [0, 0, 1]}\n" + sensors)
+                .find("joint type 'ball' is unknown"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "joints:\n  - {name: pan, type: revolute, parent: base_link, child: pan_link, axis: [0, 0, 0]}\n" + sensors)
+                .find("'axis' is zero"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "joints:\n  - {name: tilt, type: revolute, parent: elsewhere, child: tilt, axis: [0, 1, 0]}\n" + sensors)
+                .find("no chain of joints leads from 'base_link' to 'tilt' (the frame 'elsewhere' is no joint's child)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + "urdf: missing.urdf\n" + sensors).find("missing.urdf: cannot read the URDF"), std::string::npos);
+  EXPECT_NE(errorOf(head + joints + "urdf: robot.urdf\n" + sensors).find("in 'joints' or a 'urdf', not both"), std::string::npos);
+}
+
+TEST(JointedCalibration, JointReadingsAttachWhereTheJointsWereStill) {
+  vocal::JointedMounts mounts;
+  mounts.joints.resize(2);
+  mounts.joints[0].name = "pan", mounts.joints[1].name = "tilt";
+  mounts.chains = {{}, {0, 1}};
+  // 200 Hz: still at 0.2 / -0.1 until 1 s, then the pan turns.
+  std::vector<std::vector<vocal::JointReading>> readings(2);
+  for (int i = 0; i < 400; ++i) {
+    const double t = i / 200.0;
+    readings[0].push_back({t, t < 1.0 ? 0.2 : 0.2 + 0.5 * (t - 1.0)});
+    readings[1].push_back({t, -0.1 + (i % 2 ? 0.0015 : 0.0)});  // one encoder count of flicker
+  }
+  std::vector<vocal::TargetObservation> views(4);
+  views[0].sensor = 0;  // rigid: untouched
+  views[1].sensor = 1, views[1].first_stamp = 0.2, views[1].last_stamp = 0.8, views[1].target_pose = 0;
+  views[2].sensor = 1, views[2].first_stamp = 0.9, views[2].last_stamp = 1.5, views[2].target_pose = 1;  // the pan turned
+  views[3].sensor = 1, views[3].first_stamp = 2.5, views[3].last_stamp = 2.6, views[3].target_pose = 2;  // after the last reading
+  vocal::JointPositionCounts counts;
+  const std::vector<vocal::TargetObservation> kept =
+      vocal::attachJointPositions(views, mounts, readings, {{"lidar"}, {"head"}}, {}, &counts);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_TRUE(kept[0].joint_positions.empty());
+  ASSERT_EQ(kept[1].joint_positions.size(), 2u);
+  EXPECT_DOUBLE_EQ(kept[1].joint_positions[0], 0.2);
+  EXPECT_NEAR(kept[1].joint_positions[1], -0.1, 0.0016);
+  EXPECT_EQ(counts.kept, 1);
+  EXPECT_EQ(counts.moving, 1);
+  EXPECT_EQ(counts.unread, 1);
+  EXPECT_NE(counts.first.find("sensor 'head' at still pose 1: joint 'pan' moved"), std::string::npos) << counts.first;
+}
+
+// A recorded pan-tilt session (rendered depth, lidar and laser scans, /joint_states at 200 Hz with encoder
+// counts and backlash) through calibrate_rig, as a user runs it.
+TEST(JointedCalibration, PanTiltSessionThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_pan_tilt");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --pan-tilt --pose-known --poses 14");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the head's joints on /joint_states at 200 Hz; true zero offsets: head_pan_joint "), std::string::npos) << r.output;
+  // The camera's mount known (CAD): both offsets solved, within 1 mrad of the truth.
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder + "/known");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("views of the sensors behind them: 14 kept, 0 dropped while the joints moved, 0 without a reading"),
+            std::string::npos) << r.output;
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node known = YAML::LoadFile(folder + "/known/calibration.yaml");
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(known["joints"][j]["name"].as<std::string>(), truth["joints"][j]["name"].as<std::string>());
+    EXPECT_TRUE(known["joints"][j]["solved"].as<bool>());
+    EXPECT_NEAR(known["joints"][j]["offset"].as<double>(), truth["joints"][j]["offset"].as<double>(), 0.001);
+    EXPECT_DOUBLE_EQ(known["calibration"][truth["joints"][j]["name"].as<std::string>()].as<double>(), known["joints"][j]["offset"].as<double>());
+  }
+  EXPECT_EQ(known["sensors"][2]["parent"].as<std::string>(), "head_tilt_link");
+  const std::vector<double> laser = known["sensors"][1]["translation"].as<std::vector<double>>();
+  const std::vector<double> laser_truth = truth["sensors"][1]["pose"].as<std::vector<double>>();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(laser[i], laser_truth[i], 0.002);
+  std::ifstream launch(folder + "/known/calibration.launch");
+  const std::string launch_text((std::istreambuf_iterator<char>(launch)), std::istreambuf_iterator<char>());
+  EXPECT_NE(launch_text.find(" head_tilt_link head_camera_depth_optical_frame\"/>"), std::string::npos) << launch_text;
+
+  // The mount unknown too: the tilt's offset is the mount's to take up, said so.
+  std::string rig_text;
+  {
+    std::ifstream rig(folder + "/rig.yaml");
+    rig_text.assign((std::istreambuf_iterator<char>(rig)), std::istreambuf_iterator<char>());
+  }
+  const std::size_t known_at = rig_text.find(", pose_known: true");
+  ASSERT_NE(known_at, std::string::npos) << rig_text;
+  const std::string free_text =
+      rig_text.substr(0, known_at) + rig_text.substr(known_at + 18, rig_text.find(",\n     pose:", known_at) - known_at - 18) + "}\n";
+  vocal_test::writeText(folder + "/free.yaml", free_text);
+  r = vocal_test::runTool("calibrate_rig " + folder + "/free.yaml " + folder + "/session.bag --quiet");
+  EXPECT_NE(r.output.find("head_tilt_joint         +0.00 mrad +- 0.00"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("held: no joint after it moved over the session, so the mount of the sensor behind it takes up its offset"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(in head_tilt_link)"), std::string::npos) << r.output;
+
+  // Ignoring the joints (the camera as if fixed): far off, not trusted, and the message says what to do.
+  std::string rigid_text = free_text;
+  rigid_text.erase(rigid_text.find(", parent: head_tilt_link"), std::string(", parent: head_tilt_link").size());
+  vocal_test::writeText(folder + "/rigid.yaml", rigid_text);
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rigid.yaml " + folder + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("NOT TRUSTED: sensor 'head_camera': its board views lie"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a sensor on joints: name them in the rig, 'joints:' or 'urdf:', and its 'parent' link"), std::string::npos)
+      << r.output;
+
+  // Joint states on another topic than the rig says: refused, naming it.
+  vocal_test::writeText(folder + "/elsewhere.yaml", "joint_states_topic: /robot/joint_states\n" + rig_text);
+  r = vocal_test::runTool("calibrate_rig " + folder + "/elsewhere.yaml " + folder + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("the bag has no sensor_msgs/JointState on /robot/joint_states naming any of them (head_pan_joint, head_tilt_joint)"),
+            std::string::npos) << r.output;
 }

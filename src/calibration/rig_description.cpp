@@ -307,7 +307,9 @@ RigDescription readRigDescription(const std::string& path) {
     }
     if (sensor.pose_known && !(jointed && node["pose"])) {
       throw InputError(where + ": 'pose_known' holds the 'pose' of a sensor behind joints (its mount in its parent link); " +
-                       (jointed ? std::string("give its 'pose'") : "its parent '" + sensor.parent + "' is no joint's child"));
+                       (jointed                ? std::string("give its 'pose'")
+                        : sensor.parent.empty() ? std::string("it has no 'parent' link")
+                                                : "its parent '" + sensor.parent + "' is no joint's child"));
     }
     if (jointed) jointChain(rig.joints, rig.reference_frame, sensor.parent, where);  // throws when no chain leads there
   }
