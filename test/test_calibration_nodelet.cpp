@@ -412,6 +412,60 @@ TEST(CalibrationNodelet, ACameraOnAnArmFromLiveTf) {
   EXPECT_NE(diagnostics.value("tool").find(" poses of arm_tool in arm_base from tf, "), std::string::npos) << diagnostics.value("tool");
 }
 
+// A camera on a pan-tilt head in front of a fixed lidar and 2D laser, the head's joints on /joint_states
+// at 200 Hz as rosbag play gives them, the camera's mount known: ~calibrate names both joints' offsets
+// within 1 mrad of the truth, /tf_static carries the camera from the tilt link, the diagnostics count the
+// joint states.
+TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_pan_tilt");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::panTiltRig();
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 10;
+  options.still_seconds = 0.6;
+  options.moving_seconds = 0.4;
+  options.depth_width = 160;
+  options.depth_height = 120;
+  options.seed = 3;
+  vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, true);
+  vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, true);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+
+  ros::NodeHandle nh;
+  nh.setParam("/head_calibration/rig", folder + "/rig.yaml");
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/head_calibration", "vocal/MsgCalibration", {}, {}));
+  LatestDiagnostics diagnostics(nh, "head_calibration");
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
+
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/head_calibration/calibrate", calibrate));
+  std::cout << calibrate.response.message << "\n";
+  EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
+  for (const vocal::JointDescription& joint : truth.joints) {
+    const std::string key = "; joint " + joint.name + " offset ";
+    const std::size_t at = calibrate.response.message.find(key);
+    ASSERT_NE(at, std::string::npos) << calibrate.response.message;
+    const double offset = std::stod(calibrate.response.message.substr(at + key.size())) / 1000.0;  // mrad
+    EXPECT_NEAR(offset, joint.offset, 0.001) << joint.name;
+  }
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_buffer.lookupTransform("head_tilt_link", "head_camera_depth_optical_frame", ros::Time(0), ros::Duration(5.0));
+  } catch (const tf2::TransformException& e) {
+    FAIL() << e.what();
+  }
+  EXPECT_TRUE(tf2::transformToEigen(t).isApprox(sensors.back().reference_from_sensor, 1e-6));  // the known mount, held
+  ASSERT_NO_FATAL_FAILURE(expectOnTfStaticWithin(tf_buffer, sensors[1], 0.003));  // the 2D laser beside it
+  std::lock_guard<std::mutex> lock(diagnostics.mutex);
+  EXPECT_NE(diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << diagnostics.value("joints");
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_calibration_nodelet");

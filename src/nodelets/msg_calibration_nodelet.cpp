@@ -18,6 +18,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Empty.h>
@@ -97,6 +98,11 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
       tool_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { sampleTool(); });
+    }
+    if (!rig.jointedMounts().chains.empty()) {
+      // Sensors behind joints: the joints' positions at the rate the robot publishes them (100-1000 Hz).
+      subscribers_.push_back(nh.subscribe<sensor_msgs::JointState>(
+          rig.joint_states_topic, 1000, [this](const sensor_msgs::JointState::ConstPtr& m) { onJointState(*m); }));
     }
     for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
       const RigSensorDescription& d = rig.sensors[s];
@@ -248,6 +254,18 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     });
   }
 
+  void onJointState(const sensor_msgs::JointState& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    try {
+      session_->addJointState(msg.header.stamp.toSec(), msg.name, msg.position);
+      ++joint_states_;
+    } catch (const std::exception& e) {
+      ++joint_states_dropped_;
+      last_problem_ = session_->rig().joint_states_topic + ": " + e.what();
+      NODELET_WARN_STREAM_THROTTLE(5.0, "MsgCalibration: joint state dropped: " << last_problem_);
+    }
+  }
+
   void onCloud(int sensor, const sensor_msgs::PointCloud2& msg) {
     guarded(sensor, [&] {
       std::vector<int> rings;
@@ -338,6 +356,18 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         summary << "; " << specs[s].name << " ring offsets " << line << rings.verdict;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
+      // Sensors behind joints: each joint's offset, or why it was held, and which joint needs more motion.
+      for (std::size_t j = 0; j < result.joints.size(); ++j) {
+        const JointCalibration& joint = result.joints[j];
+        if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
+        const bool prismatic = result.mounts.joints[j].type == JointType::kPrismatic;
+        char line[160];
+        std::snprintf(line, sizeof(line), "; joint %s offset %+.2f %s (+-%.2f), moved %.3f %s", result.mounts.joints[j].name.c_str(),
+                      1000 * joint.offset, prismatic ? "mm" : "mrad", 1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
+        summary << line;
+        if (!joint.held.empty()) summary << ", held: " << joint.held;
+        if (!joint.weak.empty()) summary << ", " << joint.weak;
+      }
       if (session_->memory().full) summary << "; " << fullSessionAdvice(true);
       bool any_distrusted = false;
       for (std::size_t s = 0; s < specs.size(); ++s) {
@@ -369,7 +399,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       std::vector<geometry_msgs::TransformStamped> transforms;
       for (std::size_t s = 0; s < specs.size(); ++s) {
         if (!withheld[s].empty()) continue;
-        transforms.push_back(toTransformStamped(result.sensors[s].reference_from_sensor, rig.reference_frame, specs[s].frame_id, now));
+        transforms.push_back(
+            toTransformStamped(result.sensors[s].reference_from_sensor, sensorParent(result, s, rig.reference_frame), specs[s].frame_id, now));
       }
       if (!transforms.empty()) static_broadcaster_.sendTransform(transforms);
       // Every sensor's target points in the reference frame, one colour per sensor: they must coincide.
@@ -377,7 +408,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       const Rgb8 palette[] = {{230, 25, 75}, {60, 180, 75}, {0, 130, 200}, {245, 130, 48}, {145, 30, 180}, {70, 240, 240}};
       for (const TargetObservation& o : associated) {
         for (const Eigen::Vector3d& p : o.points) {
-          fused.push_back({(result.sensors[o.sensor].reference_from_sensor * p).cast<float>(), palette[o.sensor % 6]});
+          fused.push_back({(result.rigFromSensorAt(o) * p).cast<float>(), palette[o.sensor % 6]});
         }
       }
       fused_cloud_pub_.publish(toPointCloud2(fused, rig.reference_frame, now));
@@ -402,6 +433,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     dropped_.assign(dropped_.size(), 0);
     tool_poses_ = tool_lookups_failed_ = 0;
+    joint_states_ = joint_states_dropped_ = 0;
     tool_problem_.clear();
     last_problem_.clear();
     last_result_.clear();
@@ -438,6 +470,12 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       tool << tool_poses_ << " poses of " << arm_->tool_frame << " in " << rig.reference_frame << " from tf, " << tool_lookups_failed_
            << " lookups failed" << (tool_problem_.empty() ? "" : " (last: " + tool_problem_ + ")");
       status.add("tool", tool.str());
+    }
+    if (!rig.jointedMounts().chains.empty()) {
+      std::ostringstream joints;
+      joints << joint_states_ << " joint states on " << rig.joint_states_topic << " (" << session_->jointReadings()
+             << " readings of the rig's joints kept), " << joint_states_dropped_ << " dropped";
+      status.add("joints", joints.str());
     }
   }
 
@@ -481,6 +519,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   ros::WallTimer tool_timer_;
   ros::Time last_tool_stamp_;
   std::size_t tool_poses_ = 0, tool_lookups_failed_ = 0;
+  std::size_t joint_states_ = 0, joint_states_dropped_ = 0;  // on the rig's joint_states_topic
   std::string tool_problem_;
 };
 

@@ -129,6 +129,31 @@ double faultAmount(const std::vector<SimulatedSensorFault>& faults, int sensor_i
 }
 }  // namespace
 
+std::vector<SimulatedSensor> panTiltRig() {
+  std::vector<SimulatedSensor> sensors = exampleRig(0, 1, 1, 0);
+  SimulatedSensor camera;
+  camera.spec = {"head_camera", SensorType::kRgbd, "head_camera_depth_optical_frame"};
+  camera.reference_from_sensor.linear() = rotationFromRollPitchYaw(0.01, -0.02, 0.015) * bodyFromOpticalRotation();
+  camera.reference_from_sensor.translation() = Eigen::Vector3d(0.06, 0.01, 0.03);
+  sensors.push_back(camera);
+  return sensors;
+}
+
+void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
+                      RigDescription* truth, bool pose_known) {
+  const int camera = static_cast<int>(sensors.size()) - 1;
+  SimulatedPanTiltOptions head_options;
+  head_options.seed = options->seed;
+  head_options.wander = 0.3;  // both joints sweep: the offsets before the camera's mount are told from it
+  options->head = simulatePanTilt(simulatedStillPoses(*options, rig->target), sensors[camera].reference_from_sensor, head_options);
+  options->head_sensor = camera;
+  rig->joints = truth->joints = options->head->joints;
+  for (JointDescription& joint : rig->joints) joint.offset = 0.0;  // the unknowns
+  rig->sensors[camera].parent = truth->sensors[camera].parent = options->head->joints.back().child;
+  truth->sensors[camera].pose = sensors[camera].reference_from_sensor;
+  if (pose_known) rig->sensors[camera].pose = sensors[camera].reference_from_sensor, rig->sensors[camera].pose_known = true;
+}
+
 std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target) {
   RigSimulationOptions poses;
   poses.target_poses = options.target_poses;

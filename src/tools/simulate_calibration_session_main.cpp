@@ -120,19 +120,6 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   return 0;
 }
 
-// --pan-tilt: the lidar (the reference) and the 2D laser of the example rig, and an RGB-D camera whose pose
-// is its mount on the head's tilt link (looking along the link's x, 6 cm ahead of the tilt axis).
-constexpr int kHeadCamera = 2;
-std::vector<vocal::SimulatedSensor> panTiltRig() {
-  std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(0, 1, 1, 0);
-  vocal::SimulatedSensor camera;
-  camera.spec = {"head_camera", vocal::SensorType::kRgbd, "head_camera_depth_optical_frame"};
-  camera.reference_from_sensor.linear() = vocal::rotationFromRollPitchYaw(0.01, -0.02, 0.015) * vocal::bodyFromOpticalRotation();
-  camera.reference_from_sensor.translation() = Eigen::Vector3d(0.06, 0.01, 0.03);
-  sensors.push_back(camera);
-  return sensors;
-}
-
 int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
   vocal::makeFolders(dir);
@@ -142,7 +129,7 @@ int run(const vocal::CommandLine& args) {
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   std::vector<vocal::SimulatedSensor> sensors =
-      pan_tilt ? panTiltRig() : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
+      pan_tilt ? vocal::panTiltRig() : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
   const vocal::LidarModel lidar_model = vocal::parseLidarModel(args.text("lidar-model", "vlp16"), "option --lidar-model");
   if (lidar_model == vocal::LidarModel::kLivox) vocal::pointLidarsAhead(&sensors);  // it sees a cone ahead, not all round
   vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target, unless given
@@ -211,18 +198,7 @@ int run(const vocal::CommandLine& args) {
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, target, true);
-  if (pan_tilt) {
-    // The head aims the camera (its simulated pose: the mount on the tilt link) at each still pose's board.
-    vocal::SimulatedPanTiltOptions head_options;
-    head_options.seed = options.seed;
-    head_options.wander = 0.3;
-    options.head = vocal::simulatePanTilt(vocal::simulatedStillPoses(options, target), sensors[kHeadCamera].reference_from_sensor, head_options);
-    options.head_sensor = kHeadCamera;
-    rig.joints = truth.joints = options.head->joints;
-    for (vocal::JointDescription& joint : rig.joints) joint.offset = 0.0;  // the unknowns
-    rig.sensors[kHeadCamera].parent = truth.sensors[kHeadCamera].parent = options.head->joints.back().child;
-    if (args.has("pose-known")) rig.sensors[kHeadCamera].pose = truth.sensors[kHeadCamera].pose, rig.sensors[kHeadCamera].pose_known = true;
-  }
+  if (pan_tilt) vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, args.has("pose-known"));
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeRigDescription(dir + "/ground_truth.yaml", truth);
   const vocal::SimulatedSessionSummary summary = vocal::writeSimulatedCalibrationBag(sensors, rig, options, dir + "/session.bag");

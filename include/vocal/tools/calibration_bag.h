@@ -87,6 +87,16 @@ struct SimulatedSessionSummary {
   std::vector<Eigen::Isometry3d> reference_from_target;  // the still poses
 };
 
+// A pan-tilt session's rig (simulate_calibration_session --pan-tilt): the example rig's lidar (the
+// reference) and 2D laser, and an RGB-D camera (head_camera, the last) whose pose is its mount on the
+// head's tilt link (looking along the link's x, 6 cm ahead of the tilt axis).
+std::vector<SimulatedSensor> panTiltRig();
+// Puts the last of `sensors` (panTiltRig) on a pan-tilt head aimed at each still pose of `options` (sets its
+// head and head_sensor), and names the head's joints in `rig` (offsets unknown: 0; the camera's mount given
+// as known when `pose_known`) and in `truth` (their true offsets, the camera's mount).
+void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
+                      RigDescription* truth, bool pose_known);
+
 // The board's still poses of a session (rig frame): the rig simulator's spread tilts facing the rig.
 std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target);
 

@@ -85,7 +85,10 @@ HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::ve
       if (o.sensor == sensor) own = &o;
       else others.push_back(&o);
     }
-    if (others.empty()) continue;
+    // A 2D laser's points are a line: they fix no plane by themselves.
+    bool plane_seen = false;
+    for (const TargetObservation* o : others) plane_seen = plane_seen || sensors[o->sensor].type != SensorType::kLaser2d;
+    if (!plane_seen) continue;
     const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, options, held_out);
     if (!result) continue;
     std::vector<Eigen::Vector3d> board;
