@@ -74,11 +74,16 @@ def simulate(folder, seed, poses):
 
 
 def calibrate(folder, rig, out):
-    os.makedirs(os.path.join(folder, out), exist_ok=True)
+    """The result YAML (None when calibrate_rig refused) and its last line, and the run time."""
+    path = os.path.join(folder, out, "calibration.yaml")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    if os.path.exists(path):
+        os.remove(path)
     start = time.time()
     run = subprocess.run([os.path.join(TOOLS, "calibrate_rig"), os.path.join(folder, rig), os.path.join(folder, "session.bag"), "--quiet",
                           "--output-dir", os.path.join(folder, out)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    return yaml.safe_load(open(os.path.join(folder, out, "calibration.yaml"))), time.time() - start
+    result = yaml.safe_load(open(path)) if os.path.exists(path) else None
+    return result, run.stdout.strip().splitlines()[-1], time.time() - start
 
 
 def main():
@@ -101,7 +106,10 @@ def main():
         true_mount = matrix(cam[:3], cam[3:])
         laser_truth = matrix(truth["sensors"][1]["pose"][:3], truth["sensors"][1]["pose"][3:])
         for rig, label in (("rig.yaml", "known mount"), ("free.yaml", "free mount"), ("rigid.yaml", "rigid (joints ignored)")):
-            result, seconds = calibrate(folder, rig, label.split()[0])
+            result, last, seconds = calibrate(folder, rig, label.split()[0])
+            if result is None:
+                print("| %d | %s | - | - | refused: %s | - | no | %.1f |" % (seed, label, last.replace("|", "/")[:160], seconds))
+                continue
             camera = result["sensors"][2]
             found = matrix(camera["translation"], camera["rotation"])
             solved = {j["name"]: j for j in result.get("joints", [])}

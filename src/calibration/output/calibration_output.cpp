@@ -59,13 +59,6 @@ std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors,
                     1000 * spread->standard_deviation[s].head<3>().norm(), 1000 * spread->standard_deviation[s].tail<3>().norm(),
                     1000 * tolerance.translation, 1000 * tolerance.rotation);
       withheld[s] = line;
-    } else if (result.mounts.jointed(static_cast<int>(s))) {
-      // Its mount is right only with its joints' offsets: a weak one leaves the sensor where tf puts it uncertain.
-      for (const int j : result.mounts.chains[s]) {
-        if (j < static_cast<int>(result.joints.size()) && !result.joints[j].weak.empty() && withheld[s].empty()) {
-          withheld[s] = "uncertain: the offset of joint '" + result.mounts.joints[j].name + "' it is behind is " + result.joints[j].weak;
-        }
-      }
     }
   }
   return withheld;

@@ -43,12 +43,24 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
     const std::optional<CalibrationResult> result = solveWithoutPose(sensors, observations, same_graph, left_out);
     if (!result) continue;
     std::vector<Vector6d> move(sensors.size());
-    for (std::size_t s = 0; s < sensors.size(); ++s) {
-      const Eigen::Isometry3d& all = full.sensors[s].reference_from_sensor;
-      const Eigen::Isometry3d& without = result->sensors[s].reference_from_sensor;
-      move[s].head<3>() = without.translation() - all.translation();
+    const auto moved = [](const Eigen::Isometry3d& all, const Eigen::Isometry3d& without) {
+      Vector6d m;
+      m.head<3>() = without.translation() - all.translation();
       const Eigen::AngleAxisd turn(without.rotation() * all.rotation().transpose());
-      move[s].tail<3>() = turn.angle() * turn.axis();
+      m.tail<3>() = turn.angle() * turn.axis();
+      return m;
+    };
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      move[s] = moved(full.sensors[s].reference_from_sensor, result->sensors[s].reference_from_sensor);
+      if (!full.mounts.jointed(static_cast<int>(s))) continue;
+      // Behind joints the mount and the offsets trade off; what matters is where the sensor is: its move in
+      // the rig frame at the still pose where it moved most.
+      move[s].setZero();
+      for (const TargetObservation& o : observations) {
+        if (o.sensor != static_cast<int>(s)) continue;
+        const Vector6d at = moved(full.rigFromSensorAt(o), result->rigFromSensorAt(o));
+        if (at.head<3>().norm() + at.tail<3>().norm() > move[s].head<3>().norm() + move[s].tail<3>().norm()) move[s] = at;
+      }
     }
     moves.push_back(std::move(move));
   }

@@ -26,9 +26,8 @@ namespace vocal {
 // Per sensor, why its result must stay out of /tf_static, the URDF and the launch file ("" where it may
 // go in): the whole result is not trusted; or the sensor is not (SensorCalibration::distrust: it disagrees
 // with the others), its spread across still poses is over `tolerance`, or there is no spread to judge it
-// by (`spread` null), or, behind joints, a joint of its chain whose offset is weak (JointCalibration::weak)
-// - these four unless `publish_uncertain`. The reference sensor, held fixed, goes in whenever the result is
-// trusted.
+// by (`spread` null) - these three unless `publish_uncertain`. The reference sensor, held fixed, goes in
+// whenever the result is trusted.
 std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
                                          const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain);
 

@@ -13,7 +13,9 @@ namespace vocal {
 
 struct PoseJackknife {
   // Per sensor: translation (m) along and rotation (rad) about the rig frame's axes, as
-  // SensorCalibration::standard_deviation; zero for the reference.
+  // SensorCalibration::standard_deviation; zero for the reference. A sensor behind joints: of its pose in
+  // the rig frame at the still pose where a re-solve moved it most (its mount and the joints' offsets
+  // trade off; where the sensor is is what tf gets).
   std::vector<Vector6d> standard_deviation;
   int poses = 0;   // target poses, each left out once
   int solved = 0;  // of those, the re-solves that were trusted and counted (a pose that a sensor cannot
