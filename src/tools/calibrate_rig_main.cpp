@@ -103,6 +103,17 @@ void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSessi
     }
     std::printf("\n");
   }
+  // Behind joints: each still pose's readings, the range each joint covered (what the offsets are fixed by).
+  const vocal::JointedMounts mounts = rig.jointedMounts();
+  if (mounts.chains.empty()) return;
+  std::printf("joint readings per still pose (rad; metres for a prismatic joint), as the views behind them kept them:\n");
+  for (const vocal::TargetObservation& o : associated) {
+    if (!mounts.jointed(o.sensor)) continue;
+    std::printf("  pose %-3d %-12s", o.target_pose, rig.sensors[o.sensor].spec.name.c_str());
+    for (std::size_t i = 0; i < o.joint_positions.size(); ++i)
+      std::printf("  %s %+.4f", mounts.joints[mounts.chains[o.sensor][i]].name.c_str(), o.joint_positions[i]);
+    std::printf("\n");
+  }
 }
 
 // Per camera and other sensor, over the poses: the share of its points on the board the camera found
