@@ -17,7 +17,10 @@
 
 #include "vocal/calibration/association/joint_positions.h"
 #include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/urdf_joints.h"
+#include "vocal/core/pinhole_camera.h"
+#include "vocal/simulation/simulated_joint_arm.h"
 #include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -386,4 +389,112 @@ TEST(JointedCalibration, PanTiltSessionThroughCalibrateRig) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("the bag has no sensor_msgs/JointState on /robot/joint_states naming any of them (head_pan_joint, head_tilt_joint)"),
             std::string::npos) << r.output;
+}
+
+namespace {
+// A 6-joint arm's hand-eye stations (simulated_joint_arm.h): every camera view from the truth, the tool
+// from the readings (offsets unknown), with the arm's chain for the graph.
+struct JointArmSession {
+  vocal::SimulatedJointArm arm;
+  std::vector<vocal::HandEyeStation> stations;
+  vocal::HandEyeOptions options;
+};
+
+JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, double reading_noise) {
+  JointArmSession session;
+  vocal::SimulatedArmOptions arm_options;
+  arm_options.setup = setup;
+  arm_options.poses = 15;
+  arm_options.seed = seed;
+  vocal::SimulatedJointArmOptions joint_options;
+  joint_options.seed = seed;
+  joint_options.reading_noise = reading_noise;
+  session.arm = vocal::simulateJointArm(arm_options, joint_options);
+  std::mt19937 rng(seed);
+  session.stations = vocal::simulateHandEyeStations(session.arm.arm, {7, 10, 0.03}, vocal::defaultKinectCamera(640, 480), 3, 0.2, &rng);
+  for (std::size_t k = 0; k < session.stations.size(); ++k) session.stations[k].joint_positions = session.arm.readings[k];
+  vocal::ArmJoints arm;
+  arm.joints = session.arm.joints;
+  for (vocal::JointDescription& joint : arm.joints) joint.offset = 0.0;  // unknown
+  arm.chain = session.arm.chain;
+  session.options.arm_joints = arm;
+  return session;
+}
+}  // namespace
+
+// How a calibration (joint offsets per joint of the chain, the camera on the tool, the board in the base)
+// puts the board in the camera's view at each still pose's true joint angles read by noise-free encoders
+// (angle less the true offset), against the truth: rms (m, rad) over the poses. What the calibration
+// leaves wrong, not the readings' noise at one pose, and free of what no session fixes (the first joint's
+// offset turns the base under both the arm and the board; the last joint's turns the tool).
+std::pair<double, double> wristCameraError(const JointArmSession& session, const std::vector<double>& offsets, const Eigen::Isometry3d& camera,
+                                           const Eigen::Isometry3d& board) {
+  std::vector<double> by_joint(session.arm.joints.size(), 0.0);
+  for (std::size_t i = 0; i < session.arm.chain.size(); ++i) by_joint[session.arm.chain[i]] = offsets[i];
+  const std::vector<double> zero(session.arm.joints.size(), 0.0);
+  double translation = 0.0, rotation = 0.0;
+  for (std::size_t k = 0; k < session.arm.readings.size(); ++k) {
+    std::vector<double> readings = session.arm.angles[k];
+    for (std::size_t i = 0; i < readings.size(); ++i) readings[i] -= session.arm.joints[session.arm.chain[i]].offset;
+    const Eigen::Isometry3d found = (vocal::chainPose(session.arm.joints, session.arm.chain, readings, by_joint) * camera).inverse() * board;
+    const Eigen::Isometry3d truth =
+        (vocal::chainPose(session.arm.joints, session.arm.chain, session.arm.angles[k], zero) * session.arm.arm.camera).inverse() * session.arm.arm.board;
+    const Eigen::Isometry3d error = truth.inverse() * found;
+    translation += error.translation().squaredNorm();
+    rotation += std::pow(vocal::rotationAngle(error), 2);
+  }
+  const double n = static_cast<double>(session.arm.readings.size());
+  return {std::sqrt(translation / n), std::sqrt(rotation / n)};
+}
+
+// The board in the base frame a closed form's camera implies: the mean over the stations' first views.
+Eigen::Isometry3d boardFromClosedForm(const JointArmSession& session, const Eigen::Isometry3d& camera) {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector4d quaternion = Eigen::Vector4d::Zero();
+  for (const vocal::HandEyeStation& station : session.stations) {
+    const Eigen::Isometry3d board = station.base_from_tool * camera * station.views.front().pattern.sensor_from_pattern;
+    translation += board.translation();
+    Eigen::Quaterniond q(board.rotation());
+    if (q.coeffs().dot(quaternion) < 0.0) q.coeffs() = -q.coeffs();
+    quaternion += q.coeffs();
+  }
+  Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
+  board.linear() = Eigen::Quaterniond(quaternion.normalized()).toRotationMatrix();
+  board.translation() = translation / static_cast<double>(session.stations.size());
+  return board;
+}
+
+// The camera on a 6-joint arm's wrist over a fixed board, the tool from the arm's readings (offsets
+// drawn from +-5 mrad, 16-bit encoders, a reading error per pose): the joints' offsets in the graph,
+// against OpenCV's closed forms on the tool poses the uncalibrated readings give (what tf says), each
+// judged by where it puts the board in the camera's view over the arm's poses (wristCameraError).
+TEST(JointedCalibration, WristCameraWithTheArmsJointOffsetsBesideOpenCv) {
+  for (const double noise : {0.0002, 0.001}) {
+    for (const std::uint32_t seed : {1u, 2u}) {
+      SCOPED_TRACE("seed " + std::to_string(seed) + ", reading noise " + std::to_string(noise));
+      const JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeInHand, seed, noise);
+      const vocal::HandEyeResult result = vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}}, false, session.stations, session.options);
+      std::vector<double> offsets;
+      for (const vocal::JointCalibration& joint : result.joints) offsets.push_back(joint.offset);
+      const auto [translation, rotation] = wristCameraError(session, offsets, result.camera(), result.board);
+      const std::vector<double> uncalibrated(session.arm.chain.size(), 0.0);
+      double best_translation = 1e9, best_rotation = 1e9;
+      for (const vocal::HandEyeClosedForm& c : result.closed_forms) {
+        const auto [t, r] = wristCameraError(session, uncalibrated, c.camera, boardFromClosedForm(session, c.camera));
+        best_translation = std::min(best_translation, t), best_rotation = std::min(best_rotation, r);
+      }
+      std::printf("wrist camera, seed %u, reading noise %.1f mrad: vocal %.2f mm / %.2f mrad, OpenCV's best %.2f mm / %.2f mrad\n", seed,
+                  1000 * noise, 1000 * translation, 1000 * rotation, 1000 * best_translation, 1000 * best_rotation);
+      EXPECT_LT(translation, 0.002);
+      EXPECT_LT(rotation, 0.002);
+      EXPECT_LE(translation, best_translation);
+      // The first and last joints' offsets are the base's and the tool's to take up: held, said why.
+      EXPECT_NE(result.joints.front().held.find("no joint before it moved"), std::string::npos) << result.joints.front().held;
+      EXPECT_NE(result.joints.back().held.find("no joint after it moved"), std::string::npos) << result.joints.back().held;
+      for (std::size_t i = 1; i + 1 < result.joints.size(); ++i) {
+        EXPECT_TRUE(result.joints[i].held.empty());
+        EXPECT_NEAR(result.joints[i].offset, session.arm.joints[i].offset, 3.0 * result.joints[i].standard_deviation);
+      }
+    }
+  }
 }

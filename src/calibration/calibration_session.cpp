@@ -1,6 +1,7 @@
 #include "vocal/calibration/calibration_session.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -72,7 +73,7 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
   arm_ = rig_.handEye();
   mounts_ = rig_.jointedMounts();
-  joint_readings_.resize(mounts_.joints.size());
+  joint_readings_.resize(rig_.joints.size());
 }
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
@@ -184,10 +185,28 @@ void CalibrationSession::addJointState(double stamp, const std::vector<std::stri
     throw InputError("joint state: " + std::to_string(names.size()) + " names but " + std::to_string(positions.size()) + " positions");
   }
   if (!std::isfinite(stamp)) throw InputError("joint state: its stamp is not finite");
+  // An arm's tool from its joints: its pose at this stamp when the message reads every joint of its chain.
+  if (arm_ && arm_->from_joints && !arm_->chain.empty()) {
+    std::vector<double> readings;
+    for (const int j : arm_->chain) {
+      if (rig_.joints[j].type == JointType::kFixed) {
+        readings.push_back(0.0);
+        continue;
+      }
+      const auto at = std::find(names.begin(), names.end(), rig_.joints[j].name);
+      if (at == names.end() || !std::isfinite(positions[at - names.begin()])) break;
+      readings.push_back(positions[at - names.begin()]);
+    }
+    if (readings.size() == arm_->chain.size()) {
+      std::vector<double> offsets;
+      for (const JointDescription& joint : rig_.joints) offsets.push_back(joint.offset);
+      tool_poses_.push_back({stamp, chainPose(rig_.joints, arm_->chain, readings, offsets)});
+    }
+  }
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (!std::isfinite(positions[i])) continue;
-    for (std::size_t j = 0; j < mounts_.joints.size(); ++j) {
-      if (mounts_.joints[j].name != names[i]) continue;
+    for (std::size_t j = 0; j < rig_.joints.size(); ++j) {
+      if (rig_.joints[j].name != names[i]) continue;
       std::vector<JointReading>& own = joint_readings_[j];
       const JointReading reading{stamp, positions[i]};
       // In time order (a recording's joint states may arrive slightly out of order).
@@ -220,7 +239,36 @@ std::vector<TargetObservation> CalibrationSession::associate(std::vector<TimedOb
 
 HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOptions& options) const {
   if (!arm_) throw InputError("hand-eye association: the rig has no sensor or target on a moving frame");
-  return associateToolStillness(tool_poses_, timedObservations(), options);
+  HandEyeAssociation association = associateToolStillness(tool_poses_, timedObservations(), options);
+  if (!arm_->from_joints) return association;
+  // Each still pose's joint readings: their median over its views' span (the nearest within 0.05 s of it).
+  JointedMounts arm;
+  arm.joints = rig_.joints;
+  arm.chains = {arm_->chain};
+  std::vector<TargetObservation> spans;
+  for (const HandEyeStation& station : association.stations) {
+    TargetObservation span;
+    span.sensor = 0;
+    span.first_stamp = station.first_stamp, span.last_stamp = station.last_stamp;
+    spans.push_back(span);
+  }
+  // Not dropped for motion: the arm's still spans are the tool's own stillness already.
+  JointStillnessOptions any_motion = joint_stillness_;
+  any_motion.max_motion = any_motion.max_prismatic_motion = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < spans.size(); ++k) {
+    const std::vector<TargetObservation> read = attachJointPositions({spans[k]}, arm, joint_readings_, {{"arm"}}, any_motion, nullptr);
+    if (!read.empty()) association.stations[k].joint_positions = read.front().joint_positions;
+  }
+  return association;
+}
+
+std::optional<ArmJoints> CalibrationSession::armJoints() const {
+  if (!arm_ || !arm_->from_joints) return std::nullopt;
+  ArmJoints arm;
+  arm.joints = rig_.joints;
+  arm.chain = arm_->chain;
+  arm.reading_sigma = mounts_.reading_sigma, arm.prismatic_reading_sigma = mounts_.prismatic_reading_sigma;
+  return arm;
 }
 
 bool CalibrationSession::roomFor(std::size_t bytes) {

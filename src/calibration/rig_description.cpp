@@ -20,17 +20,25 @@ std::vector<SensorSpec> RigDescription::specs() const {
   return out;
 }
 
-bool RigDescription::behindJoints(int sensor) const {
-  const std::string& parent = sensors.at(sensor).parent;
-  if (parent.empty()) return false;
+bool RigDescription::isJointLink(const std::string& frame) const {
+  if (frame.empty()) return false;
   for (const JointDescription& joint : joints)
-    if (joint.child == parent) return true;
+    if (joint.child == frame) return true;
   return false;
+}
+
+bool RigDescription::behindJoints(int sensor) const { return isJointLink(sensors.at(sensor).parent); }
+
+bool RigDescription::needsJointStates() const {
+  if (joints.empty()) return false;
+  const std::optional<HandEyeRig> arm = handEye();
+  return arm ? arm->from_joints : !jointedMounts().chains.empty();
 }
 
 JointedMounts RigDescription::jointedMounts() const {
   JointedMounts mounts;
   mounts.joints = joints;
+  if (handEye()) return mounts;  // an arm's rig: its tool's chain (HandEyeRig::chain), not per sensor
   bool any = false;
   for (std::size_t s = 0; s < sensors.size(); ++s) any = any || behindJoints(static_cast<int>(s));
   if (!any) return mounts;
@@ -48,9 +56,22 @@ std::optional<HandEyeRig> RigDescription::handEye() const {
   HandEyeRig arm;
   arm.eye_in_hand = target.parent.empty() || target.parent == reference_frame;
   if (!arm.eye_in_hand) arm.tool_frame = target.parent;
-  for (std::size_t s = 0; s < sensors.size(); ++s)
-    if (arm.tool_frame.empty() && !sensors[s].parent.empty() && !behindJoints(static_cast<int>(s))) arm.tool_frame = sensors[s].parent;
+  // A sensor behind joints makes an arm's rig when the board is not moved by hand (a pan-tilt head before
+  // a hand-held board is calibrated in the graph of rigid sensors, JointedMounts).
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (arm.tool_frame.empty() && !sensors[s].parent.empty() && (!behindJoints(static_cast<int>(s)) || !target.parent.empty())) {
+      arm.tool_frame = sensors[s].parent;
+    }
+  }
   if (arm.tool_frame.empty()) return std::nullopt;
+  arm.from_joints = isJointLink(arm.tool_frame);
+  if (arm.from_joints) {
+    try {
+      arm.chain = jointChain(joints, reference_frame, arm.tool_frame, "the arm's tool '" + arm.tool_frame + "'");
+    } catch (const InputError&) {
+      arm.chain.clear();  // readRigDescription refuses it, naming the rig file
+    }
+  }
   // The main camera: the first on the other side from the board.
   for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s) {
     if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand) arm.camera = static_cast<int>(s);
@@ -314,10 +335,11 @@ RigDescription readRigDescription(const std::string& path) {
     if (jointed) jointChain(rig.joints, rig.reference_frame, sensor.parent, where);  // throws when no chain leads there
   }
   if (const std::optional<HandEyeRig> arm = rig.handEye()) {
-    if (!rig.joints.empty()) {
+    if (!rig.joints.empty() && !arm->from_joints) {
       throw InputError(path + ": a robot arm's tool frame from tf ('" + arm->tool_frame + "') and joints in one rig are not supported yet: "
-                       "calibrate them in sessions of their own");
+                       "calibrate them in sessions of their own, or name the arm's joints down to its tool");
     }
+    if (arm->from_joints) jointChain(rig.joints, rig.reference_frame, arm->tool_frame, path + ": the arm's tool");  // throws: no chain
     checkHandEyeRig(rig, *arm, path);
     rig.reference_sensor = -1;
     return rig;

@@ -219,16 +219,42 @@ void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Mat
 // A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
-  const vocal::BagToolPoses tool = vocal::readToolPosesFromBag(bag, rig.reference_frame, arm.tool_frame, &session);
-  std::printf("%zu poses of %s in %s from the recording's tf", tool.samples, arm.tool_frame.c_str(), rig.reference_frame.c_str());
-  if (tool.failed_lookups > 0) std::printf(", %zu lookups failed (last: %s)", tool.failed_lookups, tool.last_failure.c_str());
-  std::printf("\n");
+  vocal::HandEyeOptions options;
+  if (arm.from_joints) {
+    // The tool from the arm's joint states (read with the session), its joints' offsets solved.
+    options.arm_joints = session.armJoints();
+    std::printf("%zu joint readings on %s: the tool %s from the arm's %zu joints\n", session.jointReadings(), rig.joint_states_topic.c_str(),
+                arm.tool_frame.c_str(), arm.chain.size());
+    if (session.jointReadings() == 0) {
+      throw vocal::InputError(bag + ": the arm's tool '" + arm.tool_frame + "' comes from its joints, but the bag has no sensor_msgs/JointState on " +
+                              rig.joint_states_topic + " naming them");
+    }
+  } else {
+    const vocal::BagToolPoses tool = vocal::readToolPosesFromBag(bag, rig.reference_frame, arm.tool_frame, &session);
+    std::printf("%zu poses of %s in %s from the recording's tf", tool.samples, arm.tool_frame.c_str(), rig.reference_frame.c_str());
+    if (tool.failed_lookups > 0) std::printf(", %zu lookups failed (last: %s)", tool.failed_lookups, tool.last_failure.c_str());
+    std::printf("\n");
+  }
   const vocal::HandEyeAssociation association = session.handEyeAssociation();
   std::printf("%zu still poses of the arm with the board in view (of %d still; %d views while the arm moved, %d where tf gave no "
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
   const vocal::HandEyeFrames frames = vocal::handEyeFrames(rig, arm);
-  const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations);
+  const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations, options);
+  if (options.arm_joints) {
+    std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
+    for (std::size_t i = 0; i < result.joints.size(); ++i) {
+      const vocal::JointCalibration& joint = result.joints[i];
+      const vocal::JointDescription& d = options.arm_joints->joints[options.arm_joints->chain[i]];
+      if (d.type == vocal::JointType::kFixed) continue;
+      const bool prismatic = d.type == vocal::JointType::kPrismatic;
+      std::printf("  %-20s %+8.2f %s +- %.2f, moved %.3f %s", d.name.c_str(), 1000 * joint.offset, prismatic ? "mm" : "mrad",
+                  1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
+      if (!joint.held.empty()) std::printf("; held: %s", joint.held.c_str());
+      if (!joint.weak.empty()) std::printf("; %s", joint.weak.c_str());
+      std::printf("\n");
+    }
+  }
   const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
   std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s   sigma t (mm) / r (mrad), spread across the arm's poses\n",
               vocal::handEyeSetupName(result.setup).c_str(), "x", "y", "z", "qx", "qy", "qz", "qw");

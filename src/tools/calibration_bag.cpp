@@ -336,7 +336,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
     if (d.spec.type == SensorType::kLaser2d) routes[d.scan_topic].push_back({i, Kind::kScan});
   }
   // The joints' positions, when a sensor is behind joints (not a sensor's: index -1).
-  if (!rig.jointedMounts().chains.empty()) routes[rig.joint_states_topic].push_back({-1, Kind::kJointState});
+  if (rig.needsJointStates()) routes[rig.joint_states_topic].push_back({-1, Kind::kJointState});
   std::vector<std::string> topics;
   for (const auto& route : routes) topics.push_back(route.first);
 

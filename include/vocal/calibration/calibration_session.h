@@ -105,11 +105,15 @@ class CalibrationSession {
   // A hand-eye rig's tool frame (RigDescription::handEye) in the reference frame at `stamp`: a tf lookup,
   // at the rate tf gives it. Throws InputError for a rig without a moving frame or a pose that is not finite.
   void addToolPose(double stamp, const Eigen::Isometry3d& reference_from_tool);
-  // The arm's still poses with the camera's views in each (a hand-eye rig; throws InputError otherwise).
+  // The arm's still poses with the camera's views in each (a hand-eye rig; throws InputError otherwise);
+  // for an arm whose tool comes from its joints, with each still pose's readings of its chain.
   HandEyeAssociation handEyeAssociation(const ToolStillnessOptions& options = {}) const;
+  // An arm whose tool comes from its joints (HandEyeRig::from_joints): its chain, for HandEyeOptions::arm_joints.
+  std::optional<ArmJoints> armJoints() const;
 
-  // A sensor_msgs/JointState: each named joint's position at `stamp` (joints the rig's sensors are not
-  // behind are ignored; a reading that is not finite is skipped). Throws InputError when names and
+  // A sensor_msgs/JointState: each named joint's position at `stamp` (joints the rig does not name are
+  // ignored; a reading that is not finite is skipped); for an arm whose tool comes from its joints, the
+  // tool's pose at `stamp` when the message reads every joint of its chain (as addToolPose). Throws InputError when names and
   // positions differ in number or the stamp is not finite.
   void addJointState(double stamp, const std::vector<std::string>& names, const std::vector<double>& positions);
   // The joints' readings kept per joint of the rig (rig().joints), and what attaching them to the still

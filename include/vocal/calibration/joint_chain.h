@@ -78,6 +78,18 @@ void chainTransform(const std::vector<JointDescription>& joints, const std::vect
 Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
                             const std::vector<double>& offsets);
 
+// A joint's zero offset as solved.
+struct JointCalibration {
+  double offset = 0.0;  // radians (metres), added to the encoder's reading
+  double standard_deviation = 0.0;
+  // The offset could not be told from a mount (no joint after it in a sensor's chain moved): held at its
+  // initial value, and why, for the user. Empty: solved.
+  std::string held;
+  double motion = 0.0;  // the range its positions covered over the still poses
+  // Solved, but its standard deviation is over max_offset_sigma: what would fix it better, for the user.
+  std::string weak;
+};
+
 // Sensors mounted behind a robot's joints (a camera on a pan-tilt head): at each still pose the sensor
 // sits at its chain's pose for that pose's joint positions (TargetObservation::joint_positions) times its
 // mount in the chain's last link, the unknown in place of its pose in the rig frame. The joints' zero
@@ -101,6 +113,16 @@ struct JointedMounts {
 
   bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
   const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
+};
+
+// An arm whose tool's pose comes from its joints (a hand-eye rig whose moving frame is a link of the rig's
+// joints): the chain from the base to the tool, and how far a still pose's reading may be off.
+struct ArmJoints {
+  std::vector<JointDescription> joints;  // offset: the initial value
+  std::vector<int> chain;                // base -> tool (jointChain)
+  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;  // radians; metres (JointedMounts')
+  double min_motion = 0.05, min_prismatic_motion = 0.02;
+  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
 };
 
 }  // namespace vocal

@@ -74,7 +74,11 @@ struct RigSensorDescription {
 struct HandEyeRig {
   int camera = -1;         // the main camera: the first on the other side from the board (-1: none)
   bool eye_in_hand = true; // the board fixed in the reference frame (else on the tool)
-  std::string tool_frame;  // the frame that moves, looked up in tf
+  std::string tool_frame;  // the frame that moves, looked up in tf ...
+  // ... or a link of the rig's joints (an arm whose joints the rig names): its pose from the joint states
+  // through `chain` (jointChain from the reference frame), the joints' offsets calibrated with the rest.
+  bool from_joints = false;
+  std::vector<int> chain;
 };
 
 struct RigDescription {
@@ -90,8 +94,11 @@ struct RigDescription {
   std::vector<SensorSpec> specs() const;
   // Set when a sensor or the board is on a frame that moves (tf's, not a link of `joints`).
   std::optional<HandEyeRig> handEye() const;
-  // Whether the sensor sits behind joints (its parent is a link of `joints`).
+  // Whether the sensor sits behind joints (its parent is a link of `joints`), and whether a frame is such a link.
   bool behindJoints(int sensor) const;
+  bool isJointLink(const std::string& frame) const;
+  // Whether the session needs the joints' states: a sensor behind joints, or an arm's tool from them.
+  bool needsJointStates() const;
   // Each sensor's chain from reference_frame (jointChain) and known mounts, for the graph: only the joints
   // a sensor is behind (CalibrationOptions::mounts). Empty chains when no sensor is behind joints.
   JointedMounts jointedMounts() const;

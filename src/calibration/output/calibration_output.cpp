@@ -226,7 +226,9 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
 }  // namespace
 
 HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
-  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}};
+  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}};
+  if (arm.from_joints)
+    for (const int j : arm.chain) frames.joint_names.push_back(rig.joints.at(j).name);
   for (const RigSensorDescription& d : rig.sensors) frames.on_tool.push_back(!d.parent.empty());
   return frames;
 }
@@ -301,6 +303,18 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
     const Eigen::Quaterniond q(c.camera.rotation());
     file << "  - {method: " << c.method << ", translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "], rotation: [" << q.x() << ", "
          << q.y() << ", " << q.z() << ", " << q.w() << "]}\n";
+  }
+  if (!result.joints.empty() && result.joints.size() == frames.joint_names.size()) {
+    file << "joints:  # the arm's, offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
+    for (std::size_t i = 0; i < result.joints.size(); ++i) {
+      const JointCalibration& joint = result.joints[i];
+      if (joint.held == "a fixed joint") continue;
+      file << "  - {name: " << frames.joint_names[i] << ", offset: " << joint.offset << ", offset_stddev: " << joint.standard_deviation
+           << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false") << "}\n";
+    }
+    file << "calibration:  # robot_calibration's calibration_offsets\n";
+    for (std::size_t i = 0; i < result.joints.size(); ++i)
+      if (result.joints[i].held.empty()) file << "  " << frames.joint_names[i] << ": " << result.joints[i].offset << "\n";
   }
   finish(file, path);
 }

@@ -132,6 +132,42 @@ struct ToolPoseResidual {
   double rotation_sigma, translation_sigma;
 };
 
+// The tool's pose block tied to the arm's joints (ArmJoints): the chain's pose at the station's readings
+// plus the offsets (blocks 2...) plus the station's corrections (the next blocks), held within 10 um / 10
+// urad (the tool block is the chain's pose, kept as a block so the views' residuals stay as they are).
+struct ToolFromJointsResidual {
+  const ArmJoints* arm;
+  std::vector<double> readings;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residual) const {
+    const std::size_t n = arm->chain.size();
+    std::vector<T> added(n);
+    std::vector<const T*> added_blocks(n);
+    for (std::size_t i = 0; i < n; ++i) added[i] = blocks[2 + i][0] + blocks[2 + n + i][0], added_blocks[i] = &added[i];
+    Eigen::Quaternion<T> q;
+    Eigen::Matrix<T, 3, 1> t;
+    chainTransform<T>(arm->joints, arm->chain, readings.data(), added_blocks.data(), &q, &t);
+    const Eigen::Map<const Eigen::Quaternion<T>> tool_q(blocks[0]);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tool_t(blocks[1]);
+    constexpr double kTight = 1e-5;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
+    out.template head<3>() = rotationBetween(q, Eigen::Quaternion<T>(tool_q)) / T(kTight);
+    out.template tail<3>() = (tool_t - t) / T(kTight);
+    return true;
+  }
+};
+
+// A station's reading corrections within the readings' sigma (one block per joint of the chain).
+struct ReadingCorrectionsResidual {
+  std::vector<double> sigmas;
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residual) const {
+    for (std::size_t i = 0; i < sigmas.size(); ++i) residual[i] = blocks[i][0] / T(sigmas[i]);
+    return true;
+  }
+};
+
 struct PoseState {
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
@@ -364,12 +400,53 @@ struct ArmGraph {
   std::vector<PoseState> sensors;
   PoseState board;
   std::vector<PoseState> tools;
+  std::vector<double> offsets;                   // arm_joints: per joint of the chain
+  std::vector<std::vector<double>> corrections;  // ... per station and joint of the chain
   std::unique_ptr<ceres::Problem> problem;
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
 
+// The tool at a station's readings plus `offsets` (one per joint of the chain).
+Eigen::Isometry3d armTool(const ArmJoints& arm, const std::vector<double>& readings, const std::vector<double>& offsets) {
+  std::vector<double> all(arm.joints.size(), 0.0);
+  for (std::size_t i = 0; i < arm.chain.size(); ++i) all[arm.chain[i]] = offsets[i];
+  return chainPose(arm.joints, arm.chain, readings, all);
+}
+
+// Per joint of the arm's chain: the range its readings covered, and whether its offset can be solved - a
+// joint before it and one after it moved (else the base side's unknowns, the board or the fixed sensors,
+// or the tool side's take it up).
+std::vector<JointCalibration> armJointsSolvable(const ArmJoints& arm, const std::vector<HandEyeStation>& stations) {
+  const std::size_t n = arm.chain.size();
+  std::vector<JointCalibration> joints(n);
+  std::vector<bool> moved(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    const JointDescription& joint = arm.joints[arm.chain[i]];
+    double low = 1e300, high = -1e300;
+    for (const HandEyeStation& s : stations)
+      if (i < s.joint_positions.size()) low = std::min(low, s.joint_positions[i]), high = std::max(high, s.joint_positions[i]);
+    joints[i].offset = joint.offset;
+    joints[i].motion = high >= low ? high - low : 0.0;
+    moved[i] = joint.type != JointType::kFixed &&
+               joints[i].motion >= (joint.type == JointType::kPrismatic ? arm.min_prismatic_motion : arm.min_motion);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool before = std::any_of(moved.begin(), moved.begin() + i, [](bool m) { return m; });
+    const bool after = std::any_of(moved.begin() + i + 1, moved.end(), [](bool m) { return m; });
+    if (arm.joints[arm.chain[i]].type == JointType::kFixed) {
+      joints[i].held = "a fixed joint";
+    } else if (!before) {
+      joints[i].held = "no joint before it moved, so the poses in the base frame (the board's, or the fixed sensors') take up its offset";
+    } else if (!after) {
+      joints[i].held = "no joint after it moved, so the poses on the tool (the camera's, or the board's) take up its offset";
+    }
+  }
+  return joints;
+}
+
 std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
-                                     const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start) {
+                                     const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start,
+                                     const std::vector<double>* offset_starts = nullptr) {
   auto graph = std::make_unique<ArmGraph>(board_start);
   graph->problem = std::make_unique<ceres::Problem>();
   ceres::Problem& problem = *graph->problem;
@@ -391,9 +468,43 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       problem.AddResidualBlock(cost, nullptr, sensor.rotation.coeffs().data(), sensor.translation.data(), graph->board.rotation.coeffs().data(),
                                graph->board.translation.data(), tool.rotation.coeffs().data(), tool.translation.data());
     }
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
-                             new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
+    if (!options.arm_joints) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
+                               new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
+    }
     problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  }
+  if (const std::optional<ArmJoints>& arm = options.arm_joints) {
+    const std::size_t n = arm->chain.size();
+    graph->offsets.resize(n);
+    for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = offset_starts ? (*offset_starts)[i] : arm->joints[arm->chain[i]].offset;
+    graph->corrections.assign(stations.size(), std::vector<double>(n, 0.0));
+    std::vector<double> sigmas;
+    for (const int j : arm->chain) sigmas.push_back(arm->joints[j].type == JointType::kPrismatic ? arm->prismatic_reading_sigma : arm->reading_sigma);
+    for (std::size_t k = 0; k < stations.size(); ++k) {
+      if (stations[k].joint_positions.size() != n) {
+        throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
+                         " joint readings, the arm's chain " + std::to_string(n) + " joints");
+      }
+      auto* tie = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{&*arm, stations[k].joint_positions});
+      std::vector<double*> blocks = {graph->tools[k].rotation.coeffs().data(), graph->tools[k].translation.data()};
+      tie->AddParameterBlock(4);
+      tie->AddParameterBlock(3);
+      for (double& offset : graph->offsets) tie->AddParameterBlock(1), blocks.push_back(&offset);
+      for (double& correction : graph->corrections[k]) tie->AddParameterBlock(1), blocks.push_back(&correction);
+      tie->SetNumResiduals(6);
+      problem.AddResidualBlock(tie, nullptr, blocks);
+      auto* prior = new ceres::DynamicAutoDiffCostFunction<ReadingCorrectionsResidual, 4>(new ReadingCorrectionsResidual{sigmas});
+      std::vector<double*> corrections;
+      for (double& correction : graph->corrections[k]) prior->AddParameterBlock(1), corrections.push_back(&correction);
+      prior->SetNumResiduals(static_cast<int>(n));
+      problem.AddResidualBlock(prior, new ceres::CauchyLoss(options.loss_sigmas), corrections);
+      for (std::size_t i = 0; i < n; ++i)
+        if (arm->joints[arm->chain[i]].type == JointType::kFixed) problem.SetParameterBlockConstant(&graph->corrections[k][i]);
+    }
+    const std::vector<JointCalibration> solvable = armJointsSolvable(*arm, stations);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!solvable[i].held.empty()) problem.SetParameterBlockConstant(&graph->offsets[i]);
   }
   for (PoseState& sensor : graph->sensors)
     if (problem.HasParameterBlock(sensor.rotation.coeffs().data())) problem.SetManifold(sensor.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
@@ -507,7 +618,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
         view.pattern.pose_covariance.bottomRightCorner<3, 3>() += shared * translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
       }
     }
-    graph = solveGraph(rig, stations, options, solved, graph->board.pose());
+    const std::vector<double> offsets = graph->offsets;
+    graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &offsets : nullptr);
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
   result.board = graph->board.pose();
@@ -528,8 +640,35 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
 
   double squared_distance = 0.0, squared_angle = 0.0;
   int views = 0;
+  if (const std::optional<ArmJoints>& arm = options.arm_joints) {
+    result.joints = armJointsSolvable(*arm, stations);
+    std::vector<std::pair<const double*, const double*>> offset_blocks;
+    for (std::size_t i = 0; i < graph->offsets.size(); ++i) {
+      result.joints[i].offset = graph->offsets[i];
+      if (result.joints[i].held.empty()) offset_blocks.emplace_back(&graph->offsets[i], &graph->offsets[i]);
+    }
+    ceres::Covariance offset_covariance(ceres::Covariance::Options{});
+    if (!offset_blocks.empty() && offset_covariance.Compute(offset_blocks, graph->problem.get())) {
+      for (std::size_t i = 0; i < graph->offsets.size(); ++i) {
+        if (!result.joints[i].held.empty()) continue;
+        double variance = 0.0;
+        offset_covariance.GetCovarianceBlock(&graph->offsets[i], &graph->offsets[i], &variance);
+        result.joints[i].standard_deviation = std::sqrt(std::max(variance, 0.0));
+        const bool prismatic = arm->joints[arm->chain[i]].type == JointType::kPrismatic;
+        if (result.joints[i].standard_deviation > (prismatic ? arm->max_prismatic_offset_sigma : arm->max_offset_sigma)) {
+          char line[200];
+          std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move the arm through more of this joint's and its "
+                        "neighbours' range between still poses", 1000.0 * result.joints[i].standard_deviation, prismatic ? "mm" : "mrad");
+          result.joints[i].weak = line;
+        }
+      }
+    }
+  }
   for (std::size_t k = 0; k < stations.size(); ++k) {
-    const Eigen::Isometry3d reported = stations[k].base_from_tool, solved_tool = graph->tools[k].pose();
+    // Where the arm put the tool: its readings with the offsets as solved (the arm's own report: tf).
+    const Eigen::Isometry3d reported =
+        options.arm_joints ? armTool(*options.arm_joints, stations[k].joint_positions, graph->offsets) : stations[k].base_from_tool;
+    const Eigen::Isometry3d solved_tool = graph->tools[k].pose();
     result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
     result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));
     if (std::max(result.tool_shift.back() / options.tool_translation_sigma, result.tool_turn.back() / options.tool_rotation_sigma) >

@@ -64,6 +64,7 @@ struct HandEyeFrames {
   std::string reference_frame, tool_frame;
   std::vector<SensorSpec> sensors;
   std::vector<bool> on_tool;  // per sensor
+  std::vector<std::string> joint_names;  // an arm whose tool comes from its joints: its chain's, in order
   const std::string& parentOf(std::size_t sensor) const { return on_tool[sensor] ? tool_frame : reference_frame; }
   std::vector<HandEyeSensor> solverSensors() const;  // what calibrateArmRig takes
 };

@@ -119,17 +119,6 @@ struct ObservationResidual {
   double range = 0.0;  // metres from the sensor to its view's centre
 };
 
-// A joint's zero offset as solved.
-struct JointCalibration {
-  double offset = 0.0;  // radians (metres), added to the encoder's reading
-  double standard_deviation = 0.0;
-  // The offset could not be told from a mount (no joint after it in a sensor's chain moved): held at its
-  // initial value, and why, for the user. Empty: solved.
-  std::string held;
-  double motion = 0.0;  // the range its positions covered over the still poses
-  // Solved, but its standard deviation is over max_offset_sigma: what would fix it better, for the user.
-  std::string weak;
-};
 
 struct CalibrationResult {
   std::vector<SensorCalibration> sensors;

@@ -16,12 +16,14 @@
 // calibrateHandEye (Park and Martin) for the main camera, after the board's 180-degree symmetry is
 // resolved (a chessboard's corners may be found in either order).
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/joint_chain.h"
 
 namespace vocal {
 
@@ -48,6 +50,9 @@ struct HandEyeView {
 // One still pose of the arm.
 struct HandEyeStation {
   Eigen::Isometry3d base_from_tool = Eigen::Isometry3d::Identity();  // as the arm reports it
+  // With HandEyeOptions::arm_joints: each joint of its chain's reading there (base_from_tool is then the
+  // chain's pose at them plus the initial offsets).
+  std::vector<double> joint_positions;
   std::vector<HandEyeView> views;  // every sensor's views of the board while the arm stood there
   double first_stamp = 0.0, last_stamp = 0.0;  // seconds, to find it again in the recording
 };
@@ -64,6 +69,12 @@ struct HandEyeOptions {
   double min_rotation = 0.17;    // radians (10 degrees)
   double min_axis_angle = 0.35;  // radians (20 degrees)
   int max_iterations = 100;
+  // The tool's pose from the arm's joints: each still pose's tool is the chain's at its readings plus the
+  // joints' zero offsets (unknowns of the graph; the first and last joints' are held, as the board's and
+  // the sensors' poses take them up) plus the readings' own errors (a prior of reading_sigma, under the
+  // Cauchy loss: a pose whose readings do not fit is poor), instead of the reported pose within the
+  // repeatability above.
+  std::optional<ArmJoints> arm_joints;
 };
 
 // A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
@@ -101,6 +112,8 @@ struct HandEyeResult {
   double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
   int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
   std::vector<HandEyeClosedForm> closed_forms;
+  // With HandEyeOptions::arm_joints: per joint of its chain, the offset as solved or held and why.
+  std::vector<JointCalibration> joints;
 };
 
 // Why the arm's motion between the stations cannot fix the camera (the classic degeneracy: fewer than 3

@@ -1,0 +1,42 @@
+#pragma once
+// A simulated arm (simulated_arm.h) with joints: a 6-revolute-joint arm (shoulder pan and lift, elbow,
+// three wrist joints; about a metre of reach) reaching each still pose's tool pose (numerical inverse
+// kinematics), and its encoders as the robot reports them on /joint_states: off by a zero offset each
+// (what a calibration of the joints finds), quantised, with a reading error per still pose (backlash,
+// the links' flex). The arm's /tf is what robot_state_publisher makes of the readings: the tool where
+// the uncalibrated model puts it.
+
+#include <cstdint>
+#include <vector>
+
+#include "vocal/calibration/joint_chain.h"
+#include "vocal/simulation/simulated_arm.h"
+
+namespace vocal {
+
+struct SimulatedJointArmOptions {
+  double offset_range = 0.005;      // radians: each joint's true zero offset drawn from +-this (a re-zeroed arm)
+  double encoder_counts = 65536.0;  // per turn
+  double reading_noise = 0.0002;    // radians per reading at a still pose (standard deviation)
+  std::uint32_t seed = 1;
+};
+
+struct SimulatedJointArm {
+  std::vector<JointDescription> joints;  // base "arm_base" -> tool "arm_tool"; offset: the truth
+  std::vector<int> chain;                // all of them, in order
+  std::vector<std::vector<double>> angles;    // per still pose: the true joint angles
+  std::vector<std::vector<double>> readings;  // ... as the encoders report them
+  // The arm's truth (true_tool: the chain at the true angles) and, as reported_tool, the chain at the
+  // readings with no offsets: what the robot's /tf says.
+  SimulatedArm arm;
+
+  // The readings at `time` into a session whose still pose k holds for `still` seconds from k * (still +
+  // moving) then moves smoothly to the next (the last pose stays); at a still pose exactly `readings`.
+  std::vector<double> readingsAt(double time, double still, double moving) const;
+};
+
+// The still poses of simulateArm(arm_options) reached by the arm's joints. Throws InputError when a
+// pose is out of the arm's reach.
+SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const SimulatedJointArmOptions& options = {});
+
+}  // namespace vocal

@@ -1,0 +1,107 @@
+#include "vocal/simulation/simulated_joint_arm.h"
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
+
+namespace vocal {
+
+namespace {
+std::vector<JointDescription> sixJointArm() {
+  // name, parent, child, origin (translation), axis
+  const struct {
+    const char* name;
+    const char* parent;
+    const char* child;
+    Eigen::Vector3d origin, axis;
+  } links[] = {{"shoulder_pan_joint", "arm_base", "shoulder_link", {0, 0, 0.15}, {0, 0, 1}},
+               {"shoulder_lift_joint", "shoulder_link", "upper_arm_link", {0, 0.08, 0.1}, {0, 1, 0}},
+               {"elbow_joint", "upper_arm_link", "forearm_link", {0, -0.06, 0.5}, {0, 1, 0}},
+               {"wrist_1_joint", "forearm_link", "wrist_1_link", {0, 0, 0.45}, {0, 1, 0}},
+               {"wrist_2_joint", "wrist_1_link", "wrist_2_link", {0, 0.09, 0}, {0, 0, 1}},
+               {"wrist_3_joint", "wrist_2_link", "arm_tool", {0, 0, 0.1}, {0, 1, 0}}};
+  std::vector<JointDescription> joints;
+  for (const auto& l : links) {
+    JointDescription j;
+    j.name = l.name, j.parent = l.parent, j.child = l.child;
+    j.origin.translation() = l.origin;
+    j.axis = l.axis;
+    joints.push_back(j);
+  }
+  return joints;
+}
+
+Vector6d poseError(const Eigen::Isometry3d& target, const Eigen::Isometry3d& at) { return se3Log(target.inverse() * at); }
+
+// Damped Gauss-Newton on the joint angles from `start`; false when it does not reach the pose.
+bool reach(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const Eigen::Isometry3d& target,
+           std::vector<double>* angles) {
+  const std::vector<double> zero(joints.size(), 0.0);
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const Vector6d error = poseError(target, chainPose(joints, chain, *angles, zero));
+    if (error.norm() < 1e-12) return true;
+    Eigen::Matrix<double, 6, 6> jacobian;
+    for (int i = 0; i < 6; ++i) {
+      std::vector<double> moved = *angles;
+      moved[i] += 1e-7;
+      jacobian.col(i) = (poseError(target, chainPose(joints, chain, moved, zero)) - error) / 1e-7;
+    }
+    const Eigen::Matrix<double, 6, 6> normal = jacobian.transpose() * jacobian + 1e-9 * Eigen::Matrix<double, 6, 6>::Identity();
+    const Vector6d step = normal.ldlt().solve(jacobian.transpose() * error);
+    for (int i = 0; i < 6; ++i) (*angles)[i] -= std::max(-0.3, std::min(0.3, step[i]));
+  }
+  return poseError(target, chainPose(joints, chain, *angles, zero)).norm() < 1e-9;
+}
+}  // namespace
+
+std::vector<double> SimulatedJointArm::readingsAt(double time, double still, double moving) const {
+  const int poses = static_cast<int>(readings.size());
+  const int k = std::min(poses - 1, static_cast<int>(time / (still + moving)));
+  const double into = time - k * (still + moving);
+  if (k == poses - 1 || into <= still) return readings[k];
+  const double alpha = 0.5 - 0.5 * std::cos(M_PI * std::min(1.0, (into - still) / moving));
+  std::vector<double> blended(readings[k].size());
+  for (std::size_t j = 0; j < blended.size(); ++j) blended[j] = (1.0 - alpha) * readings[k][j] + alpha * readings[k + 1][j];
+  return blended;
+}
+
+SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const SimulatedJointArmOptions& options) {
+  SimulatedJointArm out;
+  out.arm = simulateArm(arm_options);
+  out.joints = sixJointArm();
+  out.chain = {0, 1, 2, 3, 4, 5};
+  std::mt19937 rng(options.seed * 1000003u + 7u);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, options.reading_noise);
+  for (JointDescription& joint : out.joints) joint.offset = options.offset_range * unit(rng);
+  const double step = 2.0 * M_PI / options.encoder_counts;
+  const std::vector<double> zero(out.joints.size(), 0.0);
+  std::vector<double> previous = {0.0, 0.5, 1.2, 1.0, 0.0, 0.0};  // elbow up, wrist over the table
+  for (std::size_t k = 0; k < out.arm.true_tool.size(); ++k) {
+    std::vector<double> angles = previous;
+    bool reached = reach(out.joints, out.chain, out.arm.true_tool[k], &angles);
+    for (int restart = 0; !reached && restart < 60; ++restart) {
+      angles = previous;
+      for (double& a : angles) a += (restart < 20 ? 0.8 : 2.0) * unit(rng);
+      reached = reach(out.joints, out.chain, out.arm.true_tool[k], &angles);
+    }
+    if (!reached) throw InputError("simulated joint arm: still pose " + std::to_string(k + 1) + " is out of the arm's reach");
+    previous = angles;
+    out.angles.push_back(angles);
+    std::vector<double> readings;
+    for (std::size_t j = 0; j < angles.size(); ++j) {
+      readings.push_back(std::round((angles[j] - out.joints[out.chain[j]].offset + noise(rng)) / step) * step);
+    }
+    out.readings.push_back(readings);
+    out.arm.true_tool[k] = chainPose(out.joints, out.chain, angles, zero);
+    out.arm.reported_tool[k] = chainPose(out.joints, out.chain, readings, zero);  // robot_state_publisher's, uncalibrated
+  }
+  return out;
+}
+
+}  // namespace vocal
