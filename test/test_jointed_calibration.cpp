@@ -498,3 +498,38 @@ TEST(JointedCalibration, WristCameraWithTheArmsJointOffsetsBesideOpenCv) {
     }
   }
 }
+
+// A 6-joint arm's session as a robot records it (images, /joint_states at 200 Hz, /tf from the readings)
+// through calibrate_rig with a rig that names the arm's joints: the tool from the joint states, the
+// joints' offsets solved, OpenCV's closed forms beside.
+TEST(JointedCalibration, ArmSessionThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_joint_arm");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --eye-in-hand --arm --poses 10");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(" joint readings on /joint_states: the tool arm_tool from the arm's 6 joints"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("10 still poses of the arm with the board in view"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("shoulder_pan_joint      +0.00 mrad +- 0.00"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("held: no joint after it moved, so the poses on the tool"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("OpenCV's calibrateHandEye on the same poses, for arm_camera"), std::string::npos) << r.output;
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  ASSERT_EQ(result["joints"].size(), 6u);
+  for (std::size_t j = 1; j + 1 < 6; ++j) {  // the first and last are held
+    EXPECT_TRUE(result["joints"][j]["solved"].as<bool>());
+    EXPECT_NEAR(result["joints"][j]["offset"].as<double>(), truth["joints"][j]["offset"].as<double>(),
+                std::max(0.002, 3.0 * result["joints"][j]["offset_stddev"].as<double>()))
+        << truth["joints"][j]["name"].as<std::string>();
+  }
+  EXPECT_TRUE(result["calibration"]["elbow_joint"]);
+  // Without the joint states the rig cannot place the tool: said so.
+  vocal_test::writeText(folder + "/elsewhere.yaml", "joint_states_topic: /arm/joint_states\n" + [&] {
+    std::ifstream rig(folder + "/rig.yaml");
+    return std::string((std::istreambuf_iterator<char>(rig)), std::istreambuf_iterator<char>());
+  }());
+  r = vocal_test::runTool("calibrate_rig " + folder + "/elsewhere.yaml " + folder + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("the arm's tool 'arm_tool' comes from its joints, but the bag has no sensor_msgs/JointState on /arm/joint_states"),
+            std::string::npos) << r.output;
+}

@@ -1,5 +1,7 @@
 #include "vocal/tools/hand_eye_bag.h"
 
+#include <sensor_msgs/JointState.h>
+
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -105,6 +107,13 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
     tf2_msgs::TFMessage moving;
     moving.transforms.push_back(toTransformStamped(toolAt(t, arm.reported_tool) * flangeFromTool().inverse(), kBase, kFlange, stamp));
     bag.write("/tf", stamp, moving);
+    if (options.joint_arm) {
+      sensor_msgs::JointState state;
+      state.header.stamp = stamp;
+      for (const int j : options.joint_arm->chain) state.name.push_back(options.joint_arm->joints[j].name);
+      state.position = options.joint_arm->readingsAt(t, options.still_seconds, options.moving_seconds);
+      bag.write("/joint_states", stamp, state);
+    }
   }
   // Each sensor at the camera's rate, starting a little after the arm's first pose and a little after
   // one another, unsynchronised with tf.
@@ -148,7 +157,15 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
   bag.close();
 }
 
-void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose) {
+RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside) {
+  RigDescription rig = simulatedHandEyeRig(setup, target, false, beside);
+  rig.joints = joint_arm.joints;
+  for (JointDescription& joint : rig.joints) joint.offset = 0.0;  // unknown
+  return rig;
+}
+
+void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose,
+                             const SimulatedJointArm* joint_arm) {
   std::ofstream file(path);
   if (!file) throw InputError(path + ": cannot write the ground truth");
   const auto pose = [&](const Eigen::Isometry3d& p) {
@@ -174,6 +191,10 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
        << "tool_poses:  # base <- tool at each still pose: true, and as reported on /tf\n";
   for (std::size_t k = 0; k < arm.true_tool.size(); ++k) {
     file << "  - {true: " << pose(arm.true_tool[k]) << ", reported: " << pose(arm.reported_tool[k]) << "}\n";
+  }
+  if (joint_arm) {
+    file << "joints:  # the arm's, with their true zero offsets (added to each reading)\n";
+    for (const int j : joint_arm->chain) file << "  - {name: " << joint_arm->joints[j].name << ", offset: " << joint_arm->joints[j].offset << "}\n";
   }
   if (!file) throw InputError(path + ": write failed");
 }

@@ -3,6 +3,7 @@
 // room and held still at each pose), with the rig description calibrate_rig needs and the ground truth.
 
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -81,6 +82,10 @@ const char kUsage[] =
     "                      the same session\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
+    "  --arm               a 6-joint arm (1.1 m reach) reaches the poses: its readings on /joint_states at 200 Hz\n"
+    "                      (each joint's zero off by up to --joint-offsets, default 0.005 rad; 16-bit encoders;\n"
+    "                      --joint-noise R per reading at a pose, default 0.0002 rad), /tf from the readings as\n"
+    "                      robot_state_publisher gives it; rig.yaml names the joints (offsets unknown)\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n";
@@ -104,16 +109,29 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   target.width = args.number("board-width", 0.36);
   target.height = args.number("board-height", 0.27);
   vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
-  const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
   if (args.has("beside") && arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
     throw vocal::InputError("option --beside: with --eye-to-hand (a fixed lidar sees a fixed board in one place only)");
   }
-  const vocal::RigDescription rig = vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
+  // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
+  std::optional<vocal::SimulatedJointArm> joint_arm;
+  if (args.has("arm")) {
+    if (arm_options.poor_pose >= 0) throw vocal::InputError("option --poor-pose: not with --arm (its readings' noise is --joint-noise)");
+    vocal::SimulatedJointArmOptions joint_options;
+    joint_options.seed = arm_options.seed;
+    joint_options.reading_noise = args.number("joint-noise", joint_options.reading_noise);
+    joint_options.offset_range = args.number("joint-offsets", joint_options.offset_range);
+    if (!(joint_options.reading_noise >= 0.0)) throw vocal::InputError("option --joint-noise: must be >= 0");
+    joint_arm = vocal::simulateJointArm(arm_options, joint_options);
+  }
+  const vocal::SimulatedArm arm = joint_arm ? joint_arm->arm : vocal::simulateArm(arm_options);
+  const vocal::RigDescription rig = joint_arm ? vocal::simulatedJointArmRig(arm_options.setup, target, *joint_arm, args.has("beside"))
+                                              : vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
-  vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose);
+  vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose, joint_arm ? &*joint_arm : nullptr);
   vocal::HandEyeBagOptions bag_options;
   bag_options.seed = arm_options.seed;
   bag_options.compressed_images = args.has("compressed");
+  bag_options.joint_arm = joint_arm ? &*joint_arm : nullptr;
   vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");
   std::printf("wrote a %s session of %d arm poses to %s/session.bag; rig.yaml, ground_truth.yaml\n",
               vocal::handEyeSetupName(arm_options.setup).c_str(), arm_options.poses, dir.c_str());
@@ -124,6 +142,7 @@ int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
   vocal::makeFolders(dir);
   if (args.has("eye-in-hand") || args.has("eye-to-hand")) return simulateHandEye(args, dir);
+  if (args.has("arm")) throw vocal::InputError("option --arm: with --eye-in-hand or --eye-to-hand");
   const bool pan_tilt = args.has("pan-tilt");
   if (args.has("pose-known") && !pan_tilt) throw vocal::InputError("option --pose-known: with --pan-tilt");
   const int rgbd = args.integer("rgbd", 1);
@@ -218,7 +237,7 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose"},
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known"}, 1);
+                         "pan-tilt", "pose-known", "arm"}, 1);
 }

@@ -8,6 +8,7 @@
 
 #include "vocal/calibration/rig_description.h"
 #include "vocal/simulation/simulated_arm.h"
+#include "vocal/simulation/simulated_joint_arm.h"
 
 namespace vocal {
 
@@ -22,6 +23,9 @@ struct HandEyeBagOptions {
   // Images as image_transport's compressed transport records them (JPEG, quality 95) on the rig's image
   // topic, which then ends in "/compressed" (simulatedHandEyeRig).
   bool compressed_images = false;
+  // An arm with joints (simulated_joint_arm.h): its readings on /joint_states at tf_rate too, and /tf as
+  // robot_state_publisher makes it of them (uncalibrated).
+  const SimulatedJointArm* joint_arm = nullptr;
   std::uint32_t seed = 1;
 };
 
@@ -32,11 +36,16 @@ struct HandEyeBagOptions {
 // board in the gripper too (SimulatedArm::lidar, rgbd).
 RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false, bool beside = false);
 
+// `joint_arm`: the rig names the arm's joints (offsets unknown: 0) down to the tool, the tool's pose then
+// comes from /joint_states rather than tf.
+RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside = false);
+
 // Throws InputError naming the bag when it cannot be written, and for rates or times that are not positive.
 void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig, const HandEyeBagOptions& options, const std::string& bag_path);
 
 // The truth as YAML: the camera and the board each in its parent, every still pose's tool (true and as
 // reported), and which pose was reported off.
-void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose);
+void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, const RigDescription& rig, int poor_pose,
+                             const SimulatedJointArm* joint_arm = nullptr);  // adds the joints' true offsets
 
 }  // namespace vocal

@@ -602,6 +602,13 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   // Solved with the views' and the arm's own noise; when the cameras' views then disagree far beyond it
   // (a real arm's kinematics, a real camera's intrinsics), solved again with that scatter added.
   std::unique_ptr<ArmGraph> graph = solveGraph(rig, stations, options, starts, board_start);
+  // An arm from its joints: from here on each station's tool is where its readings put it with the offsets
+  // as solved (what the scatter and the views are judged against; the closed forms above had the readings alone).
+  const auto calibratedTools = [&] {
+    if (!options.arm_joints) return;
+    for (HandEyeStation& s : stations) s.base_from_tool = armTool(*options.arm_joints, s.joint_positions, graph->offsets);
+  };
+  calibratedTools();
   std::vector<Eigen::Isometry3d> solved;
   for (const PoseState& p : graph->sensors) solved.push_back(p.pose());
   const auto [rotation_scatter, translation_scatter] = unmodelledScatter(rig, stations, solved, graph->board.pose(), options);
@@ -620,6 +627,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     }
     const std::vector<double> offsets = graph->offsets;
     graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &offsets : nullptr);
+    calibratedTools();
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
   result.board = graph->board.pose();
@@ -671,10 +679,16 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     const Eigen::Isometry3d solved_tool = graph->tools[k].pose();
     result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
     result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));
-    if (std::max(result.tool_shift.back() / options.tool_translation_sigma, result.tool_turn.back() / options.tool_rotation_sigma) >
-        options.loss_sigmas) {
-      result.poor_stations.push_back(static_cast<int>(k));
+    double departure = std::max(result.tool_shift.back() / options.tool_translation_sigma, result.tool_turn.back() / options.tool_rotation_sigma);
+    if (const std::optional<ArmJoints>& arm = options.arm_joints) {
+      // From the joints: how far its readings had to move, in their sigmas.
+      departure = 0.0;
+      for (std::size_t i = 0; i < arm->chain.size(); ++i) {
+        const bool prismatic = arm->joints[arm->chain[i]].type == JointType::kPrismatic;
+        departure = std::max(departure, std::abs(graph->corrections[k][i]) / (prismatic ? arm->prismatic_reading_sigma : arm->reading_sigma));
+      }
     }
+    if (departure > options.loss_sigmas) result.poor_stations.push_back(static_cast<int>(k));
     // The cameras' views against the arm's reported pose: what a poor pose leaves unexplained.
     double distance = 0.0, angle = 0.0;
     int seen = 0;
