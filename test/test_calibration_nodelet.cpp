@@ -27,6 +27,7 @@
 #include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/simulation/simulated_arm.h"
+#include "vocal/simulation/simulated_joint_arm.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/hand_eye_bag.h"
 
@@ -464,6 +465,60 @@ TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
   ASSERT_NO_FATAL_FAILURE(expectOnTfStaticWithin(tf_buffer, sensors[1], 0.003));  // the 2D laser beside it
   std::lock_guard<std::mutex> lock(diagnostics.mutex);
   EXPECT_NE(diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << diagnostics.value("joints");
+}
+
+// A camera on a 6-joint arm's wrist, the tool from live /joint_states (rosbag play): ~calibrate names the
+// arm's joint offsets (the first and last held) and the camera in the tool frame; /tf_static carries it.
+TEST(CalibrationNodelet, ACameraOnAnArmFromLiveJointStates) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_joint_arm");
+  vocal::SimulatedArmOptions arm_options;
+  arm_options.poses = 8;
+  arm_options.seed = 3;
+  const vocal::SimulatedJointArm joint_arm = vocal::simulateJointArm(arm_options);
+  vocal::TargetDescription target;
+  target.pattern = {7, 10, 0.03};
+  target.width = 0.36;
+  target.height = 0.27;
+  const vocal::RigDescription rig = vocal::simulatedJointArmRig(vocal::HandEyeSetup::kEyeInHand, target, joint_arm);
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+  vocal::HandEyeBagOptions bag_options;
+  bag_options.joint_arm = &joint_arm;
+  vocal::writeSimulatedHandEyeBag(joint_arm.arm, rig, bag_options, folder + "/session.bag");
+
+  ros::NodeHandle nh;
+  nh.setParam("/joint_arm_calibration/rig", folder + "/rig.yaml");
+  nodelet::Loader manager(false);
+  ASSERT_TRUE(manager.load("/joint_arm_calibration", "vocal/MsgCalibration", {}, {}));
+  LatestDiagnostics diagnostics(nh, "joint_arm_calibration");
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
+
+  std_srvs::Trigger calibrate;
+  ASSERT_TRUE(ros::service::call("/joint_arm_calibration/calibrate", calibrate));
+  std::cout << calibrate.response.message << "\n";
+  EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
+  EXPECT_EQ(calibrate.response.message.rfind("calibrated 1 sensor (eye-in-hand) from 8 still arm poses; joint shoulder_pan_joint offset +0.00 mrad", 0), 0u)
+      << calibrate.response.message;
+  EXPECT_NE(calibrate.response.message.find("; joint elbow_joint offset "), std::string::npos) << calibrate.response.message;
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_buffer.lookupTransform("arm_tool", "arm_camera_optical", ros::Time(0), ros::Duration(5.0));
+  } catch (const tf2::TransformException& e) {
+    FAIL() << e.what();
+  }
+  // Against the mount the last joint's held offset leaves: R(axis, d6) * the true mount.
+  const vocal::JointDescription& last = joint_arm.joints.back();
+  const Eigen::Isometry3d expected = Eigen::Isometry3d(Eigen::AngleAxisd(last.offset, last.axis)) * joint_arm.arm.camera;
+  const Eigen::Isometry3d error = expected.inverse() * tf2::transformToEigen(t);
+  std::cout << "joint arm camera on /tf_static: " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000 << " mrad\n";
+  EXPECT_LT(error.translation().norm(), 0.003);
+  EXPECT_LT(vocal::rotationAngle(error), 0.003);
+  std::lock_guard<std::mutex> lock(diagnostics.mutex);
+  EXPECT_NE(diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << diagnostics.value("joints");
+  EXPECT_EQ(diagnostics.value("tool"), "");  // no tf lookups: the tool comes from the joints
 }
 
 int main(int argc, char** argv) {

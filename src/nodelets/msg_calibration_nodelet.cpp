@@ -93,14 +93,14 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     dropped_.assign(rig.sensors.size(), 0);
     arm_ = rig.handEye();
     reference_frame_ = rig.reference_frame;
-    if (arm_) {
+    if (arm_ && !arm_->from_joints) {
       // The arm's tool from live tf, sampled faster than any arm's still pose is short.
       tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
       tool_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { sampleTool(); });
     }
-    if (!rig.jointedMounts().chains.empty()) {
-      // Sensors behind joints: the joints' positions at the rate the robot publishes them (100-1000 Hz).
+    if (rig.needsJointStates()) {
+      // Sensors (or an arm's tool) behind joints: the joints' positions at the rate the robot publishes them (100-1000 Hz).
       subscribers_.push_back(nh.subscribe<sensor_msgs::JointState>(
           rig.joint_states_topic, 1000, [this](const sensor_msgs::JointState::ConstPtr& m) { onJointState(*m); }));
     }
@@ -161,10 +161,22 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     const RigDescription& rig = session_->rig();
     const HandEyeAssociation association = session_->handEyeAssociation();
     const HandEyeFrames frames = handEyeFrames(rig, *arm_);
-    const HandEyeResult result = calibrateArmRig(frames.solverSensors(), !arm_->eye_in_hand, association.stations);
+    HandEyeOptions options;
+    options.arm_joints = session_->armJoints();  // an arm whose tool comes from its joints
+    const HandEyeResult result = calibrateArmRig(frames.solverSensors(), !arm_->eye_in_hand, association.stations, options);
     std::ostringstream summary;
     summary << "calibrated " << rig.sensors.size() << " sensor" << (rig.sensors.size() == 1 ? "" : "s") << " (" << handEyeSetupName(result.setup)
             << ") from " << association.stations.size() << " still arm poses";
+    for (std::size_t i = 0; i < result.joints.size() && i < frames.joint_names.size(); ++i) {
+      const JointCalibration& joint = result.joints[i];
+      if (joint.held == "a fixed joint") continue;
+      char line[160];
+      std::snprintf(line, sizeof(line), "; joint %s offset %+.2f mrad (+-%.2f), moved %.3f rad", frames.joint_names[i].c_str(), 1000 * joint.offset,
+                    1000 * joint.standard_deviation, joint.motion);
+      summary << line;
+      if (!joint.held.empty()) summary << ", held: " << joint.held;
+      if (!joint.weak.empty()) summary << ", " << joint.weak;
+    }
     std::vector<std::string> withheld;
     std::vector<geometry_msgs::TransformStamped> transforms;
     const ros::Time now = ros::Time::now();
@@ -465,13 +477,13 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       status.add(rig.sensors[s].spec.name, value.str());
     }
     status.add("memory", session_->memorySummary());
-    if (arm_) {
+    if (arm_ && !arm_->from_joints) {
       std::ostringstream tool;
       tool << tool_poses_ << " poses of " << arm_->tool_frame << " in " << rig.reference_frame << " from tf, " << tool_lookups_failed_
            << " lookups failed" << (tool_problem_.empty() ? "" : " (last: " + tool_problem_ + ")");
       status.add("tool", tool.str());
     }
-    if (!rig.jointedMounts().chains.empty()) {
+    if (rig.needsJointStates()) {
       std::ostringstream joints;
       joints << joint_states_ << " joint states on " << rig.joint_states_topic << " (" << session_->jointReadings()
              << " readings of the rig's joints kept), " << joint_states_dropped_ << " dropped";
