@@ -10,14 +10,14 @@ simulated sessions (eye-in-hand, eye-to-hand, and eye-to-hand with a lidar and a
 and without one arm pose reported 5 mm off; seeds 1..N) are generated into --work (default /tmp/vocal_hand_eye_sessions) once and reused.
 """
 import argparse
-import math
 import os
 import subprocess
 import sys
 import time
 
-import numpy as np
 import yaml
+
+from pose_math import matrix, error
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -25,23 +25,6 @@ TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
 REAL = os.path.join(ROOT, "..", "shared", "data", "real_rigs", "franka_eye_in_hand")
 # The recording's README: the authors' result, the camera optical frame in panda_EE.
 FRANKA_REFERENCE = ([0.0577, -0.0339, -0.0423], [0.00076, 0.00411, 0.71098, 0.70320])
-
-
-def matrix(translation, quaternion):
-    x, y, z, w = np.asarray(quaternion, dtype=float) / np.linalg.norm(quaternion)
-    m = np.eye(4)
-    m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
-    m[:3, 3] = translation
-    return m
-
-
-def error(found, truth):
-    """(mm, mrad) between two 4x4 poses."""
-    d = np.linalg.inv(truth) @ found
-    angle = math.acos(max(-1.0, min(1.0, (np.trace(d[:3, :3]) - 1) / 2)))
-    return 1000 * np.linalg.norm(found[:3, 3] - truth[:3, 3]), 1000 * angle
 
 
 def calibrate(rig, bag, out):

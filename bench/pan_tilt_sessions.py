@@ -15,7 +15,6 @@ the truth, the 2D laser's error, whether the camera was published, and the run t
 usage: /usr/bin/python3 bench/pan_tilt_sessions.py [--work DIR] [--seeds N] [--poses N]
 """
 import argparse
-import math
 import os
 import subprocess
 import time
@@ -23,33 +22,11 @@ import time
 import numpy as np
 import yaml
 
+from pose_math import matrix, turn, error
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
-
-
-def matrix(translation, quaternion):
-    x, y, z, w = np.asarray(quaternion, dtype=float) / np.linalg.norm(quaternion)
-    m = np.eye(4)
-    m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
-    m[:3, 3] = translation
-    return m
-
-
-def turn(axis, angle):
-    axis = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    m = np.eye(4)
-    m[:3, :3] = np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
-    return m
-
-
-def error(found, truth):
-    d = np.linalg.inv(truth) @ found
-    angle = math.acos(max(-1.0, min(1.0, (np.trace(d[:3, :3]) - 1) / 2)))
-    return 1000 * np.linalg.norm(found[:3, 3] - truth[:3, 3]), 1000 * angle
 
 
 def head_pose(joints, offsets, readings, mount):

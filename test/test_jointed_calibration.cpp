@@ -16,6 +16,7 @@
 #include "test_support.h"
 
 #include "vocal/calibration/association/joint_positions.h"
+#include "vocal/calibration/output/calibrated_urdf.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/urdf_joints.h"
@@ -232,6 +233,22 @@ TEST(JointedCalibration, UrdfJointsMatchKdlsForwardKinematics) {
             std::string::npos);
   EXPECT_NE(vocal_test::inputErrorOf([&] { vocal::jointChain(joints, "base_link", "gripper", "sensor 'x'"); })
                 .find("sensor 'x': no chain of joints leads from 'base_link' to 'gripper'"),
+            std::string::npos);
+}
+
+TEST(JointedCalibration, CalibratedUrdfCarriesTheOffsets) {
+  // robot_calibration's <calibration rising>: replaced where the joint has one, added where not; read back
+  // by urdf::Model as the offsets; the rest of the file as it was.
+  const std::string calibrated = vocal::withJointOffsets(kTestUrdf, {{"head_tilt", -0.0042}, {"head_pan", 0.0017}}, "robot.urdf");
+  for (const vocal::JointDescription& joint : vocal::urdfJointsFromString(calibrated, "calibrated URDF")) {
+    if (joint.name == "head_tilt") EXPECT_DOUBLE_EQ(joint.offset, -0.0042);
+    if (joint.name == "head_pan") EXPECT_DOUBLE_EQ(joint.offset, 0.0017);
+    if (joint.name == "torso_lift") EXPECT_DOUBLE_EQ(joint.offset, 0.0);
+  }
+  EXPECT_EQ(calibrated.find("0.0123"), std::string::npos) << calibrated;  // the old one gone
+  EXPECT_NE(calibrated.find("<joint name=\"mount\" type=\"fixed\">"), std::string::npos);
+  EXPECT_NE(vocal_test::inputErrorOf([] { vocal::withJointOffsets(kTestUrdf, {{"gripper", 0.1}}, "robot.urdf"); })
+                .find("robot.urdf: the URDF has no joint 'gripper' to write its offset to"),
             std::string::npos);
 }
 

@@ -274,8 +274,8 @@ RigDescription readRigDescription(const std::string& path) {
   if (root["urdf"]) {
     rig.urdf = required<std::string>(root, "urdf", path);
     const std::size_t slash = path.find_last_of('/');
-    const std::string file = rig.urdf.front() == '/' || slash == std::string::npos ? rig.urdf : path.substr(0, slash + 1) + rig.urdf;
-    rig.joints = readUrdfJoints(file);
+    rig.urdf_path = rig.urdf.front() == '/' || slash == std::string::npos ? rig.urdf : path.substr(0, slash + 1) + rig.urdf;
+    rig.joints = readUrdfJoints(rig.urdf_path);
   }
   if (root["joint_states_topic"]) rig.joint_states_topic = required<std::string>(root, "joint_states_topic", path);
   if (!root["sensors"] || !root["sensors"].IsSequence() || root["sensors"].size() == 0) {

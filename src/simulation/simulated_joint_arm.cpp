@@ -8,6 +8,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/still_pose_timeline.h"
 
 namespace vocal {
 
@@ -60,14 +61,7 @@ bool reach(const std::vector<JointDescription>& joints, const std::vector<int>& 
 }  // namespace
 
 std::vector<double> SimulatedJointArm::readingsAt(double time, double still, double moving) const {
-  const int poses = static_cast<int>(readings.size());
-  const int k = std::min(poses - 1, static_cast<int>(time / (still + moving)));
-  const double into = time - k * (still + moving);
-  if (k == poses - 1 || into <= still) return readings[k];
-  const double alpha = 0.5 - 0.5 * std::cos(M_PI * std::min(1.0, (into - still) / moving));
-  std::vector<double> blended(readings[k].size());
-  for (std::size_t j = 0; j < blended.size(); ++j) blended[j] = (1.0 - alpha) * readings[k][j] + alpha * readings[k + 1][j];
-  return blended;
+  return valuesAtTime(readings, time, still, moving);
 }
 
 SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const SimulatedJointArmOptions& options) {

@@ -1,20 +1,14 @@
 #include "vocal/simulation/simulated_pan_tilt.h"
 
+#include "vocal/simulation/still_pose_timeline.h"
+
 #include <cmath>
 #include <random>
 
 namespace vocal {
 
 std::vector<double> SimulatedPanTilt::anglesAt(double time, double still, double moving) const {
-  const int poses = static_cast<int>(angles.size());
-  const int k = std::min(poses - 1, static_cast<int>(time / (still + moving)));
-  const double into = time - k * (still + moving);
-  if (k == poses - 1 || into <= still) return angles[k];
-  // Smooth start and stop: a cosine blend between the poses.
-  const double alpha = 0.5 - 0.5 * std::cos(M_PI * std::min(1.0, (into - still) / moving));
-  std::vector<double> blended(angles[k].size());
-  for (std::size_t j = 0; j < blended.size(); ++j) blended[j] = (1.0 - alpha) * angles[k][j] + alpha * angles[k + 1][j];
-  return blended;
+  return valuesAtTime(angles, time, still, moving);
 }
 
 std::vector<double> SimulatedPanTilt::reported(const std::vector<double>& true_angles, const std::vector<int>& direction) const {

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "vocal/calibration/calibration_session.h"
+#include "vocal/calibration/output/calibrated_urdf.h"
 #include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
@@ -201,6 +202,14 @@ void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::o
   }
 }
 
+// A rig whose joints came from the robot's URDF: that URDF with the joints' offsets solved, beside the result.
+void writeRobotUrdf(const vocal::RigDescription& rig, const std::map<std::string, double>& offsets, const std::string& dir) {
+  if (rig.urdf_path.empty() || offsets.empty()) return;
+  vocal::writeCalibratedUrdf(rig.urdf_path, dir + "/robot_calibrated.urdf", offsets);
+  std::printf("wrote %s/robot_calibrated.urdf: %s with the %zu solved joint offsets as <calibration rising=...>\n", dir.c_str(),
+              rig.urdf.c_str(), offsets.size());
+}
+
 double positiveOption(const vocal::CommandLine& args, const char* name, double fallback) {
   const double value = args.number(name, fallback);
   if (!(value > 0.0)) throw vocal::InputError(std::string("option --") + name + ": must be > 0 (got " + args.text(name, "") + ")");
@@ -305,6 +314,10 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     vocal::writeHandEyeUrdf(dir + "/calibration.urdf", frames, result, withheld);
     vocal::writeHandEyeLaunch(dir + "/calibration.launch", frames, result, withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+    std::map<std::string, double> offsets;
+    for (std::size_t i = 0; i < result.joints.size() && i < frames.joint_names.size(); ++i)
+      if (result.joints[i].held.empty()) offsets[frames.joint_names[i]] = result.joints[i].offset;
+    writeRobotUrdf(rig, offsets, dir);
   }
   return any_withheld ? 1 : 0;
 }
@@ -412,6 +425,10 @@ int run(const vocal::CommandLine& args) {
     vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
     vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+    std::map<std::string, double> offsets;
+    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
+      if (result.joints[j].held.empty()) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
+    writeRobotUrdf(rig, offsets, dir);
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
   // Non-zero when a sensor was left out, so a script applying the result notices.

@@ -89,6 +89,7 @@ struct RigDescription {
   // The robot's joints (a `joints:` list, or those of `urdf`), and where their positions arrive.
   std::vector<JointDescription> joints;
   std::string urdf;  // the file they were read from (as given), empty for a list
+  std::string urdf_path;  // ... and where it is (relative to the rig YAML's folder)
   std::string joint_states_topic = "/joint_states";
 
   std::vector<SensorSpec> specs() const;
