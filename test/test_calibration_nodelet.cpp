@@ -413,10 +413,26 @@ TEST(CalibrationNodelet, ACameraOnAnArmFromLiveTf) {
   EXPECT_NE(diagnostics.value("tool").find(" poses of arm_tool in arm_base from tf, "), std::string::npos) << diagnostics.value("tool");
 }
 
-// A camera on a pan-tilt head in front of a fixed lidar and 2D laser, the head's joints on /joint_states
-// at 200 Hz as rosbag play gives them, the camera's mount known: ~calibrate names both joints' offsets
-// within 1 mrad of the truth, /tf_static carries the camera from the tilt link, the diagnostics count the
-// joint states.
+// The joints as a URDF (what robot_description holds): revolute joints with their origins and axes.
+std::string urdfOf(const std::vector<vocal::JointDescription>& joints) {
+  std::ostringstream urdf;
+  urdf.precision(12);
+  urdf << "<?xml version=\"1.0\"?>\n<robot name=\"head\">\n  <link name=\"" << joints.front().parent << "\"/>\n";
+  for (const vocal::JointDescription& joint : joints) {
+    const Eigen::Vector3d t = joint.origin.translation(), ypr = joint.origin.rotation().eulerAngles(2, 1, 0);
+    urdf << "  <link name=\"" << joint.child << "\"/>\n  <joint name=\"" << joint.name << "\" type=\"continuous\">\n    <parent link=\""
+         << joint.parent << "\"/><child link=\"" << joint.child << "\"/>\n    <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z()
+         << "\" rpy=\"" << ypr[2] << " " << ypr[1] << " " << ypr[0] << "\"/><axis xyz=\"" << joint.axis.x() << " " << joint.axis.y() << " "
+         << joint.axis.z() << "\"/>\n  </joint>\n";
+  }
+  urdf << "</robot>\n";
+  return urdf.str();
+}
+
+// A camera on a pan-tilt head in front of a fixed lidar and 2D laser, the head's joints from the URDF on
+// the parameter server (urdf_param: /robot_description) and on /joint_states at 200 Hz as rosbag play
+// gives them, the camera's mount known: ~calibrate names both joints' offsets within 1 mrad of the truth,
+// /tf_static carries the camera from the tilt link, the diagnostics count the joint states.
 TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
   const std::string folder = vocal_test::makeTempFolder("calibration_nodelet_pan_tilt");
   const std::vector<vocal::SimulatedSensor> sensors = vocal::panTiltRig();
@@ -430,10 +446,12 @@ TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
   vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, true);
   vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, true);
-  vocal::writeRigDescription(folder + "/rig.yaml", rig);
   vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
-
   ros::NodeHandle nh;
+  nh.setParam("/robot_description", urdfOf(rig.joints));
+  rig.urdf_param = "/robot_description";
+  vocal::writeRigDescription(folder + "/rig.yaml", rig);
+
   nh.setParam("/head_calibration/rig", folder + "/rig.yaml");
   nodelet::Loader manager(false);
   ASSERT_TRUE(manager.load("/head_calibration", "vocal/MsgCalibration", {}, {}));

@@ -310,7 +310,20 @@ TEST(JointedCalibration, RigYamlNamesTheJointsOrTheUrdf) {
                 .find("no chain of joints leads from 'base_link' to 'tilt' (the frame 'elsewhere' is no joint's child)"),
             std::string::npos);
   EXPECT_NE(errorOf(head + "urdf: missing.urdf\n" + sensors).find("missing.urdf: cannot read the URDF"), std::string::npos);
-  EXPECT_NE(errorOf(head + joints + "urdf: robot.urdf\n" + sensors).find("in 'joints' or a 'urdf', not both"), std::string::npos);
+  // Joints from the parameter server: the rig is finished when they are given (the nodelet reads them).
+  vocal_test::writeText(dir + "/param_rig.yaml", head + "urdf_param: /robot_description\n" + sensors.substr(0, sensors.find("  - {name: head")) +
+                                                      "  - {name: head, type: camera, frame_id: c, parent: camera_mount, image_topic: /c, "
+                                                      "camera_info_topic: /ci}\n");
+  vocal::RigDescription from_param = vocal::readRigDescription(dir + "/param_rig.yaml");
+  EXPECT_TRUE(from_param.joints.empty());
+  EXPECT_EQ(from_param.urdf_param, "/robot_description");
+  vocal::setRigJoints(&from_param, vocal::urdfJointsFromString(kTestUrdf, "/robot_description"), "param_rig.yaml");
+  EXPECT_EQ(from_param.jointedMounts().chains[1].size(), 4u);
+  vocal::RigDescription wrong_robot = vocal::readRigDescription(dir + "/param_rig.yaml");
+  EXPECT_NE(vocal_test::inputErrorOf([&] { vocal::setRigJoints(&wrong_robot, {}, "param_rig.yaml"); })
+                .find("param_rig.yaml: sensors[1] 'head': its parent 'camera_mount' is no link of the rig's joints (the URDF in /robot_description)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(head + joints + "urdf: robot.urdf\n" + sensors).find("give the joints in one of 'joints', 'urdf' (a file) or 'urdf_param' (a parameter), not several"), std::string::npos);
 }
 
 TEST(JointedCalibration, JointReadingsAttachWhereTheJointsWereStill) {

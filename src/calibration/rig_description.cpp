@@ -255,10 +255,56 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
 }
 }  // namespace
 
+namespace {
+// What depends on the joints: the reference sensor (the first with a pose not behind joints), each jointed
+// sensor's chain and known mount, and the hand-eye rig's checks.
+void finishRig(RigDescription* rig_out, const std::string& path) {
+  RigDescription& rig = *rig_out;
+  rig.reference_sensor = -1;
+  for (std::size_t i = 0; i < rig.sensors.size(); ++i) {
+    const RigSensorDescription& sensor = rig.sensors[i];
+    const std::string where = path + ": sensors[" + std::to_string(i) + "] '" + sensor.spec.name + "'";
+    const bool jointed = rig.behindJoints(static_cast<int>(i));
+    // A sensor behind joints is never the reference: its pose is a mount in a moving link.
+    if (sensor.pose && rig.reference_sensor < 0 && !jointed) rig.reference_sensor = static_cast<int>(i);
+    if (sensor.pose_known && !(jointed && sensor.pose)) {
+      throw InputError(where + ": 'pose_known' holds the 'pose' of a sensor behind joints (its mount in its parent link); " +
+                       (jointed                ? std::string("give its 'pose'")
+                        : sensor.parent.empty() ? std::string("it has no 'parent' link")
+                                                : "its parent '" + sensor.parent + "' is no joint's child"));
+    }
+    if (jointed) jointChain(rig.joints, rig.reference_frame, sensor.parent, where);  // throws when no chain leads there
+    // A rig that names joints moves its sensors by them, not by tf: a parent must be one of their links.
+    const bool names_joints = !rig.joints.empty() || !rig.urdf.empty() || !rig.urdf_param.empty();
+    if (names_joints && !sensor.parent.empty() && !jointed) {
+      throw InputError(where + ": its parent '" + sensor.parent + "' is no link of the rig's joints" +
+                       (rig.urdf_param.empty() ? std::string() : " (the URDF in " + rig.urdf_param + ")"));
+    }
+  }
+  if (const std::optional<HandEyeRig> arm = rig.handEye()) {
+    if (!rig.joints.empty() && !arm->from_joints) {
+      throw InputError(path + ": a robot arm's tool frame from tf ('" + arm->tool_frame + "') and joints in one rig are not supported yet: "
+                       "calibrate them in sessions of their own, or name the arm's joints down to its tool");
+    }
+    if (arm->from_joints) jointChain(rig.joints, rig.reference_frame, arm->tool_frame, path + ": the arm's tool");  // throws: no chain
+    checkHandEyeRig(rig, *arm, path);
+    rig.reference_sensor = -1;
+    return;
+  }
+  if (rig.reference_sensor < 0) {
+    throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
+  }
+  if (rig.sensors[rig.reference_sensor].spec.type == SensorType::kLaser2d) {
+    throw InputError(path + ": the reference sensor '" + rig.sensors[rig.reference_sensor].spec.name +
+                     "' (the first with a pose) is a 2D laser; give the pose of a sensor that sees the target's plane first");
+  }
+}
+}  // namespace
+
 RigDescription readRigDescription(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "rig description");
   if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
-  rejectUnknownKeys(root, {"reference_frame", "target", "sensors", "joints", "urdf", "joint_states_topic"}, path);
+  rejectUnknownKeys(root, {"reference_frame", "target", "sensors", "joints", "urdf", "urdf_param", "joint_states_topic"}, path);
   RigDescription rig;
   rig.reference_frame = required<std::string>(root, "reference_frame", path);
   if (!root["target"]) throw InputError(path + ": missing 'target'");
@@ -269,7 +315,13 @@ RigDescription readRigDescription(const std::string& path) {
     }
   }
   rig.target = readTarget(root["target"], path + ": target", cameras_only);
-  if (root["joints"] && root["urdf"]) throw InputError(path + ": give the joints in 'joints' or a 'urdf', not both");
+  if (!!root["joints"] + !!root["urdf"] + !!root["urdf_param"] > 1) {
+    throw InputError(path + ": give the joints in one of 'joints', 'urdf' (a file) or 'urdf_param' (a parameter), not several");
+  }
+  if (root["urdf_param"]) {
+    rig.urdf_param = required<std::string>(root, "urdf_param", path);
+    if (rig.urdf_param.empty()) throw InputError(path + ": 'urdf_param' is empty: name the parameter holding the URDF (/robot_description)");
+  }
   if (root["joints"]) rig.joints = readJoints(root["joints"], path + ": joints");
   if (root["urdf"]) {
     rig.urdf = required<std::string>(root, "urdf", path);
@@ -319,39 +371,17 @@ RigDescription readRigDescription(const std::string& path) {
     if (node["parent"]) sensor.parent = required<std::string>(node, "parent", where);
     if (sensor.parent == rig.reference_frame) sensor.parent.clear();
     if (node["pose_known"]) sensor.pose_known = required<bool>(node, "pose_known", where);
+    if (node["pose"]) sensor.pose = readPose(node["pose"], where);
     rig.sensors.push_back(sensor);
-    const bool jointed = rig.behindJoints(static_cast<int>(i));
-    if (node["pose"]) {
-      rig.sensors.back().pose = readPose(node["pose"], where);
-      // A sensor behind joints is never the reference: its pose is a mount in a moving link.
-      if (rig.reference_sensor < 0 && !jointed) rig.reference_sensor = static_cast<int>(i);
-    }
-    if (sensor.pose_known && !(jointed && node["pose"])) {
-      throw InputError(where + ": 'pose_known' holds the 'pose' of a sensor behind joints (its mount in its parent link); " +
-                       (jointed                ? std::string("give its 'pose'")
-                        : sensor.parent.empty() ? std::string("it has no 'parent' link")
-                                                : "its parent '" + sensor.parent + "' is no joint's child"));
-    }
-    if (jointed) jointChain(rig.joints, rig.reference_frame, sensor.parent, where);  // throws when no chain leads there
   }
-  if (const std::optional<HandEyeRig> arm = rig.handEye()) {
-    if (!rig.joints.empty() && !arm->from_joints) {
-      throw InputError(path + ": a robot arm's tool frame from tf ('" + arm->tool_frame + "') and joints in one rig are not supported yet: "
-                       "calibrate them in sessions of their own, or name the arm's joints down to its tool");
-    }
-    if (arm->from_joints) jointChain(rig.joints, rig.reference_frame, arm->tool_frame, path + ": the arm's tool");  // throws: no chain
-    checkHandEyeRig(rig, *arm, path);
-    rig.reference_sensor = -1;
-    return rig;
-  }
-  if (rig.reference_sensor < 0) {
-    throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
-  }
-  if (rig.sensors[rig.reference_sensor].spec.type == SensorType::kLaser2d) {
-    throw InputError(path + ": the reference sensor '" + rig.sensors[rig.reference_sensor].spec.name +
-                     "' (the first with a pose) is a 2D laser; give the pose of a sensor that sees the target's plane first");
-  }
+  // With the joints on the parameter server, the nodelet finishes the rig once it has read them (setRigJoints).
+  if (rig.urdf_param.empty()) finishRig(&rig, path);
   return rig;
+}
+
+void setRigJoints(RigDescription* rig, std::vector<JointDescription> joints, const std::string& where) {
+  rig->joints = std::move(joints);
+  finishRig(rig, where);
 }
 
 void writeRigDescription(const std::string& path, const RigDescription& rig) {
@@ -368,7 +398,9 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
     file << "[" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]";
   };
   if (rig.joint_states_topic != "/joint_states") file << "joint_states_topic: " << rig.joint_states_topic << "\n";
-  if (!rig.urdf.empty()) {
+  if (!rig.urdf_param.empty()) {
+    file << "urdf_param: " << rig.urdf_param << "\n";
+  } else if (!rig.urdf.empty()) {
     file << "urdf: " << rig.urdf << "\n";
   } else if (!rig.joints.empty()) {
     file << "joints:\n";

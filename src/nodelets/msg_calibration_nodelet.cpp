@@ -30,6 +30,7 @@
 
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/output/calibration_output.h"
+#include "vocal/calibration/urdf_joints.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
@@ -82,7 +83,17 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       return;
     }
     try {
-      session_ = std::make_unique<CalibrationSession>(readRigDescription(rig_path), TargetExtractionOptions{}, StillnessOptions{},
+      RigDescription described = readRigDescription(rig_path);
+      if (!described.urdf_param.empty()) {
+        // The robot's joints from its URDF on the parameter server (what robot_state_publisher reads).
+        std::string urdf;
+        if (!nh.getParam(described.urdf_param, urdf)) {
+          throw InputError(rig_path + ": urdf_param '" + nh.resolveName(described.urdf_param) + "' is not on the parameter server (load the "
+                           "robot's URDF there, or give the file as 'urdf:')");
+        }
+        setRigJoints(&described, urdfJointsFromString(urdf, nh.resolveName(described.urdf_param)), rig_path);
+      }
+      session_ = std::make_unique<CalibrationSession>(std::move(described), TargetExtractionOptions{}, StillnessOptions{},
                                                       ring_offsets_, memory_);
     } catch (const InputError& e) {
       setup_error_ = e.what();

@@ -329,6 +329,10 @@ int run(const vocal::CommandLine& args) {
   memory.max_held_mb = args.number("max-held-mb", memory.max_held_mb);
   if (!(memory.max_held_mb >= 0.0)) throw vocal::InputError("option --max-held-mb: must be >= 0 (got " + args.text("max-held-mb", "") + ")");
   const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
+  if (!rig.urdf_param.empty()) {
+    throw vocal::InputError(args.positional()[0] + ": 'urdf_param: " + rig.urdf_param + "' names a parameter, which a bag does not hold: for "
+                            "calibrate_rig give the robot's URDF file as 'urdf:' (rosparam get " + rig.urdf_param + " > robot.urdf)");
+  }
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   vocal::RingOffsetOptions ring_offset_options;

@@ -23,7 +23,8 @@
 //     - {name: wrist_camera, type: camera, frame_id: camera_color_optical_frame, parent: panda_EE, image_topic: ...}
 //
 // A sensor behind a robot's joints (a camera on a pan-tilt head): its `parent` is a link of the joints
-// the rig names, in a `joints:` list or a URDF (`urdf: robot.urdf`, relative to the YAML's folder), and
+// the rig names, in a `joints:` list or a URDF (`urdf: robot.urdf`, relative to the YAML's folder; live,
+// `urdf_param: /robot_description`, the parameter robot_state_publisher reads), and
 // their positions come from sensor_msgs/JointState on `joint_states_topic` (/joint_states). Each joint's
 // zero offset is calibrated; the sensor's mount in its link too, unless `pose_known: true` holds its
 // `pose` (there: in its parent link):
@@ -90,6 +91,9 @@ struct RigDescription {
   std::vector<JointDescription> joints;
   std::string urdf;  // the file they were read from (as given), empty for a list
   std::string urdf_path;  // ... and where it is (relative to the rig YAML's folder)
+  // Or the parameter that holds the URDF (robot_description, live): readRigDescription leaves the joints
+  // empty and the rig unfinished; the reader of the parameter gives them with setRigJoints.
+  std::string urdf_param;
   std::string joint_states_topic = "/joint_states";
 
   std::vector<SensorSpec> specs() const;
@@ -119,6 +123,10 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // axis, a name or child used twice, a URDF that cannot be read, a sensor's parent no joint chain reaches
 // from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig.
 RigDescription readRigDescription(const std::string& path);
+
+// A rig read with `urdf_param`: its joints (urdfJointsFromString of the parameter), then what depends on
+// them checked as readRigDescription does, `where` naming the rig. Throws InputError as it does.
+void setRigJoints(RigDescription* rig, std::vector<JointDescription> joints, const std::string& where);
 
 // Writes what readRigDescription reads (every sensor with a pose writes it). Throws InputError naming
 // the file when it cannot be written.
