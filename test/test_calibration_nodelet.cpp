@@ -90,6 +90,39 @@ struct LatestDiagnostics {
   ros::Subscriber subscriber;
 };
 
+// One live session: the calibration nodelet `name` loaded on FOLDER/rig.yaml, FOLDER/session.bag played
+// into it, ~calibrate called; the reply, the transforms it published and its diagnostics kept.
+struct LiveCalibration {
+  explicit LiveCalibration(const std::string& name) : name(name), diagnostics(nh, name.substr(1)), tf_listener(tf_buffer, nh) {}
+
+  void run(const std::string& folder) {
+    nh.setParam(name + "/rig", folder + "/rig.yaml");
+    ASSERT_TRUE(manager.load(name, "vocal/MsgCalibration", {}, {}));
+    spinner.start();
+    ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
+    ASSERT_TRUE(ros::service::call(name + "/calibrate", calibrate));
+    std::cout << calibrate.response.message << "\n";
+  }
+  // parent <- child as published; fails the test when there is none.
+  Eigen::Isometry3d published(const std::string& parent, const std::string& child) {
+    try {
+      return tf2::transformToEigen(tf_buffer.lookupTransform(parent, child, ros::Time(0), ros::Duration(5.0)));
+    } catch (const tf2::TransformException& e) {
+      ADD_FAILURE() << e.what();
+      return Eigen::Isometry3d::Identity();
+    }
+  }
+
+  std::string name;
+  ros::NodeHandle nh;
+  nodelet::Loader manager{false};
+  LatestDiagnostics diagnostics;
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener;
+  ros::AsyncSpinner spinner{2};
+  std_srvs::Trigger calibrate;
+};
+
 TEST(CalibrationNodelet, CalibratesAPlayedSession) {
   const std::string folder = vocal_test::makeTempFolder("calibration_nodelet");
   const std::vector<vocal::SimulatedSensor> sensors = writeFourSensorSession(folder);
@@ -380,37 +413,20 @@ TEST(CalibrationNodelet, ACameraOnAnArmFromLiveTf) {
   vocal::writeRigDescription(folder + "/rig.yaml", rig);
   vocal::writeSimulatedHandEyeBag(arm, rig, {}, folder + "/session.bag");
 
-  ros::NodeHandle nh;
-  nh.setParam("/arm_calibration/rig", folder + "/rig.yaml");
-  nh.setParam("/arm_calibration/output_dir", folder);
-  nodelet::Loader manager(false);
-  ASSERT_TRUE(manager.load("/arm_calibration", "vocal/MsgCalibration", {}, {}));
-  LatestDiagnostics diagnostics(nh, "arm_calibration");
-  tf2_ros::Buffer tf_buffer;
-  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
-
-  std_srvs::Trigger calibrate;
-  ASSERT_TRUE(ros::service::call("/arm_calibration/calibrate", calibrate));
-  std::cout << calibrate.response.message << "\n";
+  LiveCalibration live("/arm_calibration");
+  live.nh.setParam("/arm_calibration/output_dir", folder);
+  ASSERT_NO_FATAL_FAILURE(live.run(folder));
+  const std_srvs::Trigger& calibrate = live.calibrate;
   EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
   EXPECT_EQ(calibrate.response.message.rfind("calibrated 1 sensor (eye-in-hand) from 6 still arm poses; arm_camera_optical in arm_tool at [", 0), 0u)
       << calibrate.response.message;
   EXPECT_NE(calibrate.response.message.find("; OpenCV's closed forms for arm_camera against it: Tsai "), std::string::npos) << calibrate.response.message;
-  geometry_msgs::TransformStamped t;
-  try {
-    t = tf_buffer.lookupTransform("arm_tool", "arm_camera_optical", ros::Time(0), ros::Duration(5.0));
-  } catch (const tf2::TransformException& e) {
-    FAIL() << e.what();
-  }
-  const Eigen::Isometry3d error = arm.camera.inverse() * tf2::transformToEigen(t);
+  const Eigen::Isometry3d error = arm.camera.inverse() * live.published("arm_tool", "arm_camera_optical");
   std::cout << "arm camera on /tf_static: " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000 << " mrad\n";
   EXPECT_LT(error.translation().norm(), 0.001);
   EXPECT_LT(vocal::rotationAngle(error), 0.001);
-  std::lock_guard<std::mutex> lock(diagnostics.mutex);
-  EXPECT_NE(diagnostics.value("tool").find(" poses of arm_tool in arm_base from tf, "), std::string::npos) << diagnostics.value("tool");
+  std::lock_guard<std::mutex> lock(live.diagnostics.mutex);
+  EXPECT_NE(live.diagnostics.value("tool").find(" poses of arm_tool in arm_base from tf, "), std::string::npos) << live.diagnostics.value("tool");
 }
 
 // The joints as a URDF (what robot_description holds): revolute joints with their origins and axes.
@@ -447,24 +463,12 @@ TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, true);
   vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, true);
   vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
-  ros::NodeHandle nh;
-  nh.setParam("/robot_description", urdfOf(rig.joints));
+  LiveCalibration live("/head_calibration");
+  live.nh.setParam("/robot_description", urdfOf(rig.joints));
   rig.urdf_param = "/robot_description";
   vocal::writeRigDescription(folder + "/rig.yaml", rig);
-
-  nh.setParam("/head_calibration/rig", folder + "/rig.yaml");
-  nodelet::Loader manager(false);
-  ASSERT_TRUE(manager.load("/head_calibration", "vocal/MsgCalibration", {}, {}));
-  LatestDiagnostics diagnostics(nh, "head_calibration");
-  tf2_ros::Buffer tf_buffer;
-  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
-
-  std_srvs::Trigger calibrate;
-  ASSERT_TRUE(ros::service::call("/head_calibration/calibrate", calibrate));
-  std::cout << calibrate.response.message << "\n";
+  ASSERT_NO_FATAL_FAILURE(live.run(folder));
+  const std_srvs::Trigger& calibrate = live.calibrate;
   EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
   for (const vocal::JointDescription& joint : truth.joints) {
     const std::string key = "; joint " + joint.name + " offset ";
@@ -473,16 +477,10 @@ TEST(CalibrationNodelet, ACameraOnAPanTiltHeadFromLiveJointStates) {
     const double offset = std::stod(calibrate.response.message.substr(at + key.size())) / 1000.0;  // mrad
     EXPECT_NEAR(offset, joint.offset, 0.001) << joint.name;
   }
-  geometry_msgs::TransformStamped t;
-  try {
-    t = tf_buffer.lookupTransform("head_tilt_link", "head_camera_depth_optical_frame", ros::Time(0), ros::Duration(5.0));
-  } catch (const tf2::TransformException& e) {
-    FAIL() << e.what();
-  }
-  EXPECT_TRUE(tf2::transformToEigen(t).isApprox(sensors.back().reference_from_sensor, 1e-6));  // the known mount, held
-  ASSERT_NO_FATAL_FAILURE(expectOnTfStaticWithin(tf_buffer, sensors[1], 0.003));  // the 2D laser beside it
-  std::lock_guard<std::mutex> lock(diagnostics.mutex);
-  EXPECT_NE(diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << diagnostics.value("joints");
+  EXPECT_TRUE(live.published("head_tilt_link", "head_camera_depth_optical_frame").isApprox(sensors.back().reference_from_sensor, 1e-6));
+  ASSERT_NO_FATAL_FAILURE(expectOnTfStaticWithin(live.tf_buffer, sensors[1], 0.003));  // the 2D laser beside it
+  std::lock_guard<std::mutex> lock(live.diagnostics.mutex);
+  EXPECT_NE(live.diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << live.diagnostics.value("joints");
 }
 
 // A camera on a 6-joint arm's wrist, the tool from live /joint_states (rosbag play): ~calibrate names the
@@ -503,40 +501,23 @@ TEST(CalibrationNodelet, ACameraOnAnArmFromLiveJointStates) {
   bag_options.joint_arm = &joint_arm;
   vocal::writeSimulatedHandEyeBag(joint_arm.arm, rig, bag_options, folder + "/session.bag");
 
-  ros::NodeHandle nh;
-  nh.setParam("/joint_arm_calibration/rig", folder + "/rig.yaml");
-  nodelet::Loader manager(false);
-  ASSERT_TRUE(manager.load("/joint_arm_calibration", "vocal/MsgCalibration", {}, {}));
-  LatestDiagnostics diagnostics(nh, "joint_arm_calibration");
-  tf2_ros::Buffer tf_buffer;
-  tf2_ros::TransformListener tf_listener(tf_buffer, nh);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ASSERT_NO_FATAL_FAILURE(playSession(folder + "/session.bag"));
-
-  std_srvs::Trigger calibrate;
-  ASSERT_TRUE(ros::service::call("/joint_arm_calibration/calibrate", calibrate));
-  std::cout << calibrate.response.message << "\n";
+  LiveCalibration live("/joint_arm_calibration");
+  ASSERT_NO_FATAL_FAILURE(live.run(folder));
+  const std_srvs::Trigger& calibrate = live.calibrate;
   EXPECT_TRUE(calibrate.response.success) << calibrate.response.message;
   EXPECT_EQ(calibrate.response.message.rfind("calibrated 1 sensor (eye-in-hand) from 8 still arm poses; joint shoulder_pan_joint offset +0.00 mrad", 0), 0u)
       << calibrate.response.message;
   EXPECT_NE(calibrate.response.message.find("; joint elbow_joint offset "), std::string::npos) << calibrate.response.message;
-  geometry_msgs::TransformStamped t;
-  try {
-    t = tf_buffer.lookupTransform("arm_tool", "arm_camera_optical", ros::Time(0), ros::Duration(5.0));
-  } catch (const tf2::TransformException& e) {
-    FAIL() << e.what();
-  }
   // Against the mount the last joint's held offset leaves: R(axis, d6) * the true mount.
   const vocal::JointDescription& last = joint_arm.joints.back();
   const Eigen::Isometry3d expected = Eigen::Isometry3d(Eigen::AngleAxisd(last.offset, last.axis)) * joint_arm.arm.camera;
-  const Eigen::Isometry3d error = expected.inverse() * tf2::transformToEigen(t);
+  const Eigen::Isometry3d error = expected.inverse() * live.published("arm_tool", "arm_camera_optical");
   std::cout << "joint arm camera on /tf_static: " << error.translation().norm() * 1000 << " mm / " << vocal::rotationAngle(error) * 1000 << " mrad\n";
   EXPECT_LT(error.translation().norm(), 0.003);
   EXPECT_LT(vocal::rotationAngle(error), 0.003);
-  std::lock_guard<std::mutex> lock(diagnostics.mutex);
-  EXPECT_NE(diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << diagnostics.value("joints");
-  EXPECT_EQ(diagnostics.value("tool"), "");  // no tf lookups: the tool comes from the joints
+  std::lock_guard<std::mutex> lock(live.diagnostics.mutex);
+  EXPECT_NE(live.diagnostics.value("joints").find(" joint states on /joint_states ("), std::string::npos) << live.diagnostics.value("joints");
+  EXPECT_EQ(live.diagnostics.value("tool"), "");  // no tf lookups: the tool comes from the joints
 }
 
 int main(int argc, char** argv) {
