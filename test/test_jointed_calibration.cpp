@@ -204,7 +204,9 @@ TEST(JointedCalibration, UrdfJointsMatchKdlsForwardKinematics) {
   ASSERT_EQ(chain.size(), 4u);
   std::vector<double> offsets(joints.size(), 0.0);
   for (std::size_t j = 0; j < joints.size(); ++j)
-    if (joints[j].name == "head_tilt") EXPECT_DOUBLE_EQ(joints[j].offset, 0.0123);  // robot_calibration's rising
+    if (joints[j].name == "head_tilt") {
+      EXPECT_DOUBLE_EQ(joints[j].offset, 0.0123);  // robot_calibration's rising
+    }
   KDL::Tree tree;
   ASSERT_TRUE(kdl_parser::treeFromString(kTestUrdf, tree));
   KDL::Chain kdl_chain;
@@ -241,9 +243,8 @@ TEST(JointedCalibration, CalibratedUrdfCarriesTheOffsets) {
   // by urdf::Model as the offsets; the rest of the file as it was.
   const std::string calibrated = vocal::withJointOffsets(kTestUrdf, {{"head_tilt", -0.0042}, {"head_pan", 0.0017}}, "robot.urdf");
   for (const vocal::JointDescription& joint : vocal::urdfJointsFromString(calibrated, "calibrated URDF")) {
-    if (joint.name == "head_tilt") EXPECT_DOUBLE_EQ(joint.offset, -0.0042);
-    if (joint.name == "head_pan") EXPECT_DOUBLE_EQ(joint.offset, 0.0017);
-    if (joint.name == "torso_lift") EXPECT_DOUBLE_EQ(joint.offset, 0.0);
+    const double expected = joint.name == "head_tilt" ? -0.0042 : joint.name == "head_pan" ? 0.0017 : 0.0;
+    EXPECT_DOUBLE_EQ(joint.offset, expected) << joint.name;
   }
   EXPECT_EQ(calibrated.find("0.0123"), std::string::npos) << calibrated;  // the old one gone
   EXPECT_NE(calibrated.find("<joint name=\"mount\" type=\"fixed\">"), std::string::npos);
@@ -345,7 +346,8 @@ TEST(JointedCalibration, JointReadingsAttachWhereTheJointsWereStill) {
   views[3].sensor = 1, views[3].first_stamp = 2.5, views[3].last_stamp = 2.6, views[3].target_pose = 2;  // after the last reading
   vocal::JointPositionCounts counts;
   const std::vector<vocal::TargetObservation> kept =
-      vocal::attachJointPositions(views, mounts, readings, {{"lidar"}, {"head"}}, {}, &counts);
+      vocal::attachJointPositions(views, mounts, readings,
+                                  {{"lidar", vocal::SensorType::kLidar3d, "lidar"}, {"head", vocal::SensorType::kRgbd, "head"}}, {}, &counts);
   ASSERT_EQ(kept.size(), 2u);
   EXPECT_TRUE(kept[0].joint_positions.empty());
   ASSERT_EQ(kept[1].joint_positions.size(), 2u);

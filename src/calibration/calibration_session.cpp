@@ -74,6 +74,7 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
   arm_ = rig_.handEye();
   mounts_ = rig_.jointedMounts();
   joint_readings_.resize(rig_.joints.size());
+  for (std::size_t j = 0; j < rig_.joints.size(); ++j) joint_index_[rig_.joints[j].name] = static_cast<int>(j);
 }
 
 int CalibrationSession::sensorIndex(const std::string& name) const {
@@ -185,38 +186,30 @@ void CalibrationSession::addJointState(double stamp, const std::vector<std::stri
     throw InputError("joint state: " + std::to_string(names.size()) + " names but " + std::to_string(positions.size()) + " positions");
   }
   if (!std::isfinite(stamp)) throw InputError("joint state: its stamp is not finite");
-  // An arm's tool from its joints: its pose at this stamp when the message reads every joint of its chain.
-  if (arm_ && arm_->from_joints && !arm_->chain.empty()) {
-    std::vector<double> readings;
-    for (const int j : arm_->chain) {
-      if (rig_.joints[j].type == JointType::kFixed) {
-        readings.push_back(0.0);
-        continue;
-      }
-      const auto at = std::find(names.begin(), names.end(), rig_.joints[j].name);
-      if (at == names.end() || !std::isfinite(positions[at - names.begin()])) break;
-      readings.push_back(positions[at - names.begin()]);
-    }
-    if (readings.size() == arm_->chain.size()) {
-      std::vector<double> offsets;
-      for (const JointDescription& joint : rig_.joints) offsets.push_back(joint.offset);
-      tool_poses_.push_back({stamp, chainPose(rig_.joints, arm_->chain, readings, offsets)});
-    }
-  }
+  // This message's reading of each of the rig's joints (NaN: not in it), kept in time order (a
+  // recording's joint states may arrive slightly out of order).
+  std::vector<double> read(rig_.joints.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t i = 0; i < names.size(); ++i) {
-    if (!std::isfinite(positions[i])) continue;
-    for (std::size_t j = 0; j < rig_.joints.size(); ++j) {
-      if (rig_.joints[j].name != names[i]) continue;
-      std::vector<JointReading>& own = joint_readings_[j];
-      const JointReading reading{stamp, positions[i]};
-      // In time order (a recording's joint states may arrive slightly out of order).
-      if (own.empty() || own.back().stamp <= stamp) {
-        own.push_back(reading);
-      } else {
-        own.insert(std::upper_bound(own.begin(), own.end(), stamp, [](double t, const JointReading& r) { return t < r.stamp; }), reading);
-      }
+    const auto joint = joint_index_.find(names[i]);
+    if (joint == joint_index_.end() || !std::isfinite(positions[i])) continue;
+    read[joint->second] = positions[i];
+    std::vector<JointReading>& own = joint_readings_[joint->second];
+    const JointReading reading{stamp, positions[i]};
+    if (own.empty() || own.back().stamp <= stamp) {
+      own.push_back(reading);
+    } else {
+      own.insert(std::upper_bound(own.begin(), own.end(), stamp, [](double t, const JointReading& r) { return t < r.stamp; }), reading);
     }
   }
+  // An arm's tool from its joints: its pose at this stamp when the message reads every joint of its chain.
+  if (!arm_ || !arm_->from_joints || arm_->chain.empty()) return;
+  std::vector<double> readings;
+  for (const int j : arm_->chain) {
+    const double position = rig_.joints[j].type == JointType::kFixed ? 0.0 : read[j];
+    if (!std::isfinite(position)) return;
+    readings.push_back(position);
+  }
+  tool_poses_.push_back({stamp, chainPose(rig_.joints, arm_->chain, readings)});
 }
 
 std::size_t CalibrationSession::jointReadings() const {
@@ -245,19 +238,18 @@ HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOpt
   JointedMounts arm;
   arm.joints = rig_.joints;
   arm.chains = {arm_->chain};
-  std::vector<TargetObservation> spans;
-  for (const HandEyeStation& station : association.stations) {
-    TargetObservation span;
-    span.sensor = 0;
-    span.first_stamp = station.first_stamp, span.last_stamp = station.last_stamp;
-    spans.push_back(span);
+  std::vector<TargetObservation> spans(association.stations.size());
+  for (std::size_t k = 0; k < spans.size(); ++k) {
+    spans[k].target_pose = static_cast<int>(k);
+    spans[k].first_stamp = association.stations[k].first_stamp, spans[k].last_stamp = association.stations[k].last_stamp;
   }
-  // Not dropped for motion: the arm's still spans are the tool's own stillness already.
+  // Not dropped for motion: the arm's still spans are the tool's own stillness already. A span no reading
+  // covers keeps none (calibrateArmRig names it).
   JointStillnessOptions any_motion = joint_stillness_;
   any_motion.max_motion = any_motion.max_prismatic_motion = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < spans.size(); ++k) {
-    const std::vector<TargetObservation> read = attachJointPositions({spans[k]}, arm, joint_readings_, {{"arm"}}, any_motion, nullptr);
-    if (!read.empty()) association.stations[k].joint_positions = read.front().joint_positions;
+  const SensorSpec tool{arm_->tool_frame, SensorType::kCamera, arm_->tool_frame};
+  for (TargetObservation& read : attachJointPositions(std::move(spans), arm, joint_readings_, {tool}, any_motion, nullptr)) {
+    association.stations[read.target_pose].joint_positions = std::move(read.joint_positions);
   }
   return association;
 }
@@ -267,7 +259,7 @@ std::optional<ArmJoints> CalibrationSession::armJoints() const {
   ArmJoints arm;
   arm.joints = rig_.joints;
   arm.chain = arm_->chain;
-  arm.reading_sigma = mounts_.reading_sigma, arm.prismatic_reading_sigma = mounts_.prismatic_reading_sigma;
+  arm.tolerances = mounts_.tolerances;
   return arm;
 }
 
@@ -654,11 +646,9 @@ CalibrationOptions CalibrationSession::calibrationOptions(CalibrationOptions opt
   options.reference_sensor = rig_.reference_sensor;
   options.reference_pose = *rig_.sensors[rig_.reference_sensor].pose;
   if (options.mounts.chains.empty()) {
-    const JointedMounts given = options.mounts;  // its settings (motion, sigmas), the rig's joints and chains
+    const JointTolerances tolerances = options.mounts.tolerances;  // the caller's, with the rig's joints and chains
     options.mounts = mounts_;
-    options.mounts.min_motion = given.min_motion, options.mounts.min_prismatic_motion = given.min_prismatic_motion;
-    options.mounts.reading_sigma = given.reading_sigma, options.mounts.prismatic_reading_sigma = given.prismatic_reading_sigma;
-    options.mounts.max_offset_sigma = given.max_offset_sigma, options.mounts.max_prismatic_offset_sigma = given.max_prismatic_offset_sigma;
+    options.mounts.tolerances = tolerances;
   }
   if (options.board_edges.enabled && !(options.board_edges.width > 0.0)) {
     // The rig's board: its pattern's columns run along its width (checkTargetDescription).
@@ -685,13 +675,14 @@ CalibrationResult CalibrationSession::calibrate(const std::vector<TargetObservat
   if (!unassociated.empty() && unassociated.rfind("sensor '" + reference_name + "' ", 0) == 0) throw InputError("calibration: " + unassociated);
   CalibrationResult result = calibrateRigWithTrust(rig_.specs(), associated, calibrationOptions(options));
   // A sensor behind joints whose every view was dropped for its joints (moving, or never read): why.
+  std::optional<JointPositionCounts> joints;  // counted once, when a sensor needs it (it associates every view again)
   for (std::size_t s = 0; s < rig_.sensors.size(); ++s) {
     if (!mounts_.jointed(static_cast<int>(s)) || in_a_pose[s] || seen[s].target_found == 0) continue;
-    const JointPositionCounts joints = jointPositionCounts();
-    if (joints.kept + joints.moving + joints.unread == 0) continue;
-    result.sensors[s].distrust = "its views were all dropped for its joints (" + std::to_string(joints.moving) + " while they moved, " +
-                                 std::to_string(joints.unread) + " without a reading on " + rig_.joint_states_topic + "; first: " +
-                                 joints.first + "); not calibrated, the others were solved without it";
+    if (!joints) joints = jointPositionCounts();
+    if (joints->kept + joints->moving + joints->unread == 0) continue;
+    result.sensors[s].distrust = "its views were all dropped for its joints (" + std::to_string(joints->moving) + " while they moved, " +
+                                 std::to_string(joints->unread) + " without a reading on " + rig_.joint_states_topic + "; first: " +
+                                 joints->first + "); not calibrated, the others were solved without it";
   }
   for (std::size_t s = 0; s < rig_.sensors.size() && !unassociated.empty(); ++s) {
     if (unassociated.rfind("sensor '" + rig_.sensors[s].spec.name + "' ", 0) == 0 && result.sensors[s].distrust.find("for its joints") == std::string::npos) {

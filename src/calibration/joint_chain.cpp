@@ -39,17 +39,31 @@ std::vector<int> jointChain(const std::vector<JointDescription>& joints, const s
   return {up.rbegin(), up.rend()};
 }
 
-Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
-                            const std::vector<double>& offsets) {
-  std::vector<const double*> chain_offsets;
-  for (const int j : chain) chain_offsets.push_back(&offsets.at(j));
+namespace {
+// base_from_link with offsets[i] added to the chain's i-th joint.
+Eigen::Isometry3d chainPoseWith(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
+                                const std::vector<const double*>& offsets) {
   Eigen::Quaterniond q;
   Eigen::Vector3d t;
-  chainTransform<double>(joints, chain, positions.data(), chain_offsets.data(), &q, &t);
+  chainTransform<double>(joints, chain, positions.data(), offsets.data(), &q, &t);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = q.normalized().toRotationMatrix();
   pose.translation() = t;
   return pose;
+}
+}  // namespace
+
+Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
+                            const std::vector<double>& offsets) {
+  std::vector<const double*> chain_offsets;
+  for (const int j : chain) chain_offsets.push_back(&offsets.at(j));
+  return chainPoseWith(joints, chain, positions, chain_offsets);
+}
+
+Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions) {
+  std::vector<const double*> own_offsets;
+  for (const int j : chain) own_offsets.push_back(&joints.at(j).offset);
+  return chainPoseWith(joints, chain, positions, own_offsets);
 }
 
 const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {

@@ -110,7 +110,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
       tool_timer_ = nh.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { sampleTool(); });
     }
-    if (rig.needsJointStates()) {
+    needs_joint_states_ = rig.needsJointStates();
+    if (needs_joint_states_) {
       // Sensors (or an arm's tool) behind joints: the joints' positions at the rate the robot publishes them (100-1000 Hz).
       subscribers_.push_back(nh.subscribe<sensor_msgs::JointState>(
           rig.joint_states_topic, 1000, [this](const sensor_msgs::JointState::ConstPtr& m) { onJointState(*m); }));
@@ -178,15 +179,10 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     std::ostringstream summary;
     summary << "calibrated " << rig.sensors.size() << " sensor" << (rig.sensors.size() == 1 ? "" : "s") << " (" << handEyeSetupName(result.setup)
             << ") from " << association.stations.size() << " still arm poses";
-    for (std::size_t i = 0; i < result.joints.size() && i < frames.joint_names.size(); ++i) {
-      const JointCalibration& joint = result.joints[i];
-      if (joint.held == "a fixed joint") continue;
-      char line[160];
-      std::snprintf(line, sizeof(line), "; joint %s offset %+.2f mrad (+-%.2f), moved %.3f rad", frames.joint_names[i].c_str(), 1000 * joint.offset,
-                    1000 * joint.standard_deviation, joint.motion);
-      summary << line;
-      if (!joint.held.empty()) summary << ", held: " << joint.held;
-      if (!joint.weak.empty()) summary << ", " << joint.weak;
+    for (std::size_t i = 0; i < result.joints.size() && options.arm_joints; ++i) {
+      if (!result.joints[i].reported) continue;
+      const JointDescription& joint = options.arm_joints->joints[options.arm_joints->chain[i]];
+      summary << "; joint " << joint.name << " offset " << jointOffsetText(joint, result.joints[i]);
     }
     std::vector<std::string> withheld;
     std::vector<geometry_msgs::TransformStamped> transforms;
@@ -381,15 +377,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       // Sensors behind joints: each joint's offset, or why it was held, and which joint needs more motion.
       for (std::size_t j = 0; j < result.joints.size(); ++j) {
-        const JointCalibration& joint = result.joints[j];
-        if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
-        const bool prismatic = result.mounts.joints[j].type == JointType::kPrismatic;
-        char line[160];
-        std::snprintf(line, sizeof(line), "; joint %s offset %+.2f %s (+-%.2f), moved %.3f %s", result.mounts.joints[j].name.c_str(),
-                      1000 * joint.offset, prismatic ? "mm" : "mrad", 1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
-        summary << line;
-        if (!joint.held.empty()) summary << ", held: " << joint.held;
-        if (!joint.weak.empty()) summary << ", " << joint.weak;
+        if (!result.joints[j].reported) continue;
+        summary << "; joint " << result.mounts.joints[j].name << " offset " << jointOffsetText(result.mounts.joints[j], result.joints[j]);
       }
       if (session_->memory().full) summary << "; " << fullSessionAdvice(true);
       bool any_distrusted = false;
@@ -494,7 +483,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
            << " lookups failed" << (tool_problem_.empty() ? "" : " (last: " + tool_problem_ + ")");
       status.add("tool", tool.str());
     }
-    if (rig.needsJointStates()) {
+    if (needs_joint_states_) {
       std::ostringstream joints;
       joints << joint_states_ << " joint states on " << rig.joint_states_topic << " (" << session_->jointReadings()
              << " readings of the rig's joints kept), " << joint_states_dropped_ << " dropped";
@@ -543,6 +532,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   ros::Time last_tool_stamp_;
   std::size_t tool_poses_ = 0, tool_lookups_failed_ = 0;
   std::size_t joint_states_ = 0, joint_states_dropped_ = 0;  // on the rig's joint_states_topic
+  bool needs_joint_states_ = false;  // RigDescription::needsJointStates, once
   std::string tool_problem_;
 };
 

@@ -151,15 +151,9 @@ void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSessi
               counts.first.empty() ? "" : " (first: ", counts.first.empty() ? "" : (counts.first + ")").c_str());
   std::printf("joint offsets (added to each reading), sigma, and the range the still poses covered:\n");
   for (std::size_t j = 0; j < result.joints.size(); ++j) {
-    const vocal::JointCalibration& joint = result.joints[j];
-    if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
-    const bool prismatic = result.mounts.joints[j].type == vocal::JointType::kPrismatic;
-    const char* unit = prismatic ? "mm" : "mrad";
-    std::printf("  %-20s %+8.2f %s +- %.2f, moved %.3f %s", result.mounts.joints[j].name.c_str(), 1000 * joint.offset, unit,
-                1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
-    if (!joint.held.empty()) std::printf("; held: %s", joint.held.c_str());
-    if (!joint.weak.empty()) std::printf("; %s", joint.weak.c_str());
-    std::printf("\n");
+    if (!result.joints[j].reported) continue;
+    const vocal::JointDescription& joint = result.mounts.joints[j];
+    std::printf("  %-20s %s\n", joint.name.c_str(), vocal::jointOffsetText(joint, result.joints[j], 8).c_str());
   }
 }
 
@@ -253,15 +247,9 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   if (options.arm_joints) {
     std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
-      const vocal::JointCalibration& joint = result.joints[i];
-      const vocal::JointDescription& d = options.arm_joints->joints[options.arm_joints->chain[i]];
-      if (d.type == vocal::JointType::kFixed) continue;
-      const bool prismatic = d.type == vocal::JointType::kPrismatic;
-      std::printf("  %-20s %+8.2f %s +- %.2f, moved %.3f %s", d.name.c_str(), 1000 * joint.offset, prismatic ? "mm" : "mrad",
-                  1000 * joint.standard_deviation, joint.motion, prismatic ? "m" : "rad");
-      if (!joint.held.empty()) std::printf("; held: %s", joint.held.c_str());
-      if (!joint.weak.empty()) std::printf("; %s", joint.weak.c_str());
-      std::printf("\n");
+      if (!result.joints[i].reported) continue;
+      const vocal::JointDescription& joint = options.arm_joints->joints[options.arm_joints->chain[i]];
+      std::printf("  %-20s %s\n", joint.name.c_str(), vocal::jointOffsetText(joint, result.joints[i], 8).c_str());
     }
   }
   const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
@@ -353,7 +341,7 @@ int run(const vocal::CommandLine& args) {
   const bool jointed = !rig.jointedMounts().chains.empty();
   if (jointed && session.jointReadings() == 0) {
     std::string names;
-    for (const vocal::JointDescription& joint : rig.jointedMounts().joints) names += (names.empty() ? "" : ", ") + joint.name;
+    for (const vocal::JointDescription& joint : rig.joints) names += (names.empty() ? "" : ", ") + joint.name;
     throw vocal::InputError(bag + ": the rig has sensors behind joints, but the bag has no sensor_msgs/JointState on " + rig.joint_states_topic +
                             " naming any of them (" + names + "); record the robot's joint states, or set joint_states_topic in the rig");
   }

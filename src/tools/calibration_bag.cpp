@@ -463,6 +463,8 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               pending.push_back({sensor, scan->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
               break;
             }
+            case Kind::kJointState:
+              break;  // taken above, not a sensor's
           }
         } catch (const InputError& e) {
           drop(m.getTopic(), m.getTime(), e.what());

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "vocal/calibration/association/hand_eye_association.h"
@@ -190,7 +191,8 @@ class CalibrationSession {
   std::vector<TimedObservation> observations_;  // cameras
   std::optional<HandEyeRig> arm_;                // rig_.handEye(), once
   JointedMounts mounts_;                         // rig_.jointedMounts(), once
-  std::vector<std::vector<JointReading>> joint_readings_;  // per joint of mounts_, in time order
+  std::vector<std::vector<JointReading>> joint_readings_;  // per joint of the rig, in time order
+  std::unordered_map<std::string, int> joint_index_;       // a joint's name -> its index in the rig
   JointStillnessOptions joint_stillness_;
   std::vector<FramePoseSample> tool_poses_;      // a hand-eye rig's tool frame, as tf gave it
   // A range message as kept until the solve: its candidates' points (most of a session's memory) in

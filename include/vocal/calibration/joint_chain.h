@@ -73,10 +73,41 @@ void chainTransform(const std::vector<JointDescription>& joints, const std::vect
   }
 }
 
+// The same at readings a still pose's corrections are added to as well (both per chain joint): where the
+// calibration graphs put a sensor or a tool behind joints.
+template <typename T>
+void correctedChainTransform(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const double* readings,
+                             const T* const* offsets, const T* const* corrections, Eigen::Quaternion<T>* rotation,
+                             Eigen::Matrix<T, 3, 1>* translation) {
+  std::vector<T> added(chain.size());
+  std::vector<const T*> added_blocks(chain.size());
+  for (std::size_t i = 0; i < chain.size(); ++i) added[i] = offsets[i][0] + corrections[i][0], added_blocks[i] = &added[i];
+  chainTransform<T>(joints, chain, readings, added_blocks.data(), rotation, translation);
+}
+
 // The same in doubles: base_from_link with the chain's joints at `positions` (one per chain joint) plus
-// offsets[joint] (one per joint of `joints`).
+// offsets[joint] (one per joint of `joints`), or plus each joint's own offset.
 Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions,
                             const std::vector<double>& offsets);
+Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const std::vector<double>& positions);
+
+// How a joint must move, how far its readings may be off, and how well its offset must be solved, in
+// radians for a revolute joint and metres for a prismatic one: what both calibration graphs judge joints by.
+struct JointTolerances {
+  // A joint must move this much over the session for the offsets before it to be told from a mount.
+  double min_motion = 0.05, min_prismatic_motion = 0.02;
+  // How far a still pose's reading may be from the joint's true position (the encoder's counts, the
+  // gears' backlash, the link's flex): each still pose's readings are corrected within it (a prior), so
+  // that the views' own precision does not overstate the offsets'.
+  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;
+  // An offset solved less well than this is named weak.
+  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
+
+  double minMotion(const JointDescription& joint) const { return prismatic(joint) ? min_prismatic_motion : min_motion; }
+  double readingSigma(const JointDescription& joint) const { return prismatic(joint) ? prismatic_reading_sigma : reading_sigma; }
+  double maxOffsetSigma(const JointDescription& joint) const { return prismatic(joint) ? max_prismatic_offset_sigma : max_offset_sigma; }
+  static bool prismatic(const JointDescription& joint) { return joint.type == JointType::kPrismatic; }
+};
 
 // A joint's zero offset as solved.
 struct JointCalibration {
@@ -88,6 +119,8 @@ struct JointCalibration {
   double motion = 0.0;  // the range its positions covered over the still poses
   // Solved, but its standard deviation is over max_offset_sigma: what would fix it better, for the user.
   std::string weak;
+  // False for a fixed joint, and one no calibrated sensor is behind: nothing to tell the user of it.
+  bool reported = true;
 };
 
 // Sensors mounted behind a robot's joints (a camera on a pan-tilt head): at each still pose the sensor
@@ -100,16 +133,7 @@ struct JointedMounts {
   // Per sensor (or none): a mount known from the robot's model (CAD), held; its joints' offsets are then
   // all solvable. Unset: the mount is an unknown.
   std::vector<std::optional<Eigen::Isometry3d>> known_mounts;
-  // Radians (metres for a prismatic joint) a joint must move over the session for the offsets before it
-  // to be told from a sensor's mount.
-  double min_motion = 0.05, min_prismatic_motion = 0.02;
-  // How far a still pose's joint reading may be from the joint's true position: the encoder's counts,
-  // the gears' backlash, the link's flex (radians; metres for a prismatic joint). Each still pose's
-  // readings are corrected within it (a prior), so that the views' own precision does not overstate the
-  // offsets'.
-  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;
-  // An offset solved less well than this is named weak (radians; metres).
-  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
+  JointTolerances tolerances;
 
   bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
   const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
@@ -120,9 +144,7 @@ struct JointedMounts {
 struct ArmJoints {
   std::vector<JointDescription> joints;  // offset: the initial value
   std::vector<int> chain;                // base -> tool (jointChain)
-  double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;  // radians; metres (JointedMounts')
-  double min_motion = 0.05, min_prismatic_motion = 0.02;
-  double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
+  JointTolerances tolerances;
 };
 
 }  // namespace vocal

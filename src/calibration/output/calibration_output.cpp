@@ -131,7 +131,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     file << "joints:  # offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
     for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
       const JointCalibration& joint = result.joints[j];
-      if (joint.held == "no calibrated sensor is behind it" || joint.held == "a fixed joint") continue;
+      if (!joint.reported) continue;
       file << "  - name: " << result.mounts.joints[j].name << "\n"
            << "    offset: " << joint.offset << "\n"
            << "    offset_stddev: " << joint.standard_deviation << "\n"
@@ -145,6 +145,17 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       if (result.joints[j].held.empty()) file << "  " << result.mounts.joints[j].name << ": " << result.joints[j].offset << "\n";
   }
   finish(file, path);
+}
+
+std::string jointOffsetText(const JointDescription& joint, const JointCalibration& calibration, int width) {
+  const bool prismatic = JointTolerances::prismatic(joint);
+  char line[160];
+  std::snprintf(line, sizeof(line), "%+*.2f %s +- %.2f, moved %.3f %s", width, 1000 * calibration.offset, prismatic ? "mm" : "mrad",
+                1000 * calibration.standard_deviation, calibration.motion, prismatic ? "m" : "rad");
+  std::string text = line;
+  if (!calibration.held.empty()) text += ", held: " + calibration.held;
+  if (!calibration.weak.empty()) text += ", " + calibration.weak;
+  return text;
 }
 
 std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame) {
@@ -308,7 +319,7 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
     file << "joints:  # the arm's, offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
       const JointCalibration& joint = result.joints[i];
-      if (joint.held == "a fixed joint") continue;
+      if (!joint.reported) continue;
       file << "  - {name: " << frames.joint_names[i] << ", offset: " << joint.offset << ", offset_stddev: " << joint.standard_deviation
            << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false") << "}\n";
     }

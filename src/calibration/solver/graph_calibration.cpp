@@ -174,13 +174,9 @@ struct ThroughJoints {
 
   template <typename T>
   bool operator()(T const* const* blocks, T* out) const {
-    const std::size_t n = chain.size();
-    std::vector<T> added(n);
-    std::vector<const T*> added_blocks(n);
-    for (std::size_t i = 0; i < n; ++i) added[i] = blocks[4 + i][0] + blocks[4 + n + i][0], added_blocks[i] = &added[i];
     Eigen::Quaternion<T> chain_rotation;
     Eigen::Matrix<T, 3, 1> chain_translation;
-    chainTransform<T>(*joints, chain, positions.data(), added_blocks.data(), &chain_rotation, &chain_translation);
+    correctedChainTransform<T>(*joints, chain, positions.data(), blocks + 4, blocks + 4 + chain.size(), &chain_rotation, &chain_translation);
     const Eigen::Map<const Eigen::Quaternion<T>> mount_rotation(blocks[0]);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> mount_translation(blocks[1]);
     const Eigen::Quaternion<T> rotation = chain_rotation * mount_rotation;
@@ -252,7 +248,7 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
   const auto [entry, added] = joints.corrections->emplace(std::make_pair(k, j), 0.0);
   if (added) {
     const JointDescription& joint = joints.mounts->joints[j];
-    const double sigma = joint.type == JointType::kPrismatic ? joints.mounts->prismatic_reading_sigma : joints.mounts->reading_sigma;
+    const double sigma = joints.mounts->tolerances.readingSigma(joint);
     problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReadingCorrectionPrior, 1, 1>(new ReadingCorrectionPrior{sigma}), nullptr,
                               &entry->second);
     if (joint.type == JointType::kFixed) problem->SetParameterBlockConstant(&entry->second);
@@ -370,7 +366,7 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
   const auto moved = [&](int j) {
     const JointDescription& joint = mounts.joints[j];
     if (joint.type == JointType::kFixed || !(high[j] >= low[j])) return false;
-    return high[j] - low[j] >= (joint.type == JointType::kPrismatic ? mounts.min_prismatic_motion : mounts.min_motion);
+    return high[j] - low[j] >= mounts.tolerances.minMotion(joint);
   };
   std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false);
   for (std::size_t s = 0; s < mounts.chains.size(); ++s) {
@@ -387,6 +383,7 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     const JointDescription& joint = mounts.joints[j];
     joints[j].offset = joint.offset;
     joints[j].motion = high[j] >= low[j] ? high[j] - low[j] : 0.0;
+    joints[j].reported = joint.type != JointType::kFixed && in_a_chain[j];
     if (joint.type == JointType::kFixed) {
       joints[j].held = "a fixed joint";
     } else if (!in_a_chain[j]) {
@@ -416,24 +413,27 @@ void setJointStandardDeviations(ceres::Problem* problem, std::vector<double>& of
   const JointedMounts& mounts = result->mounts;
   for (std::size_t j = 0; j < offsets.size(); ++j) {
     JointCalibration& joint = result->joints[j];
-    const bool prismatic = mounts.joints[j].type == JointType::kPrismatic;
-    if (!joint.held.empty() || joint.standard_deviation <= (prismatic ? mounts.max_prismatic_offset_sigma : mounts.max_offset_sigma)) continue;
+    if (!joint.held.empty() || joint.standard_deviation <= mounts.tolerances.maxOffsetSigma(mounts.joints[j])) continue;
     // The joints after it in the chains it is in: their motion is what separates its offset from the mounts.
     std::string after;
     double motion = 0.0;
+    const char* motion_unit = "rad";
     for (const std::vector<int>& chain : mounts.chains) {
       const auto at = std::find(chain.begin(), chain.end(), static_cast<int>(j));
       for (auto it = at == chain.end() ? chain.end() : at + 1; it != chain.end(); ++it) {
         if (mounts.joints[*it].type == JointType::kFixed || after.find("'" + mounts.joints[*it].name + "'") != std::string::npos) continue;
         after += (after.empty() ? "'" : " and '") + mounts.joints[*it].name + "'";
-        motion = std::max(motion, result->joints[*it].motion);
+        if (result->joints[*it].motion > motion) {
+          motion = result->joints[*it].motion;
+          motion_unit = JointTolerances::prismatic(mounts.joints[*it]) ? "m" : "rad";
+        }
       }
     }
     char line[400];
     std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move %s over more than its %.2f %s between still poses, or "
                   "give the mount of the sensor behind it",
-                  1000.0 * joint.standard_deviation, prismatic ? "mm" : "mrad", after.c_str(), motion,
-                  after.empty() ? "" : "rad");
+                  1000.0 * joint.standard_deviation, JointTolerances::prismatic(mounts.joints[j]) ? "mm" : "mrad", after.c_str(), motion,
+                  motion_unit);
     joint.weak = line;
   }
 }
@@ -502,10 +502,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;  // a std::map: its values stay where they are (Ceres blocks)
   const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections};
-  // The chain's pose (rig frame) when o was made: the identity for a rigid mount.
+  // The chain's pose (rig frame) when o was made, the offsets at their initial values: the identity for a rigid mount.
   const auto chainAt = [&](const TargetObservation& o) {
-    return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions, joint_offsets)
-                             : Eigen::Isometry3d::Identity();
+    return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) : Eigen::Isometry3d::Identity();
   };
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
@@ -874,9 +873,7 @@ ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometr
 Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
   const Eigen::Isometry3d& pose = sensors.at(o.sensor).reference_from_sensor;
   if (!mounts.jointed(o.sensor)) return pose;
-  std::vector<double> offsets;
-  for (const JointDescription& joint : mounts.joints) offsets.push_back(joint.offset);
-  return chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions, offsets) * pose;
+  return chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) * pose;
 }
 
 std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors,

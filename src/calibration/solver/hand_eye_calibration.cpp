@@ -141,13 +141,9 @@ struct ToolFromJointsResidual {
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
-    const std::size_t n = arm->chain.size();
-    std::vector<T> added(n);
-    std::vector<const T*> added_blocks(n);
-    for (std::size_t i = 0; i < n; ++i) added[i] = blocks[2 + i][0] + blocks[2 + n + i][0], added_blocks[i] = &added[i];
     Eigen::Quaternion<T> q;
     Eigen::Matrix<T, 3, 1> t;
-    chainTransform<T>(arm->joints, arm->chain, readings.data(), added_blocks.data(), &q, &t);
+    correctedChainTransform<T>(arm->joints, arm->chain, readings.data(), blocks + 2, blocks + 2 + arm->chain.size(), &q, &t);
     const Eigen::Map<const Eigen::Quaternion<T>> tool_q(blocks[0]);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tool_t(blocks[1]);
     constexpr double kTight = 1e-5;
@@ -428,13 +424,14 @@ std::vector<JointCalibration> armJointsSolvable(const ArmJoints& arm, const std:
     joints[i].offset = joint.offset;
     joints[i].motion = high >= low ? high - low : 0.0;
     moved[i] = joint.type != JointType::kFixed &&
-               joints[i].motion >= (joint.type == JointType::kPrismatic ? arm.min_prismatic_motion : arm.min_motion);
+               joints[i].motion >= arm.tolerances.minMotion(joint);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const bool before = std::any_of(moved.begin(), moved.begin() + i, [](bool m) { return m; });
     const bool after = std::any_of(moved.begin() + i + 1, moved.end(), [](bool m) { return m; });
     if (arm.joints[arm.chain[i]].type == JointType::kFixed) {
       joints[i].held = "a fixed joint";
+      joints[i].reported = false;
     } else if (!before) {
       joints[i].held = "no joint before it moved, so the poses in the base frame (the board's, or the fixed sensors') take up its offset";
     } else if (!after) {
@@ -480,7 +477,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = offset_starts ? (*offset_starts)[i] : arm->joints[arm->chain[i]].offset;
     graph->corrections.assign(stations.size(), std::vector<double>(n, 0.0));
     std::vector<double> sigmas;
-    for (const int j : arm->chain) sigmas.push_back(arm->joints[j].type == JointType::kPrismatic ? arm->prismatic_reading_sigma : arm->reading_sigma);
+    for (const int j : arm->chain) sigmas.push_back(arm->tolerances.readingSigma(arm->joints[j]));
     for (std::size_t k = 0; k < stations.size(); ++k) {
       if (stations[k].joint_positions.size() != n) {
         throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
@@ -662,11 +659,12 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
         double variance = 0.0;
         offset_covariance.GetCovarianceBlock(&graph->offsets[i], &graph->offsets[i], &variance);
         result.joints[i].standard_deviation = std::sqrt(std::max(variance, 0.0));
-        const bool prismatic = arm->joints[arm->chain[i]].type == JointType::kPrismatic;
-        if (result.joints[i].standard_deviation > (prismatic ? arm->max_prismatic_offset_sigma : arm->max_offset_sigma)) {
+        const JointDescription& joint = arm->joints[arm->chain[i]];
+        if (result.joints[i].standard_deviation > arm->tolerances.maxOffsetSigma(joint)) {
           char line[200];
           std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move the arm through more of this joint's and its "
-                        "neighbours' range between still poses", 1000.0 * result.joints[i].standard_deviation, prismatic ? "mm" : "mrad");
+                        "neighbours' range between still poses", 1000.0 * result.joints[i].standard_deviation,
+                        JointTolerances::prismatic(joint) ? "mm" : "mrad");
           result.joints[i].weak = line;
         }
       }
@@ -684,8 +682,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       // From the joints: how far its readings had to move, in their sigmas.
       departure = 0.0;
       for (std::size_t i = 0; i < arm->chain.size(); ++i) {
-        const bool prismatic = arm->joints[arm->chain[i]].type == JointType::kPrismatic;
-        departure = std::max(departure, std::abs(graph->corrections[k][i]) / (prismatic ? arm->prismatic_reading_sigma : arm->reading_sigma));
+        departure = std::max(departure, std::abs(graph->corrections[k][i]) / arm->tolerances.readingSigma(arm->joints[arm->chain[i]]));
       }
     }
     if (departure > options.loss_sigmas) result.poor_stations.push_back(static_cast<int>(k));

@@ -49,6 +49,10 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
 std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child);
 std::string staticTransformNode(const std::string& name, const std::string& parent, const std::string& child,
                                 const Eigen::Isometry3d& parent_from_child);
+// A joint's offset for the user: "+12.95 mrad +- 0.25, moved 0.847 rad", then ", held: why" or ", weakly
+// fixed ..." (mm and m for a prismatic joint); `width`: the offset's field width, for a table's column.
+std::string jointOffsetText(const JointDescription& joint, const JointCalibration& calibration, int width = 0);
+
 // The frame sensor s's result is in: its chain's last link behind joints, else reference_frame.
 std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame);
 void writeUrdfSnippet(const std::string& path, const std::string& reference_frame, const std::vector<SensorSpec>& sensors,
