@@ -8,8 +8,11 @@
 #include <memory>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/lens_distortion.h"
+#include "vocal/odometry/brightness_transfer.h"
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
+#include "vocal/odometry/frame_rectification.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/simulation/synthetic_sequence.h"
 #ifdef VOCAL_HAVE_OPENCL
@@ -85,7 +88,7 @@ void systemBenchmark(benchmark::State& state, Terms terms) {
   const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
   for (auto _ : state) {
     vocal::NormalEquations icp, rgb;
-    backend->trackingSystems(level, T, 0.02, terms != kRgbTerm ? &icp : nullptr, terms != kIcpTerm ? &rgb : nullptr);
+    backend->trackingSystems(level, T, 0.02, vocal::BrightnessTransfer(), terms != kRgbTerm ? &icp : nullptr, terms != kIcpTerm ? &rgb : nullptr);
     benchmark::DoNotOptimize(icp);
     benchmark::DoNotOptimize(rgb);
   }
@@ -110,12 +113,39 @@ void BM_Features(benchmark::State& state) {
   state.counters["found_share"] = state.range(1) == 2 ? static_cast<double>(found) / state.iterations() : 0.0;
 }
 
+// Rectifying one frame as the estimator does before tracking: freiburg1's lens undone and a 20 ms
+// rolling shutter's rows turned and shifted by a hand-held motion (arg 1), or the lens alone (arg 0).
+void BM_Rectify(benchmark::State& state) {
+  const Frames& f = frames(static_cast<int>(state.range(0)));
+  const vocal::LensDistortion lens =
+      vocal::LensDistortion::fromCameraInfo("plumb_bob", {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}, "freiburg1");
+  const vocal::FrameRectification rectification(f.camera, lens, state.range(1) ? 0.02 : 0.0);
+  const Eigen::Vector3d turning(0.2, 0.5, 0.1), moving(0.3, 0.1, -0.2);
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(rectification.rectify(f.frames[i++ % f.frames.size()], turning, moving));
+}
+
+// The exposure change between two frames (one estimate; the estimator makes one per pyramid level).
+void BM_BrightnessTransfer(benchmark::State& state) {
+  const Frames& f = frames(static_cast<int>(state.range(0)));
+  const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
+  for (auto _ : state) benchmark::DoNotOptimize(vocal::estimateBrightnessTransfer(f.frames[0], f.frames[1], f.camera, T, 0.07));
+}
+
 // Preprocessing of the new frame plus the full coarse-to-fine solve: the cost of one frame of odometry.
+// camera 1: the defaults (a 20 ms rolling shutter's rows rectified, the affine brightness model; the
+// rendered frames have no lens to undo, and rectifying costs the same with one); 0: the frames taken
+// as a global-shutter pinhole's with fixed exposure. The rendered frames have a global shutter, so
+// camera 1 may iterate differently from a real Kinect: the real sequences' fps are tum_odometry's.
 void BM_FramePair(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(1)));
   vocal::OdometryConfig config;
   config.mode = static_cast<vocal::OdometryMode>(state.range(2));
   config.feature_initialisation = static_cast<vocal::FeatureInitialisation>(state.range(3));
+  if (!state.range(4)) {
+    config.rolling_shutter_readout = 0.0;
+    config.brightness_model = vocal::BrightnessModel::kFixed;
+  }
   std::unique_ptr<vocal::OdometryBackend> backend;
   if (skipUnavailable(state, static_cast<Backend>(state.range(0)), f.camera, config, &backend)) return;
   vocal::IcpDvoOdometry odometry(f.camera, config, std::move(backend));
@@ -136,17 +166,18 @@ void levelArguments(benchmark::internal::Benchmark* b) {
     for (int width : {640, 320}) b->Args({backend, width, 0});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
-// features: the FeatureInitialisation (0 always, 1 fallback, 2 off).
+// features: the FeatureInitialisation (0 always, 1 fallback, 2 off); camera: see BM_FramePair.
 void pairArguments(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"backend", "width", "mode", "features"});
+  b->ArgNames({"backend", "width", "mode", "features", "camera"});
   const int fused = static_cast<int>(vocal::OdometryMode::kFused);
   const int always = static_cast<int>(vocal::FeatureInitialisation::kAlways);
   for (int backend : {kReference, kFastCpu, kOpenCl})
-    for (int width : {640, 320}) b->Args({backend, width, fused, always});
+    for (int width : {640, 320}) b->Args({backend, width, fused, always, 1});
   for (vocal::FeatureInitialisation features : {vocal::FeatureInitialisation::kFallback, vocal::FeatureInitialisation::kOff})
-    for (int width : {640, 320}) b->Args({kFastCpu, width, fused, static_cast<int>(features)});
-  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kIcp), always});
-  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), always});
+    for (int width : {640, 320})
+      for (int camera : {1, 0}) b->Args({kFastCpu, width, fused, static_cast<int>(features), camera});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kIcp), always, 1});
+  b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), always, 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 }  // namespace
@@ -160,5 +191,7 @@ BENCHMARK(BM_Features)
     ->ArgsProduct({{640}, {1, 2}, {640, 320}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_Rectify)->ArgNames({"width", "rolling"})->ArgsProduct({{640, 320}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BrightnessTransfer)->ArgNames({"width"})->Arg(640)->Arg(320)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FramePair)->Apply(pairArguments);
 BENCHMARK_MAIN();

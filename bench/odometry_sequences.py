@@ -4,10 +4,13 @@ matter, as one markdown table: RPE (m/s, deg/s over 1 s), ATE RMSE (m), frames p
 estimator, keyframes; then whether the default holds against frame-to-frame tracking on every sequence.
 
 usage: /usr/bin/python3 bench/odometry_sequences.py [--data DIR] [--only NAME[,NAME...]] [--frames N]
+                                                   [--starts K] [--configs LABEL[,LABEL...]]
 
-A default changes only when this table says so on every sequence (docs/benchmarks.md). Frames per
-second count the estimator only (image loading excluded) on whatever this machine offers: run it on an
-otherwise idle machine.
+A default changes only when this table says so on every sequence (docs/benchmarks.md). With --starts K
+every figure is the mean over K runs started 10 frames apart (frame 0, 10, ...): on sequences of a few
+seconds one run's keyframe choices alone move RPE by several per cent, more than most settings do.
+Frames per second count the estimator only (image loading excluded) on whatever this machine offers:
+run it on an otherwise idle machine.
 """
 import argparse
 import glob
@@ -26,6 +29,14 @@ DATA = os.path.join(ROOT, "..", "shared", "data", "tum")
 CONFIGURATIONS = [
     ("default", [], {}),
     ("--reference frame", ["--reference", "frame"], {}),
+    ("--brightness fixed", ["--brightness", "fixed"], {}),
+    ("rolling_shutter_readout 0", [], {"rolling_shutter_readout": "0.0"}),
+    ("rolling_shutter_readout 0.01", [], {"rolling_shutter_readout": "0.01"}),
+    ("rolling_shutter_readout 0.03", [], {"rolling_shutter_readout": "0.03"}),
+    ("undistort_lens false", [], {"undistort_lens": "false"}),
+    ("none of the three (before)", ["--brightness", "fixed"], {"rolling_shutter_readout": "0.0", "undistort_lens": "false"}),
+    ("keyframe_max_rotation_deg 8", [], {"keyframe_max_rotation_deg": "8.0"}),
+    ("keyframe_max_rotation_deg 5", [], {"keyframe_max_rotation_deg": "5.0"}),
     ("--features always", ["--features", "always"], {}),
     ("--features off", ["--features", "off"], {}),
     ("--reference frame --features always", ["--reference", "frame", "--features", "always"], {}),
@@ -49,18 +60,23 @@ def config_with(settings):
     return path
 
 
-def run(folder, arguments, settings, frames):
+def run(folder, arguments, settings, frames, starts):
+    """The metrics of one configuration on one sequence, averaged over `starts` start frames."""
     config = config_with(settings)
     if config:
         arguments = ["--config", config] + arguments
     output = os.path.join("/tmp", "vocal_odometry_sequences_" + os.path.basename(folder) + ".txt")
-    command = [os.path.join(TOOLS, "tum_odometry"), folder, "--output", output, "--quiet"] + arguments
-    if frames:
-        command += ["--frames", str(frames)]
-    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if result.returncode != 0:
-        sys.exit("tum_odometry failed on %s %s:\n%s" % (folder, " ".join(arguments), result.stdout))
-    return metrics(result.stdout)
+    runs = []
+    for start in range(starts):
+        command = [os.path.join(TOOLS, "tum_odometry"), folder, "--output", output, "--quiet",
+                   "--skip", str(10 * start)] + arguments
+        if frames:
+            command += ["--frames", str(frames)]
+        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if result.returncode != 0:
+            sys.exit("tum_odometry failed on %s %s:\n%s" % (folder, " ".join(arguments), result.stdout))
+        runs.append(metrics(result.stdout))
+    return {key: sum(m.get(key, 0) for m in runs) / len(runs) for key in runs[0]}
 
 
 def main():
@@ -68,7 +84,13 @@ def main():
     parser.add_argument("--data", default=DATA, help="folder of TUM sequences (default ../shared/data/tum)")
     parser.add_argument("--only", default="", help="comma-separated substrings of the sequences' names")
     parser.add_argument("--frames", type=int, default=0, help="only the first N frames of each")
+    parser.add_argument("--starts", type=int, default=1, help="mean over K runs started 10 frames apart")
+    parser.add_argument("--configs", default="", help="comma-separated labels to run (default: all)")
     args = parser.parse_args()
+    configurations = CONFIGURATIONS
+    if args.configs:
+        wanted = args.configs.split(",")
+        configurations = [c for c in CONFIGURATIONS if c[0] in wanted or c[0] in ("default", "--reference frame")]
     folders = sorted(f for f in glob.glob(os.path.join(args.data, "rgbd_dataset_*")) if os.path.isdir(f))
     if args.only:
         folders = [f for f in folders if any(name in os.path.basename(f) for name in args.only.split(","))]
@@ -81,10 +103,10 @@ def main():
     for folder in folders:
         name = os.path.basename(folder).replace("rgbd_dataset_", "")
         results = {}
-        for label, arguments, settings in CONFIGURATIONS:
-            m = run(folder, arguments, settings, args.frames)
+        for label, arguments, settings in configurations:
+            m = run(folder, arguments, settings, args.frames, args.starts)
             results[label] = m
-            print("| %s | %s | %.4f | %.3f | %.4f | %.1f | %d |" % (
+            print("| %s | %s | %.4f | %.3f | %.4f | %.1f | %.0f |" % (
                 name, label, m["rpe_trans_m_per_s"], m["rpe_rot_deg_per_s"], m["ate_rmse_m"], m["frames_per_second"],
                 m.get("keyframes", 0)), flush=True)
         default, frame = results["default"]["rpe_trans_m_per_s"], results["--reference frame"]["rpe_trans_m_per_s"]

@@ -209,11 +209,13 @@ inline float bilinear(__global const float* image, int width, float u, float v) 
 }
 
 // Dense photometric residuals: current pixels warped with their depth into the reference image.
-// limits = (max depth, max depth difference, min gradient, Huber threshold).
+// limits = (max depth, max depth difference, min gradient, Huber threshold); brightness = (gain, bias):
+// the current intensity as the reference sees it.
 __kernel void dvo_rows(__global const float4* cur_vertices, __global const float* cur_intensity,
                        __global const float* ref_depth, __global const float* ref_intensity,
                        __global const float* ref_gx, __global const float* ref_gy, int width, int height,
-                       __constant const float* pose, float4 camera, float4 limits, __local float* scratch,
+                       __constant const float* pose, float4 camera, float4 limits, float2 brightness,
+                       __local float* scratch,
                        __global float* partials) {
   float sums[REDUCTION_VALUES];
   for (int k = 0; k < REDUCTION_VALUES; ++k) sums[k] = 0.0f;
@@ -229,7 +231,7 @@ __kernel void dvo_rows(__global const float4* cur_vertices, __global const float
     if (!(zr > 0.0f) || zr > limits.x || fabs(zr - p.z) > limits.y) continue;
     const float gx = bilinear(ref_gx, width, qu, qv), gy = bilinear(ref_gy, width, qu, qv);
     if (gx * gx + gy * gy < limits.z * limits.z) continue;
-    const float r = bilinear(ref_intensity, width, qu, qv) - cur_intensity[i];
+    const float r = bilinear(ref_intensity, width, qu, qv) - (brightness.x * cur_intensity[i] + brightness.y);
     const float z_inv = 1.0f / p.z;
     const float3 a = (float3)(gx * camera.x * z_inv, gy * camera.y * z_inv,
                               -(gx * camera.x * p.x + gy * camera.y * p.y) * z_inv * z_inv);

@@ -83,7 +83,8 @@ using BackendFactory =
 
 // Every level's systems from the reference and from `make_other`'s backend, at the true motion and
 // away from it (where more pairs are rejected): each built alone, and both together as the estimator
-// asks for them (one pass on the fast backend).
+// asks for them (one pass on the fast backend); the photometric term with an exposure change mapped
+// (which must change it: the brightness reaches every backend's residual).
 void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width = 320, int height = 240) {
   for (bool noise : {false, true}) {
     const FramePair pair = renderPair(3, noise, width, height);
@@ -96,16 +97,22 @@ void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width
     }
     vocal::Vector6d offset;
     offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
+    vocal::BrightnessTransfer exposure;
+    exposure.gain = 1.08f;
+    exposure.bias = -0.02f;
     for (const Eigen::Isometry3d& T : {pair.first_from_second, vocal::se3Exp(offset) * pair.first_from_second}) {
       for (int level = 0; level < config.levels; ++level) {
         const std::string where = std::string(noise ? "noisy" : "clean") + " level " + std::to_string(level);
-        const vocal::NormalEquations icp = reference.icpSystem(level, T), rgb = reference.rgbSystem(level, T, 0.02);
+        const vocal::NormalEquations icp = reference.icpSystem(level, T), rgb = reference.rgbSystem(level, T, 0.02, exposure);
+        EXPECT_GT(std::fabs(rgb.squared_residual_sum - reference.rgbSystem(level, T, 0.02, vocal::BrightnessTransfer()).squared_residual_sum),
+                  1e-3 * rgb.squared_residual_sum)
+            << "the exposure change did not reach the residuals, " << where;
         vocal::NormalEquations icp_together, rgb_together;
-        other->trackingSystems(level, T, 0.02, &icp_together, &rgb_together);
+        other->trackingSystems(level, T, 0.02, exposure, &icp_together, &rgb_together);
         expectSameSystem(icp, icp_together, "icp " + where);
         expectSameSystem(rgb, rgb_together, "rgb " + where);
         expectSameSystem(icp, other->icpSystem(level, T), "icp alone " + where);
-        expectSameSystem(rgb, other->rgbSystem(level, T, 0.02), "rgb alone " + where);
+        expectSameSystem(rgb, other->rgbSystem(level, T, 0.02, exposure), "rgb alone " + where);
       }
     }
   }
@@ -232,7 +239,7 @@ TEST(FastCpuParity, ThreadCountsAgreeAndRepeatExactly) {
     fast.pushFrame(pair.first, vocal::ReferenceUpdate::kPreviousFrame);
     fast.pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
     vocal::NormalEquations icp, rgb;
-    fast.trackingSystems(0, pair.first_from_second, 0.02, &icp, &rgb);
+    fast.trackingSystems(0, pair.first_from_second, 0.02, vocal::BrightnessTransfer(), &icp, &rgb);
     if (!systems.empty()) {
       expectSameSystem(systems.front(), icp, std::to_string(threads) + " threads icp");
     }
@@ -272,8 +279,8 @@ TEST(OdometryParity, KeepingTheReferenceReplacesOnlyTheCurrentFrame) {
     fresh[k]->pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
     for (int level = 0; level < 3; ++level) {
       vocal::NormalEquations kept_icp, kept_rgb, fresh_icp, fresh_rgb;
-      kept[k]->trackingSystems(level, pair.first_from_second, 0.02, &kept_icp, &kept_rgb);
-      fresh[k]->trackingSystems(level, pair.first_from_second, 0.02, &fresh_icp, &fresh_rgb);
+      kept[k]->trackingSystems(level, pair.first_from_second, 0.02, vocal::BrightnessTransfer(), &kept_icp, &kept_rgb);
+      fresh[k]->trackingSystems(level, pair.first_from_second, 0.02, vocal::BrightnessTransfer(), &fresh_icp, &fresh_rgb);
       ASSERT_GT(fresh_icp.count, 100.0);
       EXPECT_EQ(kept_icp.A, fresh_icp.A) << "level " << level;
       EXPECT_EQ(kept_icp.b, fresh_icp.b) << "level " << level;

@@ -22,6 +22,10 @@ std::size_t coefficientCount(DistortionModel model) {
 }
 }  // namespace
 
+bool operator==(const LensDistortion& a, const LensDistortion& b) {
+  return a.model == b.model && a.coefficients == b.coefficients;
+}
+
 std::string distortionModelName(DistortionModel model) {
   switch (model) {
     case DistortionModel::kPlumbBob: return "plumb_bob";

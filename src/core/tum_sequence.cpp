@@ -56,23 +56,27 @@ std::vector<TumListEntry> readTumImageList(const std::string& list_path, const s
   return entries;
 }
 
-PinholeCamera tumDefaultCamera(const std::string& folder, std::string* source) {
+PinholeCamera tumDefaultCamera(const std::string& folder, std::string* source, LensDistortion* lens) {
   PinholeCamera camera;
   struct Published {
     const char* name;
     double fx, fy, cx, cy;
+    std::vector<double> d;  // plumb_bob k1 k2 p1 p2 k3
   };
-  // From the benchmark's calibration page (distortion is ignored: the images are used as they are).
-  static const Published kPublished[] = {{"freiburg1", 517.3, 516.5, 318.6, 255.3},
-                                         {"freiburg2", 520.9, 521.0, 325.1, 249.7},
-                                         {"freiburg3", 535.4, 539.2, 320.1, 247.6}};
+  // From the benchmark's calibration page ("Intrinsic Camera Calibration of the Kinect").
+  static const Published kPublished[] = {
+      {"freiburg1", 517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}},
+      {"freiburg2", 520.9, 521.0, 325.1, 249.7, {0.2312, -0.7849, -0.0033, -0.0001, 0.9172}},
+      {"freiburg3", 535.4, 539.2, 320.1, 247.6, {0.0, 0.0, 0.0, 0.0, 0.0}}};
+  if (lens) *lens = LensDistortion();
   for (const Published& p : kPublished) {
     if (folder.find(p.name) != std::string::npos) {
       camera.fx = p.fx;
       camera.fy = p.fy;
       camera.cx = p.cx;
       camera.cy = p.cy;
-      *source = std::string("TUM ") + p.name + " intrinsics (folder name)";
+      if (lens) *lens = LensDistortion::fromCameraInfo("plumb_bob", p.d, "TUM published distortion");
+      *source = std::string("TUM ") + p.name + " intrinsics and distortion (folder name)";
       return camera;
     }
   }
@@ -98,7 +102,7 @@ TumSequence TumSequence::open(const std::string& folder, const TumSequenceOption
     sequence.camera_ = readCameraYaml(camera_path);
     sequence.camera_source_ = camera_path;
   } else {
-    sequence.camera_ = tumDefaultCamera(folder, &sequence.camera_source_);
+    sequence.camera_ = tumDefaultCamera(folder, &sequence.camera_source_, &sequence.lens_);
   }
   const std::string ground_truth_path = joinPath(folder, "groundtruth.txt");
   if (isRegularFile(ground_truth_path)) {

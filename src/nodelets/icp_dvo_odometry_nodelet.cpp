@@ -233,13 +233,20 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
               << rgb_sub_.getTopic() << " is " << rgb.width << "x" << rgb.height;
       throw InputError(message.str());
     }
+    // A lens model the odometry cannot undo is tracked as a pinhole (as before lens undistortion), said once.
+    LensDistortion lens;
+    try {
+      lens = lensDistortionFromCameraInfo(info, info_sub_.getTopic());
+    } catch (const InputError& e) {
+      NODELET_WARN_STREAM_ONCE("IcpDvoOdometry: " << e.what() << ": tracking without undoing the lens");
+    }
     const RgbdFrame frame = toRgbdFrame(rgb, depth, rgb_sub_.getTopic(), depth_sub_.getTopic());
     stage_sums_.conversion += lapMilliseconds(&clock);
-    if (!odometry_ || !(odometry_->camera() == camera)) {
+    if (!odometry_ || !(odometry_->camera() == camera) || !(odometry_->lens() == lens)) {
       // First frame, or new intrinsics: the estimator is built for one camera. The camera is already
       // validated, so a failure here is the configuration's (e.g. backend opencl without a platform).
       try {
-        odometry_ = std::make_unique<IcpDvoOdometry>(camera, config_);
+        odometry_ = std::make_unique<IcpDvoOdometry>(camera, config_, nullptr, lens);
       } catch (const InputError& e) {
         setupError(e.what());
         throw;
@@ -342,7 +349,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
                                : (frames_tracked_ - 1) % fused_cloud_every_ == 0;
     const bool cloud_wanted = cloud_pub_.getNumSubscribers() > 0;
     if (map_frame || cloud_wanted) {
-      const std::vector<ColoredPoint> points = backProjectFrame(frame, camera, cloud_stride_);
+      // As tracked: undistorted, rows at one instant.
+      const std::vector<ColoredPoint> points =
+          backProjectFrame(odometry_->rectifying() ? odometry_->lastRectifiedFrame() : frame, camera, cloud_stride_);
       if (cloud_wanted) cloud_pub_.publish(toPointCloud2(points, camera_frame, rgb.header.stamp));
       if (map_frame) {
         fused_map_->add(points, odom_from_base * base_from_camera);

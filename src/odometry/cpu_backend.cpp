@@ -67,7 +67,7 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
 }
 
 NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                                              double huber_threshold) {
+                                              double huber_threshold, const BrightnessTransfer& brightness) {
   const PyramidLevel& cur = current_.at(level);
   const PyramidLevel& ref = reference_.at(level);
   const FloatWarp warp(reference_from_current, ref.camera);
@@ -90,7 +90,7 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
       if (!(zr > 0.0f) || zr > max_depth || std::fabs(zr - p.z()) > max_depth_difference) continue;
       const float gx = bilinear(ref.gradient_x, qu, qv), gy = bilinear(ref.gradient_y, qu, qv);
       if (gx * gx + gy * gy < min_gradient * min_gradient) continue;
-      const float r = bilinear(ref.intensity, qu, qv) - cur.intensity(x, y);
+      const float r = bilinear(ref.intensity, qu, qv) - (brightness.gain * cur.intensity(x, y) + brightness.bias);
       // d r / d p of the projection, then d p / d twist = [I, -[p]x].
       const float z_inv = 1.0f / p.z();
       const Eigen::Vector3f a(gx * warp.fx * z_inv, gy * warp.fy * z_inv,

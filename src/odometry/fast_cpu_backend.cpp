@@ -43,10 +43,11 @@ void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate u
 }
 
 void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d& reference_from_current,
-                                             double huber_threshold, NormalEquations* icp, NormalEquations* rgb) {
+                                             double huber_threshold, const BrightnessTransfer& brightness,
+                                             NormalEquations* icp, NormalEquations* rgb) {
   const SoaPyramidLevel& cur = frames_[current_].at(level);
   const SoaPyramidLevel& ref = frames_[current_ ^ 1].at(level);
-  const TrackingWarp warp(reference_from_current, ref.camera);
+  const TrackingWarp warp(reference_from_current, ref.camera, brightness);
   const float min_gradient = static_cast<float>(config_.rgb_min_gradient.at(level));
   const float max_distance = static_cast<float>(config_.icp_max_distance);
   const TrackingThresholds thresholds{max_distance * max_distance,
@@ -79,14 +80,14 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
 
 NormalEquations FastCpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {
   NormalEquations icp;
-  trackingSystems(level, reference_from_current, 0.0, &icp, nullptr);
+  trackingSystems(level, reference_from_current, 0.0, BrightnessTransfer(), &icp, nullptr);
   return icp;
 }
 
 NormalEquations FastCpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                                                  double huber_threshold) {
+                                                  double huber_threshold, const BrightnessTransfer& brightness) {
   NormalEquations rgb;
-  trackingSystems(level, reference_from_current, huber_threshold, nullptr, &rgb);
+  trackingSystems(level, reference_from_current, huber_threshold, brightness, nullptr, &rgb);
   return rgb;
 }
 

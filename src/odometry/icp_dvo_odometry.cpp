@@ -26,8 +26,8 @@ constexpr double kLostVariance = 1e6;
 }  // namespace
 
 IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
-                               std::unique_ptr<OdometryBackend> backend)
-    : camera_(camera), config_(config), backend_(std::move(backend)) {
+                               std::unique_ptr<OdometryBackend> backend, const LensDistortion& lens)
+    : camera_(camera), lens_(lens), config_(config), backend_(std::move(backend)) {
   camera_.validate("odometry camera");
   config_.validate();
   if ((camera_.width >> (config_.levels - 1)) < 8 || (camera_.height >> (config_.levels - 1)) < 8) {
@@ -35,6 +35,7 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
                      std::to_string(camera_.width) + "x" + std::to_string(camera_.height) + " image");
   }
   if (!backend_) backend_ = makeOdometryBackend(camera_, config_);
+  rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -43,6 +44,7 @@ void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   next_keyframe_id_ = 0;
   backend_reference_id_ = backend_current_id_ = -1;
   active_from_last_ = velocity_ = Eigen::Isometry3d::Identity();
+  velocity_seconds_ = 0.0;
   lost_frames_ = 0;
   residual_level_ = 0.0;
   pose_ = pose;
@@ -78,7 +80,8 @@ double IcpDvoOdometry::residualLevelOf(const OdometryQuality& quality) const {
   return config_.mode == OdometryMode::kIcp ? quality.icp_rmse : quality.rgb_rmse;
 }
 
-IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const Eigen::Isometry3d& start, const Eigen::Isometry3d& last) {
+IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference, const RgbdFrame& current,
+                                                     const Eigen::Isometry3d& start, const Eigen::Isometry3d& last) {
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   DenseSolve solve;
@@ -88,10 +91,15 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const Eigen::Isometry3d& st
   NormalEquations last_icp, last_rgb;
   double last_count = 0.0;
   int steps = 0;
+  BrightnessTransfer brightness;
   for (int level = config_.levels - 1; level >= 0; --level) {
+    // Once per level, where the motion has improved: the pixels both frames see depend on it.
+    if (use_rgb && config_.brightness_model == BrightnessModel::kAffine && config_.iterations[level] > 0) {
+      brightness = estimateBrightnessTransfer(reference, current, camera_, T, config_.rgb_max_depth_difference);
+    }
     for (int iteration = 0; iteration < config_.iterations[level]; ++iteration) {
       NormalEquations icp, rgb;
-      backend_->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, use_icp ? &icp : nullptr,
+      backend_->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, brightness, use_icp ? &icp : nullptr,
                                 use_rgb ? &rgb : nullptr);
       if (rgb.count > 0) rgb_sigma = rgb.rmse();
       // Each term is scaled by the inverse variance of its residuals (the fused system is then the
@@ -126,6 +134,8 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const Eigen::Isometry3d& st
   q.icp_rmse = last_icp.rmse();
   q.rgb_rmse = last_rgb.rmse();
   q.iterations = steps;
+  q.brightness_gain = brightness.gain;
+  q.brightness_bias = brightness.bias;
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(solve.information, Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues()[0], largest = eigen.eigenvalues()[5];
   q.condition = smallest > 0.0 ? largest / smallest : std::numeric_limits<double>::infinity();
@@ -165,6 +175,10 @@ void IcpDvoOdometry::pushAgainst(const Keyframe& keyframe, const RgbdFrame& fram
   }
   backend_reference_id_ = keyframe.id;
   backend_current_id_ = -1;
+}
+
+Vector6d IcpDvoOdometry::velocityPerSecond() const {
+  return velocity_seconds_ > 0.0 ? Vector6d(se3Log(velocity_) / velocity_seconds_) : Vector6d::Zero();
 }
 
 void IcpDvoOdometry::addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features) {
@@ -213,19 +227,19 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& f
   DenseSolve solve;
   switch (config_.feature_initialisation) {
     case FeatureInitialisation::kAlways:
-      solve = solveFrom(featureMotion().value_or(predicted), active_from_last_);
+      solve = solveFrom(active_->frame, frame, featureMotion().value_or(predicted), active_from_last_);
       break;
     case FeatureInitialisation::kOff:
-      solve = solveFrom(active_from_last_, active_from_last_);  // no motion since the last frame
+      solve = solveFrom(active_->frame, frame, active_from_last_, active_from_last_);  // no motion since the last frame
       break;
     case FeatureInitialisation::kFallback: {
-      solve = solveFrom(predicted, active_from_last_);
+      solve = solveFrom(active_->frame, frame, predicted, active_from_last_);
       if (!suspicious(solve)) break;
       result->quality.feature_fallback = true;
       result->timings.solve_ms += lapMilliseconds(&clock);
       bool retry_won = false;
       if (const std::optional<Eigen::Isometry3d> start = featureMotion()) {
-        DenseSolve retry = solveFrom(*start, active_from_last_);
+        DenseSolve retry = solveFrom(active_->frame, frame, *start, active_from_last_);
         // The retry wins when it passes and the first did not, or both pass and it fits better.
         retry_won = retry.failure.empty() &&
                     (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality));
@@ -300,7 +314,7 @@ bool IcpDvoOdometry::relocalise(const RgbdFrame& frame, std::shared_ptr<const Fr
   pushAgainst(*best, frame);
   result->timings.preprocess_ms += lapMilliseconds(&clock);
   // The last pose is a prediction (or older): the refinement must instead stay near the features' motion.
-  DenseSolve refined = solveFrom(best_alignment.reference_from_current, best_alignment.reference_from_current);
+  DenseSolve refined = solveFrom(best->frame, frame, best_alignment.reference_from_current, best_alignment.reference_from_current);
   rejectWrongMinimum(best_alignment.reference_from_current, &refined);
   result->timings.solve_ms += lapMilliseconds(&clock);
   if (!refined.failure.empty()) return false;
@@ -310,15 +324,25 @@ bool IcpDvoOdometry::relocalise(const RgbdFrame& frame, std::shared_ptr<const Fr
   return true;
 }
 
-OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
-  frame.validate("odometry frame");
-  if (!frame.color.sameSize(camera_.width, camera_.height)) {
+OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
+  input.validate("odometry frame");
+  if (!input.color.sameSize(camera_.width, camera_.height)) {
     std::ostringstream message;
-    message << "odometry frame: images are " << frame.color.width() << "x" << frame.color.height()
+    message << "odometry frame: images are " << input.color.width() << "x" << input.color.height()
             << " but the camera is " << camera_.width << "x" << camera_.height;
     throw InputError(message.str());
   }
   auto clock = std::chrono::steady_clock::now();
+  const double since_last = input.stamp - last_stamp_;
+  last_stamp_ = input.stamp;
+  if (rectification_.active()) {
+    // The rows turn with the last measured motion (none known yet: the lens alone).
+    const Vector6d twist = velocityPerSecond();
+    rectified_ = rectification_.rectify(input, twist.tail<3>(), twist.head<3>());
+  }
+  const RgbdFrame& frame = rectification_.active() ? rectified_ : input;
+  // A keyframe made now keeps the frame as given when its rows could not be turned (no motion yet).
+  const bool rectified_at_rest = rectification_.active() && !(velocity_seconds_ > 0.0);
   OdometryResult result;
   // Each frame's features are extracted at most once: matched as the current frame, kept with it if
   // it becomes a keyframe. In fallback mode only when asked for.
@@ -331,6 +355,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
     backend_->pushFrame(frame, ReferenceUpdate::kPreviousFrame);
     result.timings.preprocess_ms = lapMilliseconds(&clock);
     addKeyframe(frame, features);
+    if (rectified_at_rest) active_->unrectified = input;
     backend_current_id_ = active_->id;
     velocity_ = active_from_last_ = Eigen::Isometry3d::Identity();
     result.first_frame = true;
@@ -389,7 +414,19 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   result.state = relocalised || lost_frames_ > 0 ? TrackingState::kRelocalised : TrackingState::kTracking;
   result.lost_frames = lost_frames_;
   // After a loss the last motion is kept: the pose before it was a prediction.
-  if (result.state == TrackingState::kTracking) velocity_ = active_from_last_.inverse() * T;
+  if (result.state == TrackingState::kTracking) {
+    velocity_ = active_from_last_.inverse() * T;
+    velocity_seconds_ = since_last;
+    if (!keyframe.unrectified.color.empty() && velocity_seconds_ > 0.0) {
+      // Rectified before any motion was known: its rows turned now, preprocessed again when next used.
+      const Vector6d twist = velocityPerSecond();
+      keyframe.frame = rectification_.rectify(keyframe.unrectified, twist.tail<3>(), twist.head<3>());
+      keyframe.unrectified = RgbdFrame();
+      keyframe.features.reset();
+      if (backend_reference_id_ == keyframe.id) backend_reference_id_ = -1;
+      if (backend_current_id_ == keyframe.id) backend_current_id_ = -1;
+    }
+  }
   lost_frames_ = 0;
   // The running residual level a wrong minimum stands out from (an average over about ten frames).
   const double residual = residualLevelOf(solve.quality);
@@ -412,6 +449,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& frame) {
   }
   if (keyframeWornOut(keyframe, solve)) {
     addKeyframe(frame, features);
+    if (rectified_at_rest) active_->unrectified = input;
     backend_current_id_ = active_->id;
     active_from_last_ = Eigen::Isometry3d::Identity();
     result.new_keyframe = true;

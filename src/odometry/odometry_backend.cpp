@@ -13,9 +13,10 @@
 namespace vocal {
 
 void OdometryBackend::trackingSystems(int level, const Eigen::Isometry3d& reference_from_current,
-                                      double huber_threshold, NormalEquations* icp, NormalEquations* rgb) {
+                                      double huber_threshold, const BrightnessTransfer& brightness, NormalEquations* icp,
+                                      NormalEquations* rgb) {
   if (icp) *icp = icpSystem(level, reference_from_current);
-  if (rgb) *rgb = rgbSystem(level, reference_from_current, huber_threshold);
+  if (rgb) *rgb = rgbSystem(level, reference_from_current, huber_threshold, brightness);
 }
 
 std::unique_ptr<OdometryBackend> makeOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,

@@ -34,6 +34,8 @@ void OdometryConfig::validate() const {
   if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
   if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
   if (!(max_translation > 0.0)) fail("max_translation must be positive");
+  if (!(rolling_shutter_readout >= 0.0 && rolling_shutter_readout <= 0.1))
+    fail("rolling_shutter_readout must be in [0, 0.1] seconds (0 = global shutter)");
   if (cpu_threads < 0 || cpu_threads > 256) fail("cpu_threads must be in [0, 256] (0 = every core), got " + std::to_string(cpu_threads));
 }
 
@@ -73,6 +75,12 @@ TrackingReference parseTrackingReference(const std::string& name) {
   if (name == "keyframe") return TrackingReference::kKeyframe;
   if (name == "frame") return TrackingReference::kFrame;
   throw InputError("tracking reference '" + name + "' is unknown: expected keyframe or frame");
+}
+
+BrightnessModel parseBrightnessModel(const std::string& name) {
+  if (name == "affine") return BrightnessModel::kAffine;
+  if (name == "fixed") return BrightnessModel::kFixed;
+  throw InputError("brightness model '" + name + "' is unknown: expected affine or fixed");
 }
 
 }  // namespace vocal

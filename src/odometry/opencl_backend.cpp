@@ -305,7 +305,7 @@ NormalEquations OpenClOdometryBackend::icpSystem(int level, const Eigen::Isometr
 }
 
 NormalEquations OpenClOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                                                 double huber_threshold) {
+                                                 double huber_threshold, const BrightnessTransfer& brightness) {
   State& s = *state_;
   const LevelBuffers& cur = s.frames[s.current].levels.at(level);
   const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
@@ -313,7 +313,7 @@ NormalEquations OpenClOdometryBackend::rgbSystem(int level, const Eigen::Isometr
   const cl_float4 limits{{static_cast<float>(s.config.rgb_max_depth), static_cast<float>(s.config.rgb_max_depth_difference),
                           static_cast<float>(s.config.rgb_min_gradient.at(level)), static_cast<float>(huber_threshold)}};
   setArgs(s.dvo_rows, cur.vertices, cur.intensity, ref.depth, ref.intensity, ref.gradient_x, ref.gradient_y, cur.width,
-          cur.height, s.pose, s.levelCamera(level), limits, LocalBytes{kReductionValues * s.local_size * sizeof(float)},
+          cur.height, s.pose, s.levelCamera(level), limits, cl_float2{{brightness.gain, brightness.bias}}, LocalBytes{kReductionValues * s.local_size * sizeof(float)},
           s.partials);
   return s.reduce(s.dvo_rows, static_cast<std::size_t>(cur.width) * cur.height);
 }

@@ -13,11 +13,14 @@
 
 namespace vocal {
 
-// The current-to-reference transform and the reference level's intrinsics, in float.
+// The current-to-reference transform, the reference level's intrinsics and the current intensity as
+// the reference sees it (gain * I + bias), in float.
 struct TrackingWarp {
-  TrackingWarp(const Eigen::Isometry3d& reference_from_current, const PinholeCamera& camera);
+  TrackingWarp(const Eigen::Isometry3d& reference_from_current, const PinholeCamera& camera,
+               const BrightnessTransfer& brightness);
   float r[9], t[3];
   float fx, fy, cx, cy;
+  float gain, bias;
 };
 
 struct TrackingThresholds {

@@ -183,7 +183,8 @@ void trackRowAvx2(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const 
       ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_fmadd_ps(gx, gx, _mm256_mul_ps(gy, gy)),
                                            _mm256_set1_ps(th.min_gradient_squared), _CMP_GE_OQ));
       const __m256 current = _mm256_maskload_ps(intensity + x, in_row);
-      const __m256 r = _mm256_sub_ps(bilinear(ref_photometric, corners), current);
+      const __m256 r = _mm256_sub_ps(bilinear(ref_photometric, corners),
+                                     _mm256_fmadd_ps(_mm256_set1_ps(k.gain), current, _mm256_set1_ps(k.bias)));
       // d r / d p of the projection, then d p / d twist = [I, -[p]x].
       const __m256 gfx = _mm256_mul_ps(gx, fx), gfy = _mm256_mul_ps(gy, fy);
       const __m256 ax = _mm256_mul_ps(gfx, z_inv), ay = _mm256_mul_ps(gfy, z_inv);

@@ -11,11 +11,14 @@
 
 namespace vocal {
 
-TrackingWarp::TrackingWarp(const Eigen::Isometry3d& reference_from_current, const PinholeCamera& camera)
+TrackingWarp::TrackingWarp(const Eigen::Isometry3d& reference_from_current, const PinholeCamera& camera,
+                           const BrightnessTransfer& brightness)
     : fx(static_cast<float>(camera.fx)),
       fy(static_cast<float>(camera.fy)),
       cx(static_cast<float>(camera.cx)),
-      cy(static_cast<float>(camera.cy)) {
+      cy(static_cast<float>(camera.cy)),
+      gain(brightness.gain),
+      bias(brightness.bias) {
   const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
   const Eigen::Vector3f translation = reference_from_current.translation().cast<float>();
   for (int i = 0; i < 3; ++i) {
@@ -144,7 +147,7 @@ void collectRows(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const T
       };
       const float gx = bilinear(&PhotometricRecord::gradient_x), gy = bilinear(&PhotometricRecord::gradient_y);
       ok &= gx * gx + gy * gy >= th.min_gradient_squared;
-      const float r = bilinear(&PhotometricRecord::intensity) - intensity[x];
+      const float r = bilinear(&PhotometricRecord::intensity) - (k.gain * intensity[x] + k.bias);
       // d r / d p of the projection, then d p / d twist = [I, -[p]x].
       const float ax = gx * k.fx * z_inv, ay = gy * k.fy * z_inv;
       const float az = -(gx * k.fx * px + gy * k.fy * py) * z_inv * z_inv;

@@ -10,6 +10,7 @@
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/image_io.h"
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
@@ -44,6 +45,43 @@ RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera&
   return frame;
 }
 
+RgbdFrame renderRollingShutterFrame(const SyntheticScene& scene, const PinholeCamera& camera, const Trajectory& path,
+                                    std::size_t index, double readout_seconds, const RgbdSensorModel& sensor_model,
+                                    std::uint32_t noise_seed) {
+  // The pose at `stamp`, between the path's samples (held beyond its ends).
+  auto poseAt = [&](double stamp) {
+    std::size_t k = index;
+    while (k > 0 && path[k].stamp > stamp) --k;
+    while (k + 1 < path.size() && path[k + 1].stamp <= stamp) ++k;
+    if (k + 1 >= path.size() || stamp <= path[k].stamp) return path[k].pose;
+    const double alpha = (stamp - path[k].stamp) / (path[k + 1].stamp - path[k].stamp);
+    return interpolatePose(path[k].pose, path[k + 1].pose, alpha);
+  };
+  constexpr int kBandRows = 4;  // rows exposed at one instant (0.25 ms apart at 30 ms over 480 rows)
+  RgbdFrame frame;
+  frame.stamp = path.at(index).stamp;
+  frame.color = ColorImage(camera.width, camera.height);
+  frame.depth = DepthImage(camera.width, camera.height, 0.0f);
+  for (int first = 0; first < camera.height; first += kBandRows) {
+    const int rows = std::min(kBandRows, camera.height - first);
+    PinholeCamera band = camera;  // the same camera cropped to the band's rows
+    band.height = rows;
+    band.cy = camera.cy - first;
+    const double middle_row = first + 0.5 * (rows - 1);
+    const double stamp = frame.stamp + readout_seconds * (middle_row / camera.height - 0.5);
+    const RenderedView view = scene.render(band, poseAt(stamp));
+    for (int y = 0; y < rows; ++y) {
+      for (int x = 0; x < camera.width; ++x) {
+        frame.color(x, first + y) = view.color(x, y);
+        frame.depth(x, first + y) = view.depth(x, y);
+      }
+    }
+  }
+  applyDepthSensorModel(sensor_model, noise_seed, &frame.depth);
+  applyColorSensorModel(sensor_model, noise_seed, &frame.color);
+  return frame;
+}
+
 void coverLens(std::uint32_t noise_seed, RgbdFrame* frame) {
   std::mt19937 rng(noise_seed);
   std::normal_distribution<float> noise(0.0f, 2.0f);
@@ -64,6 +102,10 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   if (options.covered_from < 0 || options.covered_frames < 0) {
     throw InputError("synthetic sequence: the covered stretch (from " + std::to_string(options.covered_from) + ", " +
                      std::to_string(options.covered_frames) + " frames) must not be negative");
+  }
+  if (!(options.rolling_shutter_readout >= 0.0 && options.rolling_shutter_readout <= 0.1)) {
+    throw InputError("synthetic sequence: rolling shutter readout " + std::to_string(options.rolling_shutter_readout) +
+                     " s must be in [0, 0.1]");
   }
   if (!(options.sensor_model.missing_fraction >= 0.0 && options.sensor_model.missing_fraction < 1.0)) {
     throw InputError("synthetic sequence: missing fraction " + std::to_string(options.sensor_model.missing_fraction) +
@@ -97,7 +139,10 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   for (int i = 0; i < total; ++i) {
     const StampedPose& pose = sequence.ground_truth[i];
     const std::uint32_t noise_seed = options.trajectory.seed * 100003u + static_cast<std::uint32_t>(i);
-    RgbdFrame frame = renderSyntheticFrame(scene, sequence.camera, pose, options.sensor_model, noise_seed);
+    RgbdFrame frame = options.rolling_shutter_readout > 0.0
+                          ? renderRollingShutterFrame(scene, sequence.camera, sequence.ground_truth, static_cast<std::size_t>(i),
+                                                      options.rolling_shutter_readout, options.sensor_model, noise_seed)
+                          : renderSyntheticFrame(scene, sequence.camera, pose, options.sensor_model, noise_seed);
     if (i >= options.covered_from && i < options.covered_from + options.covered_frames) coverLens(noise_seed, &frame);
     const std::string name = stampName(pose.stamp) + ".png";
     writeColorPng(folder + "/rgb/" + name, frame.color);

@@ -104,11 +104,20 @@ int run(const vocal::CommandLine& args) {
     if (!info) throw vocal::InputError(path + ": " + rgb_topic + " at " + std::to_string(rgb.header.stamp.toSec()) +
                                        " comes before any message on " + info_topic);
     const vocal::PinholeCamera camera = vocal::fromCameraInfo(*info, info_topic);
-    if (!odometry || !(odometry->camera() == camera)) {
+    // A lens model the odometry cannot undo is tracked as a pinhole, said once.
+    vocal::LensDistortion lens;
+    try {
+      lens = vocal::lensDistortionFromCameraInfo(*info, info_topic);
+    } catch (const vocal::InputError& e) {
+      static bool said = false;
+      if (!said) std::fprintf(stderr, "%s: tracking without undoing the lens\n", e.what());
+      said = true;
+    }
+    if (!odometry || !(odometry->camera() == camera) || !(odometry->lens() == lens)) {
       std::string notice;
       auto backend = vocal::makeOdometryBackend(camera, config, &notice);
       if (!notice.empty() && !odometry) std::fprintf(stderr, "%s\n", notice.c_str());
-      odometry = std::make_unique<vocal::IcpDvoOdometry>(camera, config, std::move(backend));
+      odometry = std::make_unique<vocal::IcpDvoOdometry>(camera, config, std::move(backend), lens);
       if (!trajectory.empty()) odometry->reset(trajectory.back().pose);  // new intrinsics: continue the path
     }
     const vocal::RgbdFrame frame = vocal::toRgbdFrame(rgb, depth, rgb_topic, depth_topic);

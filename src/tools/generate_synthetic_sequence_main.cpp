@@ -27,6 +27,8 @@ const char kUsage[] =
     "                               --kinect-noise, else 0)\n"
     "  --cover FIRST:COUNT          a hand over the lens (no depth, dark colour) for COUNT frames from\n"
     "                               frame FIRST (counted from 0)\n"
+    "  --rolling-shutter S          rows read one after another over S seconds, as a Kinect's are\n"
+    "                               (0.02 matches the odometry's default; default 0: a global shutter)\n"
     "  --quiet                      no progress line\n";
 
 int run(const vocal::CommandLine& args) {
@@ -46,6 +48,7 @@ int run(const vocal::CommandLine& args) {
     options.sensor_model.axial_noise = args.has("axial-noise");
     options.sensor_model.quantize_disparity = args.has("quantize");
   }
+  options.rolling_shutter_readout = args.number("rolling-shutter", 0.0);
   if (args.has("cover")) {
     const std::string cover = args.text("cover", "");
     const std::size_t colon = cover.find(':');
@@ -73,6 +76,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("generate_synthetic_sequence", kUsage, run, argc, argv,
-                        {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing", "cover"},
+                        {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing", "cover",
+                         "rolling-shutter"},
                         {"kinect-noise", "axial-noise", "quantize", "quiet"}, 1);
 }

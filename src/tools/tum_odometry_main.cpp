@@ -23,7 +23,9 @@ const char kUsage[] =
     "  --rgb-weight W              overrides the fusion weight of the photometric term\n"
     "  --features always|fallback|off  overrides the config's feature_initialisation\n"
     "  --reference keyframe|frame  overrides the config's tracking_reference\n"
-    "  --frames N                  only the first N associated frames\n"
+    "  --brightness affine|fixed   overrides the config's brightness_model\n"
+    "  --frames N                  only the first N associated frames (after --skip)\n"
+    "  --skip N                    start at the N-th associated frame (0 = the first)\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
     "  --delta S                   RPE interval (default 1 s)\n"
     "  --quiet                     no progress line\n"
@@ -38,20 +40,28 @@ int run(const vocal::CommandLine& args) {
   config.rgb_weight = args.number("rgb-weight", config.rgb_weight);
   if (args.has("features")) config.feature_initialisation = vocal::parseFeatureInitialisation(args.text("features", ""));
   if (args.has("reference")) config.tracking_reference = vocal::parseTrackingReference(args.text("reference", ""));
+  if (args.has("brightness")) config.brightness_model = vocal::parseBrightnessModel(args.text("brightness", ""));
 
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0]);
-  const std::size_t frames = std::min<std::size_t>(sequence.size(), args.integer("frames", static_cast<int>(sequence.size())));
+  const int skip_arg = args.integer("skip", 0);
+  if (skip_arg < 0 || static_cast<std::size_t>(skip_arg) >= sequence.size()) {
+    throw vocal::InputError("--skip " + std::to_string(skip_arg) + ": the sequence has " + std::to_string(sequence.size()) +
+                            " associated frames");
+  }
+  const std::size_t skip = static_cast<std::size_t>(skip_arg);
+  const std::size_t frames =
+      std::min<std::size_t>(sequence.size() - skip, args.integer("frames", static_cast<int>(sequence.size() - skip)));
   std::string notice;
   auto backend = vocal::makeOdometryBackend(sequence.camera(), config, &notice);
   if (!notice.empty()) std::fprintf(stderr, "%s\n", notice.c_str());
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s\n", frames, sequence.cameraSource().c_str(),
                vocal::odometryModeName(config.mode).c_str(), backend->name().c_str());
-  vocal::IcpDvoOdometry odometry(sequence.camera(), config, std::move(backend));
+  vocal::IcpDvoOdometry odometry(sequence.camera(), config, std::move(backend), sequence.lens());
 
   if (args.has("start-from-ground-truth")) {
     if (!sequence.hasGroundTruth()) throw vocal::InputError(sequence.folder() + ": --start-from-ground-truth needs groundtruth.txt");
     const auto stamps = vocal::trajectoryStamps(sequence.groundTruth());
-    odometry.reset(sequence.groundTruth()[vocal::closestStampIndex(stamps, sequence.entry(0).rgb.stamp)].pose);
+    odometry.reset(sequence.groundTruth()[vocal::closestStampIndex(stamps, sequence.entry(skip).rgb.stamp)].pose);
   }
 
   vocal::Trajectory trajectory;
@@ -60,7 +70,7 @@ int run(const vocal::CommandLine& args) {
   int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
-    const vocal::RgbdFrame frame = sequence.loadFrame(i);
+    const vocal::RgbdFrame frame = sequence.loadFrame(skip + i);
     const auto start = std::chrono::steady_clock::now();
     const vocal::OdometryResult result = odometry.track(frame);
     tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -77,10 +87,10 @@ int run(const vocal::CommandLine& args) {
     if (args.has("verbose")) {
       const vocal::OdometryQuality& q = result.quality;
       std::fprintf(stderr, "frame %zu: icp %d inliers rmse %.4f m, rgb %d inliers rmse %.4f, %d steps, condition %.3g, "
-                   "weakest information %.3g%s, keyframe %d%s%s, features off by %.3f m %.2f deg\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse,
+                   "weakest information %.3g%s, keyframe %d%s%s, features off by %.3f m %.2f deg, brightness x%.3f %+.3f\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse,
                    q.iterations, q.condition, q.weakest_information, q.converged ? "" : ", not converged", result.keyframe_id,
                    result.new_keyframe ? " (new)" : "", q.feature_fallback ? ", feature fallback" : "", q.feature_disagreement_m,
-                   q.feature_disagreement_deg);
+                   q.feature_disagreement_deg, q.brightness_gain, q.brightness_bias);
     } else if (!quiet) {
       std::fprintf(stderr, "\rframe %zu/%zu", i + 1, frames);
     }
@@ -106,6 +116,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "rgb-weight", "features", "reference", "frames", "delta"},
+                        {"output", "config", "mode", "backend", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta"},
                         {"start-from-ground-truth", "quiet", "verbose"}, 1);
 }

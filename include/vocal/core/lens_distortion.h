@@ -34,6 +34,8 @@ struct LensDistortion {
   Eigen::Matrix2d jacobian(const Eigen::Vector2d& ideal) const;
 };
 
+bool operator==(const LensDistortion& a, const LensDistortion& b);
+
 std::string distortionModelName(DistortionModel model);  // "", plumb_bob, rational_polynomial, equidistant
 
 // The pixel where a camera with this lens sees a point of its frame (z > 0): fx * x' + cx, fy * y' + cy

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/tum_trajectory.h"
@@ -47,6 +48,9 @@ class TumSequence {
   RgbdFrame loadFrame(std::size_t index) const;
 
   const PinholeCamera& camera() const { return camera_; }
+  // The lens distortion the benchmark publishes for the folder's camera (none for camera.yaml, whose
+  // intrinsics alone are read, and for other folders).
+  const LensDistortion& lens() const { return lens_; }
   // Where the intrinsics came from (camera.yaml, or which benchmark default).
   const std::string& cameraSource() const { return camera_source_; }
 
@@ -57,12 +61,14 @@ class TumSequence {
   std::string folder_;
   std::vector<TumFrameEntry> frames_;
   PinholeCamera camera_;
+  LensDistortion lens_;
   std::string camera_source_;
   Trajectory ground_truth_;
 };
 
 // The benchmark's published intrinsics for freiburg1/2/3 folders (recognised by name), else the ROS
-// default; `source` says which was chosen.
-PinholeCamera tumDefaultCamera(const std::string& folder, std::string* source);
+// default; `source` says which was chosen; `lens` gets the published distortion (freiburg3's images
+// are already undistorted).
+PinholeCamera tumDefaultCamera(const std::string& folder, std::string* source, LensDistortion* lens = nullptr);
 
 }  // namespace vocal

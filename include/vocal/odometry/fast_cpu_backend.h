@@ -32,9 +32,9 @@ class FastCpuOdometryBackend : public OdometryBackend {
   void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                            double huber_threshold) override;
+                            double huber_threshold, const BrightnessTransfer& brightness) override;
   void trackingSystems(int level, const Eigen::Isometry3d& reference_from_current, double huber_threshold,
-                       NormalEquations* icp, NormalEquations* rgb) override;
+                       const BrightnessTransfer& brightness, NormalEquations* icp, NormalEquations* rgb) override;
   std::size_t memoryBytes() const override;
 
   int threads() const { return threads_; }

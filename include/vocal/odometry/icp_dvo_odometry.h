@@ -14,7 +14,9 @@
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/se3.h"
+#include "vocal/core/lens_distortion.h"
 #include "vocal/odometry/feature_alignment.h"
+#include "vocal/odometry/frame_rectification.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/odometry_config.h"
 
@@ -43,6 +45,10 @@ struct OdometryQuality {
   // Between the dense motion and the one the features agree on, when they were asked (else -1).
   double feature_disagreement_m = -1.0;
   double feature_disagreement_deg = -1.0;
+  // The current frame's intensity as the reference saw it at the finest level (brightness model
+  // affine; 1 and 0 when fixed or not estimable).
+  double brightness_gain = 1.0;
+  double brightness_bias = 0.0;
 };
 
 // Wall-clock milliseconds of one track() call per stage.
@@ -79,9 +85,10 @@ std::string trackingEvent(const OdometryResult& result);
 
 class IcpDvoOdometry {
  public:
-  // Throws InputError for an invalid camera or config, or when the backend cannot be made.
+  // Throws InputError for an invalid camera or config, or when the backend cannot be made. `lens`: the
+  // camera's distortion (camera_info's D), undone before tracking when config.undistort_lens.
   IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
-                 std::unique_ptr<OdometryBackend> backend = nullptr);
+                 std::unique_ptr<OdometryBackend> backend = nullptr, const LensDistortion& lens = {});
 
   // Estimates the frame's pose (against the keyframe, or the previous frame). Throws InputError when
   // the frame does not fit the camera (size, colour vs depth); bad content (no valid depth, no texture
@@ -95,6 +102,12 @@ class IcpDvoOdometry {
   const Matrix6d& poseCovariance() const { return pose_covariance_; }
   const OdometryBackend& backend() const { return *backend_; }
   const PinholeCamera& camera() const { return camera_; }
+  const LensDistortion& lens() const { return lens_; }
+  // Whether frames are rectified before tracking (a lens to undo or a rolling shutter), and the last
+  // frame given to track() as tracked (undistorted, rows turned to one instant): what clouds built
+  // from it should use. Empty before the first frame or when not rectifying.
+  bool rectifying() const { return rectification_.active(); }
+  const RgbdFrame& lastRectifiedFrame() const { return rectified_; }
   const OdometryConfig& config() const { return config_; }
 
  private:
@@ -102,6 +115,9 @@ class IcpDvoOdometry {
   struct Keyframe {
     int id = 0;
     RgbdFrame frame;  // to preprocess again (relocalisation) and to extract features from when needed
+    // The frame as given while `frame` is rectified without the camera's motion (none was known yet:
+    // a rolling shutter's rows not turned); rectified again, and emptied, once a motion is measured.
+    RgbdFrame unrectified;
     std::shared_ptr<const FrameFeatures> features;  // null until needed
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     Matrix6d pose_covariance = Matrix6d::Zero();
@@ -115,9 +131,11 @@ class IcpDvoOdometry {
     OdometryQuality quality;
     std::string failure;  // empty when every check passed
   };
-  // The coarse-to-fine ICP + DVO solve from `start` (keyframe <- current), and its checks; a jump is
-  // measured from `last` (the last frame's pose in the keyframe).
-  DenseSolve solveFrom(const Eigen::Isometry3d& start, const Eigen::Isometry3d& last);
+  // The coarse-to-fine ICP + DVO solve of `current` against `reference` (the frames the backend holds)
+  // from `start` (keyframe <- current), and its checks; a jump is measured from `last` (the last
+  // frame's pose in the keyframe).
+  DenseSolve solveFrom(const RgbdFrame& reference, const RgbdFrame& current, const Eigen::Isometry3d& start,
+                       const Eigen::Isometry3d& last);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
@@ -139,10 +157,15 @@ class IcpDvoOdometry {
   // Whether the keyframe should be replaced after `solve` (always frame to frame).
   bool keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
   void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
+  // The last measured motion per second (twist [v; w] of last <- current over its time; zero before one).
+  Vector6d velocityPerSecond() const;
   int inliersOf(const OdometryQuality& quality) const;
 
   PinholeCamera camera_;
+  LensDistortion lens_;
   OdometryConfig config_;
+  FrameRectification rectification_;
+  RgbdFrame rectified_;
   std::unique_ptr<OdometryBackend> backend_;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();  // of the last frame (tracked or predicted)
   Matrix6d pose_covariance_ = Matrix6d::Zero();
@@ -154,6 +177,8 @@ class IcpDvoOdometry {
   int backend_current_id_ = -1;
   Eigen::Isometry3d active_from_last_ = Eigen::Isometry3d::Identity();  // the last frame's pose in the keyframe
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // the last tracked frame-to-frame motion
+  double velocity_seconds_ = 0.0;  // the time velocity_ spans (0: no motion measured since the reset)
+  double last_stamp_ = 0.0;        // of the last frame given to track()
   int lost_frames_ = 0;          // consecutive frames not tracked
   double residual_level_ = 0.0;  // running average of trusted frames' residualLevelOf (0: none yet)
 };

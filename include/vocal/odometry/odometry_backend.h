@@ -10,6 +10,7 @@
 
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
+#include "vocal/odometry/brightness_transfer.h"
 #include "vocal/odometry/normal_equations.h"
 #include "vocal/odometry/odometry_config.h"
 
@@ -31,15 +32,17 @@ class OdometryBackend {
   // must match the camera the backend was made for (the estimator checks).
   virtual void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) = 0;
 
-  // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T).
+  // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T). The
+  // photometric residual compares the reference's intensity with the current one mapped by
+  // `brightness` (gain * I + bias).
   virtual NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) = 0;
   virtual NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                                    double huber_threshold) = 0;
+                                    double huber_threshold, const BrightnessTransfer& brightness) = 0;
   // Both systems of one level for one motion (either pointer may be null: that term is not built).
   // This calls icpSystem and rgbSystem; a backend that builds both in one pass over the pixels
   // overrides it.
   virtual void trackingSystems(int level, const Eigen::Isometry3d& reference_from_current, double huber_threshold,
-                               NormalEquations* icp, NormalEquations* rgb);
+                               const BrightnessTransfer& brightness, NormalEquations* icp, NormalEquations* rgb);
 
   // Bytes of frame buffers the backend holds (both frames, all levels).
   virtual std::size_t memoryBytes() const = 0;

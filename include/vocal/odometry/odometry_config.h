@@ -12,6 +12,7 @@ enum class OdometryMode { kIcp, kRgb, kFused };
 enum class OdometryBackendKind { kAuto, kCpu, kReference, kOpenCl };
 enum class FeatureInitialisation { kAlways, kFallback, kOff };
 enum class TrackingReference { kKeyframe, kFrame };
+enum class BrightnessModel { kAffine, kFixed };
 
 struct OdometryConfig {
   OdometryMode mode = OdometryMode::kFused;
@@ -41,6 +42,17 @@ struct OdometryConfig {
   double rgb_max_depth_difference = 0.07;  // warped depth vs reference depth, metres
   std::vector<double> rgb_min_gradient = {0.012, 0.008, 0.004};  // per level, intensity per pixel
   double rgb_huber_factor = 1.345;       // Huber threshold in units of the residual's standard deviation
+  // How the current frame's intensity maps onto the reference's. kAffine: a gain and bias per frame
+  // pair, estimated at each pyramid level (BrightnessTransfer: cameras change exposure by themselves);
+  // kFixed: intensities compared as they are.
+  BrightnessModel brightness_model = BrightnessModel::kAffine;
+
+  // What real cameras depart from the pinhole, global-shutter model by (FrameRectification): the lens
+  // distortion given with the camera (camera_info's D) is undone, and a rolling shutter's rows, read
+  // one after another over this many seconds, are turned to the middle row's instant along the last
+  // measured rotation (0: a global shutter).
+  bool undistort_lens = true;
+  double rolling_shutter_readout = 0.02;
 
   // Fusion: A = A_icp / var_icp + rgb_weight * A_rgb / var_rgb (b likewise), each term scaled by the
   // variance of its residuals in that iteration: 1 trusts both by their measured noise.
@@ -111,5 +123,6 @@ std::string odometryModeName(OdometryMode mode);
 OdometryBackendKind parseOdometryBackend(const std::string& name);  // auto, cpu, reference, opencl
 FeatureInitialisation parseFeatureInitialisation(const std::string& name);  // always, fallback, off
 TrackingReference parseTrackingReference(const std::string& name);  // keyframe, frame
+BrightnessModel parseBrightnessModel(const std::string& name);      // affine, fixed
 
 }  // namespace vocal

@@ -19,7 +19,7 @@ class OpenClOdometryBackend : public OdometryBackend {
   void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
-                            double huber_threshold) override;
+                            double huber_threshold, const BrightnessTransfer& brightness) override;
   std::size_t memoryBytes() const override;
 
  private:

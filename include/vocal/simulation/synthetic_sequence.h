@@ -25,6 +25,8 @@ struct SyntheticSequenceOptions {
   // Frames [covered_from, covered_from + covered_frames) show a hand over the lens (coverLens).
   int covered_from = 0;
   int covered_frames = 0;
+  // Seconds from the first row's exposure to the last (renderRollingShutterFrame); 0: a global shutter.
+  double rolling_shutter_readout = 0.0;
 };
 
 // Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
@@ -35,6 +37,14 @@ RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
                                const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
                                std::uint32_t noise_seed);
+
+// Renders frame `index` of `path` as a rolling-shutter camera takes it: rows are exposed one after
+// another over `readout_seconds` (first to last), the middle row at the frame's stamp, each band of
+// rows from the pose the camera had then (interpolated along the path). What a Kinect's colour and
+// depth sensors do; renderSyntheticFrame is the global-shutter case.
+RgbdFrame renderRollingShutterFrame(const SyntheticScene& scene, const PinholeCamera& camera, const Trajectory& path,
+                                    std::size_t index, double readout_seconds, const RgbdSensorModel& sensor_model,
+                                    std::uint32_t noise_seed);
 
 // A hand held over the lens: no depth (closer than the sensor's minimum range) and a dark, nearly
 // uniform colour image with sensor noise; what tracking must survive without inventing motion.
