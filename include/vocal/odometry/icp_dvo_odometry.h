@@ -11,10 +11,10 @@
 
 #include <Eigen/Geometry>
 
+#include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/se3.h"
-#include "vocal/core/lens_distortion.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/frame_rectification.h"
 #include "vocal/odometry/odometry_backend.h"
