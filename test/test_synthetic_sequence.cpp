@@ -218,4 +218,8 @@ TEST(SyntheticSequence, BadOptionsAreErrors) {
   options.sensor_model.missing_fraction = 1.5;
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::writeSyntheticSequence(makeTempFolder("bad_options"), options); }),
             "synthetic sequence: missing fraction 1.500000 must be in [0, 1)");
+  options = vocal_test::smallSequenceOptions(2);
+  options.rolling_shutter_readout = -0.01;
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::writeSyntheticSequence(makeTempFolder("bad_readout"), options); }),
+            "synthetic sequence: rolling shutter readout -0.010000 s must be in [0, 0.1]");
 }

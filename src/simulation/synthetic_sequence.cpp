@@ -48,12 +48,13 @@ RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera&
 RgbdFrame renderRollingShutterFrame(const SyntheticScene& scene, const PinholeCamera& camera, const Trajectory& path,
                                     std::size_t index, double readout_seconds, const RgbdSensorModel& sensor_model,
                                     std::uint32_t noise_seed) {
-  // The pose at `stamp`, between the path's samples (held beyond its ends).
+  // The pose at `stamp`, between the path's samples; beyond its ends the first or last step goes on
+  // (held there, the first and last frames' outer rows showed a camera stopping mid-readout).
   auto poseAt = [&](double stamp) {
-    std::size_t k = index;
+    if (path.size() < 2) return path.at(index).pose;
+    std::size_t k = std::min(index, path.size() - 2);
     while (k > 0 && path[k].stamp > stamp) --k;
-    while (k + 1 < path.size() && path[k + 1].stamp <= stamp) ++k;
-    if (k + 1 >= path.size() || stamp <= path[k].stamp) return path[k].pose;
+    while (k + 2 < path.size() && path[k + 1].stamp <= stamp) ++k;
     const double alpha = (stamp - path[k].stamp) / (path[k + 1].stamp - path[k].stamp);
     return interpolatePose(path[k].pose, path[k + 1].pose, alpha);
   };
