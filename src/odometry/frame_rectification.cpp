@@ -38,6 +38,7 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
   // The lookup at grid nodes every kGridStep pixels (one node past the last row and column).
   const int nodes_x = (w - 1) / kGridStep + 2, nodes_y = (h - 1) / kGridStep + 2;
   std::vector<Eigen::Vector2f> nodes(static_cast<std::size_t>(nodes_x) * nodes_y);
+#pragma omp parallel for schedule(static)
   for (int j = 0; j < nodes_y; ++j)
     for (int i = 0; i < nodes_x; ++i)
       nodes[static_cast<std::size_t>(j) * nodes_x + i] =
