@@ -278,3 +278,19 @@ TEST(FrameRectification, UndoesARenderedRollingShutterOfAMovingCamera) {
   EXPECT_LT(depth_rectified, 0.5 * depth_as_is);
   EXPECT_LT(colour_rectified, 0.5 * colour_as_is);
 }
+
+// What the estimator says it undoes (the nodelet logs it, the tools print it): the user of a
+// global-shutter camera must see the rolling-shutter setting and how to turn it off.
+TEST(OdometryCameraModel, TextSaysWhatIsUndoneAndHowToTurnTheShutterOff) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  EXPECT_EQ(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}, nullptr, freiburg1Lens()).cameraModelText(),
+            "lens plumb_bob undone, rows of a 0.020 s rolling shutter rectified (rolling_shutter_readout: 0 for a "
+            "global-shutter camera), brightness affine");
+  vocal::OdometryConfig config;
+  config.rolling_shutter_readout = 0.0;
+  config.undistort_lens = false;
+  config.brightness_model = vocal::BrightnessModel::kFixed;
+  EXPECT_EQ(vocal::IcpDvoOdometry(camera, config, nullptr, freiburg1Lens()).cameraModelText(),
+            "lens plumb_bob ignored (undistort_lens false), global shutter, brightness fixed");
+  EXPECT_EQ(vocal::IcpDvoOdometry(camera, config).cameraModelText(), "no lens distortion given, global shutter, brightness fixed");
+}

@@ -252,7 +252,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
         throw;
       }
       backend_name_ = odometry_->backend().name();
-      NODELET_INFO_STREAM("IcpDvoOdometry: " << camera.width << "x" << camera.height << " camera, backend " << backend_name_);
+      NODELET_INFO_STREAM("IcpDvoOdometry: " << camera.width << "x" << camera.height << " camera, backend " << backend_name_
+                                             << "; " << odometry_->cameraModelText());
     }
     const std::string camera_frame = rgb.header.frame_id;
     const std::string base_frame = frame_id_.empty() ? camera_frame : frame_id_;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -175,6 +176,21 @@ void IcpDvoOdometry::pushAgainst(const Keyframe& keyframe, const RgbdFrame& fram
   }
   backend_reference_id_ = keyframe.id;
   backend_current_id_ = -1;
+}
+
+std::string IcpDvoOdometry::cameraModelText() const {
+  std::ostringstream text;
+  text << (lens_.isNone() ? std::string("no lens distortion given")
+                          : config_.undistort_lens ? "lens " + distortionModelName(lens_.model) + " undone"
+                                                   : "lens " + distortionModelName(lens_.model) + " ignored (undistort_lens false)");
+  if (config_.rolling_shutter_readout > 0.0) {
+    text << ", rows of a " << std::fixed << std::setprecision(3) << config_.rolling_shutter_readout
+         << " s rolling shutter rectified (rolling_shutter_readout: 0 for a global-shutter camera)";
+  } else {
+    text << ", global shutter";
+  }
+  text << ", brightness " << (config_.brightness_model == BrightnessModel::kAffine ? "affine" : "fixed");
+  return text.str();
 }
 
 Vector6d IcpDvoOdometry::velocityPerSecond() const {

@@ -118,6 +118,7 @@ int run(const vocal::CommandLine& args) {
       auto backend = vocal::makeOdometryBackend(camera, config, &notice);
       if (!notice.empty() && !odometry) std::fprintf(stderr, "%s\n", notice.c_str());
       odometry = std::make_unique<vocal::IcpDvoOdometry>(camera, config, std::move(backend), lens);
+      std::fprintf(stderr, "%dx%d camera: %s\n", camera.width, camera.height, odometry->cameraModelText().c_str());
       if (!trajectory.empty()) odometry->reset(trajectory.back().pose);  // new intrinsics: continue the path
     }
     const vocal::RgbdFrame frame = vocal::toRgbdFrame(rgb, depth, rgb_topic, depth_topic);

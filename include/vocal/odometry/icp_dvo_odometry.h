@@ -109,6 +109,10 @@ class IcpDvoOdometry {
   bool rectifying() const { return rectification_.active(); }
   const RgbdFrame& lastRectifiedFrame() const { return rectified_; }
   const OdometryConfig& config() const { return config_; }
+  // What the estimator undoes of the real camera, for the user: e.g. "lens plumb_bob undone, rows of a
+  // 0.020 s rolling shutter rectified (rolling_shutter_readout: 0 for a global-shutter camera),
+  // brightness affine".
+  std::string cameraModelText() const;
 
  private:
   // A frame later ones are tracked against, kept for relocalisation.
