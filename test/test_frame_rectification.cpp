@@ -177,7 +177,8 @@ TEST(OdometryBrightness, AffineModelWinsThroughExposureSteps) {
     }
   }
   vocal::OdometryConfig config;
-  config.rolling_shutter_readout = 0.0;  // the renderer's global shutter
+  config.rolling_shutter_readout = 0.0;  // the renderer's global shutter,
+  config.depth_time_offset = 0.0;        // depth and colour at one instant
   config.brightness_model = vocal::BrightnessModel::kFixed;
   const Tracked fixed = trackFrames(camera, config, frames, truth);
   config.brightness_model = vocal::BrightnessModel::kAffine;
@@ -217,6 +218,7 @@ TEST(OdometryRollingShutter, RectifiedRowsTrackATurningCamera) {
   }
   vocal::OdometryConfig config;
   config.rolling_shutter_readout = 0.0;
+  config.depth_time_offset = 0.0;  // the renderer's depth and colour are of one instant
   const Tracked as_one_instant = trackFrames(camera, config, rolling, truth);
   const Tracked global_as_global = trackFrames(camera, config, global, truth);
   config.rolling_shutter_readout = 0.03;
@@ -285,12 +287,50 @@ TEST(OdometryCameraModel, TextSaysWhatIsUndoneAndHowToTurnTheShutterOff) {
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
   EXPECT_EQ(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}, nullptr, freiburg1Lens()).cameraModelText(),
             "lens plumb_bob undone, rows of a 0.020 s rolling shutter rectified (rolling_shutter_readout: 0 for a "
-            "global-shutter camera), brightness affine");
+            "global-shutter camera), depth taken 0.005 s before the colour, brightness affine");
   vocal::OdometryConfig config;
   config.rolling_shutter_readout = 0.0;
+  config.depth_time_offset = 0.0;
   config.undistort_lens = false;
   config.brightness_model = vocal::BrightnessModel::kFixed;
   EXPECT_EQ(vocal::IcpDvoOdometry(camera, config, nullptr, freiburg1Lens()).cameraModelText(),
             "lens plumb_bob ignored (undistort_lens false), global shutter, brightness fixed");
   EXPECT_EQ(vocal::IcpDvoOdometry(camera, config).cameraModelText(), "no lens distortion given, global shutter, brightness fixed");
+}
+
+// Depth taken 10 ms before the colour by a camera panning at 1 rad/s: the depth's pixels are looked up
+// where the camera then saw them (fx tan(0.01) = 5 px across), the colour's stay where they are.
+TEST(FrameRectification, DepthTakenBeforeTheColourIsTurnedToTheColoursInstant) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(640, 480);
+  const double offset = -0.01, rate = 1.0;
+  const vocal::FrameRectification rectification(camera, vocal::LensDistortion(), 0.0, offset);
+  const Eigen::Vector3d turning(0.0, rate, 0.0);
+  EXPECT_TRUE(rectification.active());
+  EXPECT_NEAR(rectification.sourcePixel(camera.cx, camera.cy, turning, offset).x() - camera.cx,
+              -camera.fx * std::tan(rate * offset), 1e-9);
+  vocal::RgbdFrame coded;
+  coded.color = vocal::ColorImage(640, 480);
+  coded.depth = vocal::DepthImage(640, 480);
+  for (int y = 0; y < 480; ++y)
+    for (int x = 0; x < 640; ++x) {
+      coded.depth(x, y) = 1.0f + x + 1000.0f * y;
+      coded.color(x, y) = {static_cast<std::uint8_t>(x % 251), static_cast<std::uint8_t>(y % 251), 7};
+    }
+  const vocal::RgbdFrame out = rectification.rectify(coded, turning);
+  int checked = 0, colour_moved = 0;
+  double worst = 0.0;
+  for (int y = 20; y < 460; ++y) {
+    for (int x = 20; x < 620; ++x) {
+      const int code = static_cast<int>(std::lround(out.depth(x, y) - 1.0f));
+      const Eigen::Vector2d exact = rectification.sourcePixel(x, y, turning, offset);
+      worst = std::max(worst, std::max(std::fabs(code % 1000 - exact.x()), std::fabs(code / 1000 - exact.y())));
+      colour_moved += !(out.color(x, y).r == coded.color(x, y).r && out.color(x, y).g == coded.color(x, y).g);
+      ++checked;
+    }
+  }
+  EXPECT_LT(worst, 0.75) << "of " << checked << " depth pixels";
+  EXPECT_EQ(colour_moved, 0);
+  EXPECT_GT(std::fabs(out.depth(320, 240) - coded.depth(320, 240)), 4.0f) << "the depth must have moved by about 5 px";
+  // Taken together: nothing to turn, nothing to do.
+  EXPECT_FALSE(vocal::FrameRectification(camera, vocal::LensDistortion(), 0.0, 0.0).active());
 }

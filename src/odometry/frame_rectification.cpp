@@ -8,10 +8,12 @@
 
 namespace vocal {
 
-FrameRectification::FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds)
-    : camera_(camera), lens_(lens), readout_(readout_seconds) {}
+FrameRectification::FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds,
+                                       double depth_time_offset)
+    : camera_(camera), lens_(lens), readout_(readout_seconds), depth_time_offset_(depth_time_offset) {}
 
-Eigen::Vector2d FrameRectification::sourcePixel(double u, double v, const Eigen::Vector3d& angular_velocity) const {
+Eigen::Vector2d FrameRectification::sourcePixel(double u, double v, const Eigen::Vector3d& angular_velocity,
+                                                double time_offset) const {
   const Eigen::Vector3d ideal((u - camera_.cx) / camera_.fx, (v - camera_.cy) / camera_.fy, 1.0);
   const double rate = angular_velocity.norm();
   const Eigen::Vector3d axis = rate > 0.0 ? Eigen::Vector3d(angular_velocity / rate) : Eigen::Vector3d::UnitZ();
@@ -19,7 +21,7 @@ Eigen::Vector2d FrameRectification::sourcePixel(double u, double v, const Eigen:
   double row = v;
   Eigen::Vector2d pixel(u, v);
   for (int step = 0; step < 2; ++step) {
-    const double seconds_after_middle = readout_ * (row / camera_.height - 0.5);
+    const double seconds_after_middle = time_offset + readout_ * (row / camera_.height - 0.5);
     // The camera at the row's instant is the middle one turned by rate * seconds about the axis; a
     // direction it sees is turned back.
     const Eigen::Vector3d seen = Eigen::AngleAxisd(-rate * seconds_after_middle, axis) * ideal;
@@ -43,6 +45,17 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
     for (int i = 0; i < nodes_x; ++i)
       nodes[static_cast<std::size_t>(j) * nodes_x + i] =
           sourcePixel(i * kGridStep, j * kGridStep, angular_velocity).cast<float>();
+  // Depth taken at another instant than the colour gets its own lookups, turned from that instant.
+  const bool depth_apart =
+      depth_time_offset_ != 0.0 && (angular_velocity.squaredNorm() > 0.0 || linear_velocity.squaredNorm() > 0.0);
+  std::vector<Eigen::Vector2f> depth_nodes(depth_apart ? nodes.size() : 0);
+  if (depth_apart) {
+#pragma omp parallel for schedule(static)
+    for (int j = 0; j < nodes_y; ++j)
+      for (int i = 0; i < nodes_x; ++i)
+        depth_nodes[static_cast<std::size_t>(j) * nodes_x + i] =
+            sourcePixel(i * kGridStep, j * kGridStep, angular_velocity, depth_time_offset_).cast<float>();
+  }
 
   RgbdFrame out;
   out.stamp = frame.stamp;
@@ -52,7 +65,9 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
   // ones: (fx (t_x - x t_z), fy (t_y - y t_z)) / z pixels for t = velocity * seconds, x, y the ideal
   // normalised coordinates, z the depth found (the lens's stretch of that shift is left out).
   const Eigen::Vector3f moving = (linear_velocity * readout_).cast<float>();
-  const bool translating = moving.squaredNorm() > 0.0f;
+  const Eigen::Vector3f velocity = linear_velocity.cast<float>();
+  const float depth_offset = static_cast<float>(depth_time_offset_), readout = static_cast<float>(readout_);
+  const bool colour_translating = moving.squaredNorm() > 0.0f, translating = linear_velocity.squaredNorm() > 0.0;
   const float fx = static_cast<float>(camera_.fx), fy = static_cast<float>(camera_.fy);
   const float cx = static_cast<float>(camera_.cx), cy = static_cast<float>(camera_.cy);
   const Rgb8* colour_in = frame.color.data();
@@ -65,18 +80,25 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
     const float b = static_cast<float>(v - j * kGridStep) / kGridStep;
     const Eigen::Vector2f* top = &nodes[static_cast<std::size_t>(j) * nodes_x];
     const Eigen::Vector2f* bottom = top + nodes_x;
+    const Eigen::Vector2f* depth_top = depth_apart ? &depth_nodes[static_cast<std::size_t>(j) * nodes_x] : nullptr;
     Rgb8* colour_out = &out.color(0, v);
     float* depth_out = &out.depth(0, v);
     const float y_ideal = (v - cy) / fy;
     for (int i = 0; i + 1 < nodes_x && i * kGridStep < w; ++i) {
       const Eigen::Vector2f left = top[i] + b * (bottom[i] - top[i]);
       const Eigen::Vector2f step = (top[i + 1] + b * (bottom[i + 1] - top[i + 1]) - left) / static_cast<float>(kGridStep);
+      Eigen::Vector2f depth_left = Eigen::Vector2f::Zero(), depth_step = Eigen::Vector2f::Zero();
+      if (depth_apart) {
+        const Eigen::Vector2f* depth_bottom = depth_top + nodes_x;
+        depth_left = depth_top[i] + b * (depth_bottom[i] - depth_top[i]);
+        depth_step = (depth_top[i + 1] + b * (depth_bottom[i + 1] - depth_top[i + 1]) - depth_left) / static_cast<float>(kGridStep);
+      }
       const int u_end = std::min(w, (i + 1) * kGridStep);
       for (int u = i * kGridStep; u < u_end; ++u) {
         float sx = left.x() + (u - i * kGridStep) * step.x(), sy = left.y() + (u - i * kGridStep) * step.y();
         // NaN (no lookup) fails these tests too.
         if (!(sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y)) continue;
-        if (translating) {
+        if (colour_translating) {
           const float z = depth_in[static_cast<std::size_t>(sy + 0.5f) * w + static_cast<std::size_t>(sx + 0.5f)];
           if (isValidDepth(z)) {
             const float share = sy / h - 0.5f;  // of the readout, after the middle row
@@ -96,7 +118,25 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
         colour_out[u] = {static_cast<std::uint8_t>((w00 * p00.r + w10 * p10.r + w01 * p01.r + w11 * p11.r + 32768) >> 16),
                          static_cast<std::uint8_t>((w00 * p00.g + w10 * p10.g + w01 * p01.g + w11 * p11.g + 32768) >> 16),
                          static_cast<std::uint8_t>((w00 * p00.b + w10 * p10.b + w01 * p01.b + w11 * p11.b + 32768) >> 16)};
-        depth_out[u] = depth_in[static_cast<std::size_t>(y + (fb >= 0.5f)) * w + x + (fa >= 0.5f)];
+        if (!depth_apart) {
+          depth_out[u] = depth_in[static_cast<std::size_t>(y + (fb >= 0.5f)) * w + x + (fa >= 0.5f)];
+          continue;
+        }
+        // The depth's own lookup: its row's instant is depth_offset later, shifted by the camera's move
+        // over that time as the colour's is over the readout.
+        float dx = depth_left.x() + (u - i * kGridStep) * depth_step.x(), dy = depth_left.y() + (u - i * kGridStep) * depth_step.y();
+        if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
+        if (translating) {
+          const float z = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
+          if (isValidDepth(z)) {
+            const float seconds = depth_offset + readout * (dy / h - 0.5f);
+            const float x_ideal = (u - cx) / fx;
+            dx -= fx * seconds * (velocity.x() - x_ideal * velocity.z()) / z;
+            dy -= fy * seconds * (velocity.y() - y_ideal * velocity.z()) / z;
+            if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
+          }
+        }
+        depth_out[u] = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
       }
     }
   }

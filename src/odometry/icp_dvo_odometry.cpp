@@ -36,7 +36,8 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
                      std::to_string(camera_.width) + "x" + std::to_string(camera_.height) + " image");
   }
   if (!backend_) backend_ = makeOdometryBackend(camera_, config_);
-  rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout);
+  rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout,
+                                      config_.depth_time_offset);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -188,6 +189,10 @@ std::string IcpDvoOdometry::cameraModelText() const {
          << " s rolling shutter rectified (rolling_shutter_readout: 0 for a global-shutter camera)";
   } else {
     text << ", global shutter";
+  }
+  if (config_.depth_time_offset != 0.0) {
+    text << ", depth taken " << std::fixed << std::setprecision(3) << std::fabs(config_.depth_time_offset) << " s "
+         << (config_.depth_time_offset < 0.0 ? "before" : "after") << " the colour";
   }
   text << ", brightness " << (config_.brightness_model == BrightnessModel::kAffine ? "affine" : "fixed");
   return text.str();

@@ -36,6 +36,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"brightness_model", [&](const YAML::Node& n) { config.brightness_model = parseBrightnessModel(n.as<std::string>()); }},
       {"undistort_lens", [&](const YAML::Node& n) { config.undistort_lens = n.as<bool>(); }},
       {"rolling_shutter_readout", [&](const YAML::Node& n) { config.rolling_shutter_readout = n.as<double>(); }},
+      {"depth_time_offset", [&](const YAML::Node& n) { config.depth_time_offset = n.as<double>(); }},
       {"rgb_weight", [&](const YAML::Node& n) { config.rgb_weight = n.as<double>(); }},
       {"feature_initialisation",
        [&](const YAML::Node& n) { config.feature_initialisation = parseFeatureInitialisation(n.as<std::string>()); }},

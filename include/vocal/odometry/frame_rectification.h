@@ -30,10 +30,12 @@ class FrameRectification {
 
   FrameRectification() = default;  // nothing to undo
   // `readout_seconds`: from the first row's exposure to the last's (0: global shutter).
-  FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds);
+  // `depth_time_offset`: seconds the depth is taken after the colour; it is turned to the colour's instant.
+  FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds,
+                     double depth_time_offset = 0.0);
 
   // Whether frames need rectifying at all (a lens to undistort or a rolling shutter).
-  bool active() const { return !lens_.isNone() || readout_ > 0.0; }
+  bool active() const { return !lens_.isNone() || readout_ > 0.0 || depth_time_offset_ != 0.0; }
   // The frame as the ideal camera would have seen it; `angular_velocity` (rad/s, in the camera frame,
   // as the twist of odometry <- camera(t)) turns the rows of a rolling shutter. The frame must have
   // the camera's size.
@@ -41,12 +43,14 @@ class FrameRectification {
                     const Eigen::Vector3d& linear_velocity = Eigen::Vector3d::Zero()) const;
   // Where the ideal camera's pixel (u, v) is found in the input image (exact; `rectify` interpolates
   // this between grid nodes). NaN when the lens model does not reach it.
-  Eigen::Vector2d sourcePixel(double u, double v, const Eigen::Vector3d& angular_velocity) const;
+  // `time_offset`: seconds added to every row's instant (the depth's capture after the colour's).
+  Eigen::Vector2d sourcePixel(double u, double v, const Eigen::Vector3d& angular_velocity, double time_offset = 0.0) const;
 
  private:
   PinholeCamera camera_;
   LensDistortion lens_;
   double readout_ = 0.0;
+  double depth_time_offset_ = 0.0;
 };
 
 }  // namespace vocal

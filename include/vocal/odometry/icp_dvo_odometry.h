@@ -110,8 +110,8 @@ class IcpDvoOdometry {
   const RgbdFrame& lastRectifiedFrame() const { return rectified_; }
   const OdometryConfig& config() const { return config_; }
   // What the estimator undoes of the real camera, for the user: e.g. "lens plumb_bob undone, rows of a
-  // 0.020 s rolling shutter rectified (rolling_shutter_readout: 0 for a global-shutter camera),
-  // brightness affine".
+  // 0.020 s rolling shutter rectified (rolling_shutter_readout: 0 for a global-shutter camera), depth
+  // taken 0.005 s before the colour, brightness affine".
   std::string cameraModelText() const;
 
  private:
