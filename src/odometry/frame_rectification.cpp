@@ -39,23 +39,20 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
   const int w = camera_.width, h = camera_.height;
   // The lookup at grid nodes every kGridStep pixels (one node past the last row and column).
   const int nodes_x = (w - 1) / kGridStep + 2, nodes_y = (h - 1) / kGridStep + 2;
-  std::vector<Eigen::Vector2f> nodes(static_cast<std::size_t>(nodes_x) * nodes_y);
-#pragma omp parallel for schedule(static)
-  for (int j = 0; j < nodes_y; ++j)
-    for (int i = 0; i < nodes_x; ++i)
-      nodes[static_cast<std::size_t>(j) * nodes_x + i] =
-          sourcePixel(i * kGridStep, j * kGridStep, angular_velocity).cast<float>();
-  // Depth taken at another instant than the colour gets its own lookups, turned from that instant.
-  const bool depth_apart =
-      depth_time_offset_ != 0.0 && (angular_velocity.squaredNorm() > 0.0 || linear_velocity.squaredNorm() > 0.0);
-  std::vector<Eigen::Vector2f> depth_nodes(depth_apart ? nodes.size() : 0);
-  if (depth_apart) {
+  auto lookupGrid = [&](double time_offset) {
+    std::vector<Eigen::Vector2f> grid(static_cast<std::size_t>(nodes_x) * nodes_y);
 #pragma omp parallel for schedule(static)
     for (int j = 0; j < nodes_y; ++j)
       for (int i = 0; i < nodes_x; ++i)
-        depth_nodes[static_cast<std::size_t>(j) * nodes_x + i] =
-            sourcePixel(i * kGridStep, j * kGridStep, angular_velocity, depth_time_offset_).cast<float>();
-  }
+        grid[static_cast<std::size_t>(j) * nodes_x + i] =
+            sourcePixel(i * kGridStep, j * kGridStep, angular_velocity, time_offset).cast<float>();
+    return grid;
+  };
+  const std::vector<Eigen::Vector2f> nodes = lookupGrid(0.0);
+  // Depth taken at another instant than the colour gets its own lookups, turned from that instant.
+  const bool depth_apart =
+      depth_time_offset_ != 0.0 && (angular_velocity.squaredNorm() > 0.0 || linear_velocity.squaredNorm() > 0.0);
+  const std::vector<Eigen::Vector2f> depth_nodes = depth_apart ? lookupGrid(depth_time_offset_) : std::vector<Eigen::Vector2f>();
 
   RgbdFrame out;
   out.stamp = frame.stamp;

@@ -4,7 +4,9 @@
 //  - lens distortion (camera_info's D: TUM freiburg1's k1 = 0.26 moves corner pixels by ten);
 //  - a rolling shutter: rows are read one after another over `readout` seconds (a Kinect's colour
 //    sensor, and its depth registered to it), so a moving camera sees each row from another pose; on
-//    TUM freiburg1 this leaked 20-30 mm/s of rotation into translation.
+//    TUM freiburg1 this leaked 20-30 mm/s of rotation into translation;
+//  - depth taken at another instant than the colour (`depth_time_offset`): its own lookups, from that
+//    instant (TUM freiburg1's Kinect: about 5 ms before; its stamps do not say so).
 // Each output pixel is looked up where a global-shutter pinhole camera at the middle row's instant
 // would find it in the input: turned by the camera's rotation over the time between its row and the
 // middle one, shifted by its translation over that time at the depth found there (constant velocity,
