@@ -113,13 +113,16 @@ void BM_Features(benchmark::State& state) {
   state.counters["found_share"] = state.range(1) == 2 ? static_cast<double>(found) / state.iterations() : 0.0;
 }
 
-// Rectifying one frame as the estimator does before tracking: freiburg1's lens undone and a 20 ms
-// rolling shutter's rows turned and shifted by a hand-held motion (arg 1), or the lens alone (arg 0).
+// Rectifying one frame as the estimator does before tracking: freiburg1's lens undone, and with arg 1
+// as the defaults do it, a 20 ms rolling shutter's rows turned and shifted by a hand-held motion and
+// the depth (taken 5 ms before the colour) on its own grid; arg 0: the lens alone.
 void BM_Rectify(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(0)));
   const vocal::LensDistortion lens =
       vocal::LensDistortion::fromCameraInfo("plumb_bob", {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}, "freiburg1");
-  const vocal::FrameRectification rectification(f.camera, lens, state.range(1) ? 0.02 : 0.0);
+  const vocal::OdometryConfig defaults;
+  const vocal::FrameRectification rectification(f.camera, lens, state.range(1) ? defaults.rolling_shutter_readout : 0.0,
+                                                state.range(1) ? defaults.depth_time_offset : 0.0);
   const Eigen::Vector3d turning(0.2, 0.5, 0.1), moving(0.3, 0.1, -0.2);
   std::size_t i = 0;
   for (auto _ : state) benchmark::DoNotOptimize(rectification.rectify(f.frames[i++ % f.frames.size()], turning, moving));

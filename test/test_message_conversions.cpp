@@ -89,6 +89,13 @@ TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
   info.D.push_back(0.1);
   EXPECT_EQ(inputErrorOf([&] { vocal::lensDistortionFromCameraInfo(info, "/info"); }),
             "/info: distortion_model equidistant takes 4 coefficients, D has 5");
+  // The odometry tracks a lens it cannot read as a pinhole and says why; one it can, as read.
+  std::string problem;
+  EXPECT_TRUE(vocal::odometryLensFromCameraInfo(info, "/info", &problem).isNone());
+  EXPECT_EQ(problem, "/info: distortion_model equidistant takes 4 coefficients, D has 5: tracking without undoing the lens");
+  info.D.pop_back();
+  EXPECT_EQ(vocal::odometryLensFromCameraInfo(info, "/info", &problem).model, vocal::DistortionModel::kEquidistant);
+  EXPECT_EQ(problem, "");
   info.K = {};
   EXPECT_EQ(inputErrorOf([&] { vocal::fromCameraInfo(info, "/info"); }),
             "/info: K has zero focal lengths: the camera is not calibrated");

@@ -233,13 +233,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
               << rgb_sub_.getTopic() << " is " << rgb.width << "x" << rgb.height;
       throw InputError(message.str());
     }
-    // A lens model the odometry cannot undo is tracked as a pinhole (as before lens undistortion), said once.
-    LensDistortion lens;
-    try {
-      lens = lensDistortionFromCameraInfo(info, info_sub_.getTopic());
-    } catch (const InputError& e) {
-      NODELET_WARN_STREAM_ONCE("IcpDvoOdometry: " << e.what() << ": tracking without undoing the lens");
-    }
+    std::string lens_problem;
+    const LensDistortion lens = odometryLensFromCameraInfo(info, info_sub_.getTopic(), &lens_problem);
+    if (!lens_problem.empty()) NODELET_WARN_STREAM_ONCE("IcpDvoOdometry: " << lens_problem);
     const RgbdFrame frame = toRgbdFrame(rgb, depth, rgb_sub_.getTopic(), depth_sub_.getTopic());
     stage_sums_.conversion += lapMilliseconds(&clock);
     if (!odometry_ || !(odometry_->camera() == camera) || !(odometry_->lens() == lens)) {

@@ -306,6 +306,16 @@ LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, 
   return LensDistortion::fromCameraInfo(msg.distortion_model, msg.D, what);
 }
 
+LensDistortion odometryLensFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what, std::string* problem) {
+  problem->clear();
+  try {
+    return lensDistortionFromCameraInfo(msg, what);
+  } catch (const InputError& e) {
+    *problem = std::string(e.what()) + ": tracking without undoing the lens";
+    return LensDistortion();
+  }
+}
+
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what) {
   if (msg.K[0] == 0.0 || msg.K[4] == 0.0) {
     throw InputError(what + ": K has zero focal lengths: the camera is not calibrated");

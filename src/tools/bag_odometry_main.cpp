@@ -94,6 +94,7 @@ int run(const vocal::CommandLine& args) {
               {{rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}});
 
   std::unique_ptr<vocal::IcpDvoOdometry> odometry;
+  bool said_lens_problem = false;  // a lens the odometry cannot undo is said once
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
   int failures = 0, relocalisations = 0, dropped = 0;
@@ -104,15 +105,10 @@ int run(const vocal::CommandLine& args) {
     if (!info) throw vocal::InputError(path + ": " + rgb_topic + " at " + std::to_string(rgb.header.stamp.toSec()) +
                                        " comes before any message on " + info_topic);
     const vocal::PinholeCamera camera = vocal::fromCameraInfo(*info, info_topic);
-    // A lens model the odometry cannot undo is tracked as a pinhole, said once.
-    vocal::LensDistortion lens;
-    try {
-      lens = vocal::lensDistortionFromCameraInfo(*info, info_topic);
-    } catch (const vocal::InputError& e) {
-      static bool said = false;
-      if (!said) std::fprintf(stderr, "%s: tracking without undoing the lens\n", e.what());
-      said = true;
-    }
+    std::string lens_problem;
+    const vocal::LensDistortion lens = vocal::odometryLensFromCameraInfo(*info, info_topic, &lens_problem);
+    if (!lens_problem.empty() && !said_lens_problem) std::fprintf(stderr, "%s\n", lens_problem.c_str());
+    said_lens_problem = said_lens_problem || !lens_problem.empty();
     if (!odometry || !(odometry->camera() == camera) || !(odometry->lens() == lens)) {
       std::string notice;
       auto backend = vocal::makeOdometryBackend(camera, config, &notice);

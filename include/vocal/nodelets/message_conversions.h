@@ -56,6 +56,9 @@ DepthImage fromDepthImage(const sensor_msgs::Image& msg, const std::string& what
 PinholeCamera fromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
 // The lens model of distortion_model and D (LensDistortion::fromCameraInfo's checks, naming `what`).
 LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what);
+// The lens the odometry undoes: camera_info's D, or none (tracked as a pinhole) when it cannot be read;
+// `problem` then says why and the caller says it once. Empty when the lens was read.
+LensDistortion odometryLensFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what, std::string* problem);
 // The x, y, z (float32 or float64) of every finite point, in the cloud's frame. With `rings`, each of those
 // points' `ring` field (the laser a spinning lidar's driver says it came from: velodyne, ouster and
 // hesai drivers publish one, any integer type); left empty when the cloud has no such field.
