@@ -49,7 +49,22 @@ CONFIGURATIONS = [
     ("--reference frame --features always", ["--reference", "frame", "--features", "always"], {}),
     ("convergence 1e-4", [], {"convergence_translation": "1.0e-4", "convergence_rotation": "1.0e-4"}),
     ("--rgb-weight 1", ["--rgb-weight", "1"], {}),
+    ("--rgb-weight 5", ["--rgb-weight", "5"], {}),
     ("--rgb-weight 10", ["--rgb-weight", "10"], {}),
+    ("keyframe_after_unconverged", [], {"keyframe_after_unconverged": "true"}),
+    # ICP pairs weighted by a Kinect's depth noise as measured (bench/depth_noise.py), alone and with the
+    # photometric weight it asks for; keyframe_after_unconverged keeps a far keyframe from a wrong minimum.
+    ("depth_noise_quadratic 0.001", [], {"depth_noise_quadratic": "0.001"}),
+    ("depth_noise_quadratic 0.001 floor 0.002", [], {"depth_noise_quadratic": "0.001", "depth_noise_floor": "0.002"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 5", ["--rgb-weight", "5"], {"depth_noise_quadratic": "0.001"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 10", ["--rgb-weight", "10"], {"depth_noise_quadratic": "0.001"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 15", ["--rgb-weight", "15"], {"depth_noise_quadratic": "0.001"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 10 keyframe_after_unconverged", ["--rgb-weight", "10"],
+     {"depth_noise_quadratic": "0.001", "keyframe_after_unconverged": "true"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 15 keyframe_after_unconverged", ["--rgb-weight", "15"],
+     {"depth_noise_quadratic": "0.001", "keyframe_after_unconverged": "true"}),
+    ("depth_noise_quadratic 0.001 --rgb-weight 10 keyframe_after_unconverged --reference frame",
+     ["--rgb-weight", "10", "--reference", "frame"], {"depth_noise_quadratic": "0.001", "keyframe_after_unconverged": "true"}),
 ]
 
 

@@ -133,14 +133,15 @@ __kernel void normal_map(__global const float4* vertices, int width, int height,
   normals[y * width + x] = n;
 }
 
-// Adds one row (Jacobian J, residual r, weight w) to a private accumulator in the 29-value layout.
-inline void accumulate_row(float* sums, const float J[6], float r, float w) {
+// Adds one row (Jacobian J, residual r, weight w) to a private accumulator in the 29-value layout;
+// `residual_weight` weights the squared residual (the row's noise weight, or 1 for a robust weight).
+inline void accumulate_row(float* sums, const float J[6], float r, float w, float residual_weight) {
   int k = 0;
   for (int i = 0; i < 6; ++i) {
     for (int j = i; j < 6; ++j) sums[k++] += w * J[i] * J[j];
   }
   for (int i = 0; i < 6; ++i) sums[k++] -= w * r * J[i];
-  sums[k++] += r * r;
+  sums[k++] += residual_weight * r * r;
   sums[k] += 1.0f;
 }
 
@@ -173,10 +174,12 @@ inline float3 rotate_vector(__constant const float* pose, float3 n) {
 }
 
 // Point-to-plane ICP with projective data association; camera = (fx, fy, cx, cy) of the level.
+// depth_noise = (2 floor^2, quadratic^2, the variance at 1 m) of DepthNoiseModel: each pair weighted by
+// the inverse variance of its residual.
 __kernel void icp_rows(__global const float4* cur_vertices, __global const float4* cur_normals,
                        __global const float4* ref_vertices, __global const float4* ref_normals, int width, int height,
                        __constant const float* pose, float4 camera, float max_distance, float min_cos,
-                       __local float* scratch, __global float* partials) {
+                       float4 depth_noise, __local float* scratch, __global float* partials) {
   float sums[REDUCTION_VALUES];
   for (int k = 0; k < REDUCTION_VALUES; ++k) sums[k] = 0.0f;
   const int pixels = width * height;
@@ -196,7 +199,9 @@ __kernel void icp_rows(__global const float4* cur_vertices, __global const float
     if (sqrt(dot(d, d)) > max_distance || dot(rotate_vector(pose, nc), nr) < min_cos) continue;
     const float3 pxn = cross(p, nr);
     const float J[6] = {nr.x, nr.y, nr.z, pxn.x, pxn.y, pxn.z};
-    accumulate_row(sums, J, dot(nr, d), 1.0f);
+    const float za = p.z * p.z, zb = vr.z * vr.z;
+    const float w = depth_noise.z / (depth_noise.x + depth_noise.y * (za * za + zb * zb));
+    accumulate_row(sums, J, dot(nr, d), w, w);
   }
   reduce_group(sums, scratch, partials);
 }
@@ -238,7 +243,7 @@ __kernel void dvo_rows(__global const float4* cur_vertices, __global const float
     const float3 pxa = cross(p, a);
     const float J[6] = {a.x, a.y, a.z, pxa.x, pxa.y, pxa.z};
     const float abs_r = fabs(r);
-    accumulate_row(sums, J, r, abs_r <= limits.w ? 1.0f : limits.w / abs_r);
+    accumulate_row(sums, J, r, abs_r <= limits.w ? 1.0f : limits.w / abs_r, 1.0f);
   }
   reduce_group(sums, scratch, partials);
 }

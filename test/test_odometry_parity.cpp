@@ -88,7 +88,8 @@ using BackendFactory =
 void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width = 320, int height = 240) {
   for (bool noise : {false, true}) {
     const FramePair pair = renderPair(3, noise, width, height);
-    const vocal::OdometryConfig config;
+    vocal::OdometryConfig config;
+    config.depth_noise_quadratic = 0.001;  // pairs weighted by their depth noise (off by default)
     vocal::CpuOdometryBackend reference(pair.camera, config);
     const std::unique_ptr<vocal::OdometryBackend> other = make_other(pair.camera, config);
     for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second}) {
@@ -97,6 +98,12 @@ void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width
     }
     vocal::Vector6d offset;
     offset << 0.01, -0.005, 0.008, 0.004, -0.003, 0.002;
+    // Every ICP pair alike: the depth noise weights must reach the reference's ICP rows.
+    vocal::OdometryConfig uniform = config;
+    uniform.depth_noise_quadratic = 0.0;
+    vocal::CpuOdometryBackend reference_uniform(pair.camera, uniform);
+    for (const vocal::RgbdFrame* frame : {&pair.first, &pair.second})
+      reference_uniform.pushFrame(*frame, vocal::ReferenceUpdate::kPreviousFrame);
     vocal::BrightnessTransfer exposure;
     exposure.gain = 1.08f;
     exposure.bias = -0.02f;
@@ -107,6 +114,8 @@ void expectSameSystemsAsTheReference(const BackendFactory& make_other, int width
         EXPECT_GT(std::fabs(rgb.squared_residual_sum - reference.rgbSystem(level, T, 0.02, vocal::BrightnessTransfer()).squared_residual_sum),
                   1e-3 * rgb.squared_residual_sum)
             << "the exposure change did not reach the residuals, " << where;
+        EXPECT_GT((icp.A - reference_uniform.icpSystem(level, T).A).norm(), 1e-2 * icp.A.norm())
+            << "the depth noise weights did not reach the ICP rows, " << where;
         vocal::NormalEquations icp_together, rgb_together;
         other->trackingSystems(level, T, 0.02, exposure, &icp_together, &rgb_together);
         expectSameSystem(icp, icp_together, "icp " + where);

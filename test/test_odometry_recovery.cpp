@@ -74,6 +74,32 @@ TEST(OdometryKeyframes, KeyframesDriftLessThanFrameToFrame) {
   EXPECT_LT(ate_keyframe, 0.5 * ate_frame);
 }
 
+// keyframe_after_unconverged: a frame whose solve used every iteration of the finest level without
+// converging becomes the keyframe (its keyframe is too far for the dense basin). One iteration a level
+// and a convergence threshold no update meets make every solve unconverged: each frame becomes a
+// keyframe with the rule, and a keyframe serves several frames without it.
+TEST(OdometryKeyframes, AnUnconvergedSolveMakesTheFrameTheKeyframe) {
+  const Sequence sequence = makeSequence(12);
+  vocal::OdometryConfig config;
+  config.iterations = {1, 1, 1};
+  config.convergence_translation = config.convergence_rotation = 1e-12;
+  for (const bool rule : {false, true}) {
+    config.keyframe_after_unconverged = rule;
+    const TrackedRun run = track(sequence, config);
+    int keyframes = 0;
+    for (std::size_t i = 1; i < run.results.size(); ++i) {
+      ASSERT_TRUE(run.results[i].quality.trusted) << run.results[i].failure;
+      EXPECT_FALSE(run.results[i].quality.converged);
+      keyframes += run.results[i].new_keyframe;
+    }
+    if (rule) {
+      EXPECT_EQ(keyframes, 11);
+    } else {
+      EXPECT_LT(keyframes, 6);
+    }
+  }
+}
+
 // A hand over the lens for 10 frames (a third of a second): 5 frames bridged by the last motion
 // (predicted), then lost (covariance of nothing known), then relocalised against the keyframe with
 // the hole reported; the trajectory after it as good as an unbroken run's.

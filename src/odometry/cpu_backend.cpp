@@ -1,5 +1,7 @@
 #include "vocal/odometry/cpu_backend.h"
 
+#include "vocal/odometry/depth_noise_model.h"
+
 #include <cmath>
 
 namespace vocal {
@@ -40,6 +42,7 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
   const FloatWarp warp(reference_from_current, ref.camera);
   const float max_distance = static_cast<float>(config_.icp_max_distance);
   const float min_cos = static_cast<float>(std::cos(config_.icp_max_angle_deg * M_PI / 180.0));
+  const DepthNoiseModel depth_noise(config_.depth_noise_floor, config_.depth_noise_quadratic);
   NormalEquations system;
   for (int y = 0; y < cur.vertices.height(); ++y) {
     for (int x = 0; x < cur.vertices.width(); ++x) {
@@ -60,7 +63,7 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
       Vector6d J;
       J.head<3>() = nr.cast<double>();
       J.tail<3>() = p.cross(nr).cast<double>();
-      system.addRow(J, r, 1.0);
+      system.addRow(J, r, depth_noise.icpWeight(p.z(), vr.z()), true);
     }
   }
   return system;

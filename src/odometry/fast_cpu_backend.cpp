@@ -55,7 +55,8 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
                               static_cast<float>(config_.rgb_max_depth),
                               static_cast<float>(config_.rgb_max_depth_difference),
                               min_gradient * min_gradient,
-                              static_cast<float>(huber_threshold)};
+                              static_cast<float>(huber_threshold),
+                              DepthNoiseModel(config_.depth_noise_floor, config_.depth_noise_quadratic)};
   // Per thread, then summed in thread order: the same result for the same thread count every time.
   std::vector<std::array<double, 2 * kReductionValues>> partial(threads_);
 #pragma omp parallel num_threads(threads_)

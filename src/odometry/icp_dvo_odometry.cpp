@@ -220,7 +220,8 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
       keyframe.first_inliers > 0 && inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers;
   const bool fit_lost = keyframe.first_residual > 0.0 &&
                         residualLevelOf(solve.quality) > config_.keyframe_max_residual_growth * keyframe.first_residual;
-  return overlap_lost || fit_lost || solve.increment.translation().norm() > config_.keyframe_max_translation ||
+  const bool unconverged = config_.keyframe_after_unconverged && !solve.quality.converged;
+  return overlap_lost || fit_lost || unconverged || solve.increment.translation().norm() > config_.keyframe_max_translation ||
          rotationAngle(solve.increment) * 180.0 / M_PI > config_.keyframe_max_rotation_deg;
 }
 

@@ -33,6 +33,9 @@ void OdometryConfig::validate() const {
   if (!(min_depth >= 0.0 && max_depth > min_depth)) fail("depth range [min_depth, max_depth] is empty");
   if (depth_smoothing_radius < 0 || depth_smoothing_radius > 10) fail("depth_smoothing_radius must be in [0, 10]");
   if (!(depth_smoothing_factor > 0.0)) fail("depth_smoothing_factor must be positive");
+  if (!(depth_noise_floor > 0.0 && depth_noise_floor < 1.0)) fail("depth_noise_floor must be in (0, 1) metres");
+  if (!(depth_noise_quadratic >= 0.0 && depth_noise_quadratic < 1.0))
+    fail("depth_noise_quadratic must be in [0, 1) per metre (0 = every ICP pair weighted alike)");
   if (!(max_translation > 0.0)) fail("max_translation must be positive");
   if (!(rolling_shutter_readout >= 0.0 && rolling_shutter_readout <= 0.1))
     fail("rolling_shutter_readout must be in [0, 0.1] seconds (0 = global shutter)");

@@ -13,6 +13,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/odometry/opencl_context.h"
+#include "vocal/odometry/depth_noise_model.h"
 
 namespace vocal {
 
@@ -297,9 +298,11 @@ NormalEquations OpenClOdometryBackend::icpSystem(int level, const Eigen::Isometr
   const LevelBuffers& cur = s.frames[s.current].levels.at(level);
   const LevelBuffers& ref = s.frames[1 - s.current].levels.at(level);
   s.uploadPose(reference_from_current);
+  const DepthNoiseModel noise(s.config.depth_noise_floor, s.config.depth_noise_quadratic);
+  const cl_float4 depth_noise{{2.0f * noise.floor_squared, noise.quadratic_squared, noise.variance_at_one_metre, 0.0f}};
   setArgs(s.icp_rows, cur.vertices, cur.normals, ref.vertices, ref.normals, cur.width, cur.height, s.pose,
           s.levelCamera(level), static_cast<float>(s.config.icp_max_distance),
-          static_cast<float>(std::cos(s.config.icp_max_angle_deg * M_PI / 180.0)),
+          static_cast<float>(std::cos(s.config.icp_max_angle_deg * M_PI / 180.0)), depth_noise,
           LocalBytes{kReductionValues * s.local_size * sizeof(float)}, s.partials);
   return s.reduce(s.icp_rows, static_cast<std::size_t>(cur.width) * cur.height);
 }

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "vocal/core/pinhole_camera.h"
+#include "vocal/odometry/depth_noise_model.h"
 #include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/soa_frame_pyramid.h"
 
@@ -25,6 +26,7 @@ struct TrackingWarp {
 
 struct TrackingThresholds {
   float max_distance_squared, min_cos, max_depth, max_depth_difference, min_gradient_squared, huber;
+  DepthNoiseModel depth_noise;  // weights the ICP pairs
 };
 
 // TrackRowFunction (fast_cpu_backend.h): adds row y's rows to icp_sums / rgb_sums (29 values each;

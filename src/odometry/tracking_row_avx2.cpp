@@ -25,8 +25,9 @@ VOCAL_AVX2 inline void clear(RowAccumulator* sums) {
   sums->count = 0;
 }
 
-// acc += [w J^T J (upper triangle), -w r J, r^2] per lane.
-VOCAL_AVX2 inline void accumulate(RowAccumulator* sums, const __m256 J[6], __m256 r, __m256 w, __m256 ok) {
+// acc += [w J^T J (upper triangle), -w r J, r^2 (w r^2 where w is a noise weight)] per lane.
+VOCAL_AVX2 inline void accumulate(RowAccumulator* sums, const __m256 J[6], __m256 r, __m256 w, __m256 ok,
+                                  bool noise_weighted) {
   __m256 j[6], wj[6];
   // A failing lane (its values possibly NaN) becomes zeros.
   for (int a = 0; a < 6; ++a) j[a] = _mm256_and_ps(J[a], ok);
@@ -38,7 +39,7 @@ VOCAL_AVX2 inline void accumulate(RowAccumulator* sums, const __m256 J[6], __m25
   for (int a = 0; a < 6; ++a)
     for (int b = a; b < 6; ++b, ++m) acc[m] = _mm256_fmadd_ps(wj[a], j[b], acc[m]);
   for (int a = 0; a < 6; ++a) acc[21 + a] = _mm256_fnmadd_ps(wj[a], r, acc[21 + a]);
-  acc[27] = _mm256_fmadd_ps(r, r, acc[27]);
+  acc[27] = _mm256_fmadd_ps(noise_weighted ? _mm256_mul_ps(w, r) : r, r, acc[27]);
   sums->count += __builtin_popcount(_mm256_movemask_ps(ok));
 }
 
@@ -152,7 +153,13 @@ void trackRowAvx2(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const 
                            _mm256_fmsub_ps(pz, qnx, _mm256_mul_ps(px, qnz)),
                            _mm256_fmsub_ps(px, qny, _mm256_mul_ps(py, qnx))};
       const __m256 r = _mm256_fmadd_ps(qnx, dx, _mm256_fmadd_ps(qny, dy, _mm256_mul_ps(qnz, dz)));
-      accumulate(&icp_acc, J, r, one, ok);
+      // The pair's noise weight (DepthNoiseModel::icpWeight, same operations).
+      const __m256 za = _mm256_mul_ps(pz, pz), zb = _mm256_mul_ps(qvz, qvz);
+      const __m256 variance = _mm256_add_ps(_mm256_set1_ps(2.0f * th.depth_noise.floor_squared),
+                                            _mm256_mul_ps(_mm256_set1_ps(th.depth_noise.quadratic_squared),
+                                                          _mm256_add_ps(_mm256_mul_ps(za, za), _mm256_mul_ps(zb, zb))));
+      const __m256 weight = _mm256_div_ps(_mm256_set1_ps(th.depth_noise.variance_at_one_metre), variance);
+      accumulate(&icp_acc, J, r, weight, ok, true);
     }
 
     if (rgb_sums) {
@@ -197,7 +204,7 @@ void trackRowAvx2(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const 
       const __m256 abs_r = _mm256_and_ps(r, abs_mask), huber = _mm256_set1_ps(th.huber);
       const __m256 weight =
           _mm256_blendv_ps(_mm256_div_ps(huber, abs_r), one, _mm256_cmp_ps(abs_r, huber, _CMP_LE_OQ));
-      accumulate(&rgb_acc, J, r, weight, ok);
+      accumulate(&rgb_acc, J, r, weight, ok, false);
     }
   }
   if (icp_sums) addTo(icp_acc, icp_sums);

@@ -65,10 +65,10 @@ struct TermRows {
 // Unaligned block load, inline (a function returning a vector would change the ABI per clone).
 #define VOCAL_LOAD_LANES(lanes, pointer) std::memcpy(&(lanes), (pointer), sizeof(Lanes))
 
-// Adds the rows to the 29 packed values (upper triangle of sum w J^T J, -sum w r J, sum r^2, count):
-// float within the row, double across rows.
+// Adds the rows to the 29 packed values (upper triangle of sum w J^T J, -sum w r J, sum r^2 - or
+// sum w r^2 where w is the row's noise weight - and count): float within the row, double across rows.
 VOCAL_VECTOR_CLONES
-void reduceRows(const TermRows& rows, double* packed) {
+void reduceRows(const TermRows& rows, bool noise_weighted, double* packed) {
   Lanes acc[28] = {};
   for (int k = 0; k < rows.n; k += kLanes) {
     Lanes j[6], wj[6], w, r;
@@ -82,7 +82,7 @@ void reduceRows(const TermRows& rows, double* packed) {
     for (int a = 0; a < 6; ++a)
       for (int b = a; b < 6; ++b) acc[m++] += wj[a] * j[b];
     for (int a = 0; a < 6; ++a) acc[21 + a] -= wj[a] * r;
-    acc[27] += r * r;
+    acc[27] += (noise_weighted ? w * r : r) * r;
   }
   for (int m = 0; m < 28; ++m) {
     float sum = 0.0f;
@@ -130,7 +130,7 @@ void collectRows(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const T
       // NaN (no reference vertex or normal) fails both comparisons.
       ok &= (dx * dx + dy * dy + dz * dz <= th.max_distance_squared) & (ncx * q.nx + ncy * q.ny + ncz * q.nz >= th.min_cos);
       const float J[6] = {q.nx, q.ny, q.nz, py * q.nz - pz * q.ny, pz * q.nx - px * q.nz, px * q.ny - py * q.nx};
-      icp->pushIf(ok, J, q.nx * dx + q.ny * dy + q.nz * dz, 1.0f);
+      icp->pushIf(ok, J, q.nx * dx + q.ny * dy + q.nz * dz, th.depth_noise.icpWeight(pz, q.vz));
     }
 
     if (rgb) {
@@ -167,11 +167,11 @@ void trackRowPortable(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, co
   collectRows(cur, ref, warp, thresholds, y, icp_sums ? &icp_rows : nullptr, rgb_sums ? &rgb_rows : nullptr);
   if (icp_sums) {
     icp_rows.padToBlock();
-    reduceRows(icp_rows, icp_sums);
+    reduceRows(icp_rows, true, icp_sums);
   }
   if (rgb_sums) {
     rgb_rows.padToBlock();
-    reduceRows(rgb_rows, rgb_sums);
+    reduceRows(rgb_rows, false, rgb_sums);
   }
 }
 

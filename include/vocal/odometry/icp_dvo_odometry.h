@@ -33,7 +33,7 @@ std::string trackingStateName(TrackingState state);  // tracking, relocalised, p
 struct OdometryQuality {
   int icp_inliers = 0;        // at the finest level, last iteration
   int rgb_inliers = 0;
-  double icp_rmse = 0.0;      // metres
+  double icp_rmse = 0.0;      // metres, each pair weighted by its depth noise (as a pair at 1 m)
   double rgb_rmse = 0.0;      // intensity units
   int iterations = 0;         // solver steps over all levels
   bool converged = false;     // the finest level's last update fell below the convergence thresholds

@@ -12,14 +12,17 @@ constexpr int kReductionValues = 29;
 struct NormalEquations {
   Matrix6d A = Matrix6d::Zero();
   Vector6d b = Vector6d::Zero();
-  double squared_residual_sum = 0.0;  // unweighted
+  // Of the residuals, each weighted by its noise weight where it has one (ICP's, DepthNoiseModel),
+  // not by a robust weight (the photometric term's Huber weights): the term's variance at unit weight.
+  double squared_residual_sum = 0.0;
   double count = 0.0;                 // inliers
 
-  // Adds one row with Jacobian J, residual r and weight w (A += w J^T J, b -= w J^T r).
-  void addRow(const Vector6d& J, double r, double w) {
+  // Adds one row with Jacobian J, residual r and weight w (A += w J^T J, b -= w J^T r); a noise weight
+  // (the inverse of the row's variance, relative) also weights its squared residual.
+  void addRow(const Vector6d& J, double r, double w, bool noise_weight = false) {
     A.noalias() += w * J * J.transpose();
     b.noalias() -= w * r * J;
-    squared_residual_sum += r * r;
+    squared_residual_sum += (noise_weight ? w * r : r) * r;
     count += 1.0;
   }
 

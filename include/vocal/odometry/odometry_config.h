@@ -36,6 +36,14 @@ struct OdometryConfig {
   // Removes structured-light noise and disparity steps that otherwise bias point-to-plane ICP.
   int depth_smoothing_radius = 3;
   double depth_smoothing_factor = 0.03;   // 1 / metres
+  // The depth's noise along the ray, sqrt(floor^2 + (quadratic * z^2)^2) metres (DepthNoiseModel):
+  // each ICP pair is weighted by the inverse variance of its point-to-plane residual, so that far,
+  // noisy points count for less. Measured on the real TUM freiburg1 frames (bench/depth_noise.py, all
+  // three sequences alike): 1.0 mm * z^2 above a 0.5 mm floor, i.e. quadratic 0.001. Off (0: every
+  // pair alike) by default: with it, the photometric term needs rgb_weight 10 to win on every real
+  // sequence, and that weight lets image noise move an untextured scene (docs/benchmarks.md).
+  double depth_noise_floor = 0.0005;      // metres
+  double depth_noise_quadratic = 0.0;     // 1 / metres
 
   // DVO: photometric residuals on intensity in [0, 1].
   double rgb_max_depth = 6.0;            // metres
@@ -85,6 +93,9 @@ struct OdometryConfig {
   double keyframe_max_residual_growth = 1.5;  // ... or its residual rose above this times the first's
   double keyframe_max_translation = 0.3;  // metres
   double keyframe_max_rotation_deg = 15.0;
+  // ... or its solve against the keyframe used every iteration of the finest level without converging
+  // (the keyframe is far enough that the dense solve's basin is stretched).
+  bool keyframe_after_unconverged = false;
   int keyframes_kept = 10;               // the most recent keyframes relocalisation tries
 
   // Tracking loss: frames whose solve fails a check are not trusted. The first of them are bridged by
