@@ -1,8 +1,8 @@
 #include "vocal/odometry/cpu_backend.h"
 
-#include "vocal/odometry/depth_noise_model.h"
-
 #include <cmath>
+
+#include "vocal/odometry/depth_noise_model.h"
 
 namespace vocal {
 

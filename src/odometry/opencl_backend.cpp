@@ -12,8 +12,8 @@
 #include <CL/cl.h>
 
 #include "vocal/core/errors.h"
-#include "vocal/odometry/opencl_context.h"
 #include "vocal/odometry/depth_noise_model.h"
+#include "vocal/odometry/opencl_context.h"
 
 namespace vocal {
 

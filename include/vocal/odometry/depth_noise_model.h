@@ -2,9 +2,9 @@
 // The noise of a depth camera's measurement along its ray: sigma(z)^2 = floor^2 + (quadratic z^2)^2.
 // Structured light and stereo measure disparity, so their depth noise grows with the square of the
 // depth (Khoshelham and Elberink 2012; Nguyen et al. 2012); on the real TUM freiburg1 Kinect frames
-// the residuals of quadratic surfaces fitted in 7x7 patches give 1.0 mm * z^2 above a 0.5 mm floor on all three
-// sequences (docs/benchmarks.md). ICP weights each point-to-plane pair by it: a pair 3 m away is
-// about 70 times less certain than one at 1 m and must not pull the solve as hard.
+// the residuals of quadratic surfaces fitted in 7x7 patches give 1.0 mm * z^2 above a 0.5 mm floor
+// on all three sequences (bench/depth_noise.py, docs/benchmarks.md). ICP can weight each
+// point-to-plane pair by it: a pair 3 m away has 65 times the variance of one at 1 m.
 
 namespace vocal {
 
