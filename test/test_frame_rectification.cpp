@@ -73,6 +73,13 @@ TEST(FrameRectification, LookupIsTheLensProjectionOfTheIdealRayWhenStill) {
   }
   EXPECT_FALSE(vocal::FrameRectification().active());
   EXPECT_FALSE(vocal::FrameRectification(camera, vocal::LensDistortion(), 0.0).active());
+  // The lens alone comes out the same whatever the motion: a keyframe rectified at rest is final.
+  EXPECT_FALSE(vocal::FrameRectification(camera, lens, 0.0).dependsOnMotion());
+  EXPECT_TRUE(vocal::FrameRectification(camera, lens, 0.0, -0.005).dependsOnMotion());
+  EXPECT_TRUE(rectification.dependsOnMotion());
+  const vocal::FrameRectification lens_only(camera, lens, 0.0);
+  const Eigen::Vector3d turning(0.2, -0.5, 0.1);
+  EXPECT_EQ(lens_only.sourcePixel(100.0, 50.0, turning), lens_only.sourcePixel(100.0, 50.0, Eigen::Vector3d::Zero()));
 }
 
 // A camera panning right (turning about its y axis, image content moving left) while the rows are

@@ -364,7 +364,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   }
   const RgbdFrame& frame = rectification_.active() ? rectified_ : input;
   // A keyframe made now keeps the frame as given when its rows could not be turned (no motion yet).
-  const bool rectified_at_rest = rectification_.active() && !(velocity_seconds_ > 0.0);
+  const bool rectified_at_rest = rectification_.dependsOnMotion() && !(velocity_seconds_ > 0.0);
   OdometryResult result;
   // Each frame's features are extracted at most once: matched as the current frame, kept with it if
   // it becomes a keyframe. In fallback mode only when asked for.

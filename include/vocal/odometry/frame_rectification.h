@@ -38,6 +38,9 @@ class FrameRectification {
 
   // Whether frames need rectifying at all (a lens to undistort or a rolling shutter).
   bool active() const { return !lens_.isNone() || readout_ > 0.0 || depth_time_offset_ != 0.0; }
+  // Whether the result depends on the camera's motion (a rolling shutter, or depth taken at another
+  // instant); the lens alone does not, so a frame rectified at rest need not be rectified again.
+  bool dependsOnMotion() const { return readout_ > 0.0 || depth_time_offset_ != 0.0; }
   // The frame as the ideal camera would have seen it; `angular_velocity` (rad/s, in the camera frame,
   // as the twist of odometry <- camera(t)) turns the rows of a rolling shutter. The frame must have
   // the camera's size.
