@@ -62,6 +62,15 @@ VOCAL_AVX2 inline __m256 clampTo(__m256 value, float low, float high) {
 
 VOCAL_AVX2 inline __m256 gather(const float* base, __m256i index) { return _mm256_i32gather_ps(base, index, 4); }
 
+// DepthNoiseModel::icpWeight of 8 pairs, the same operations.
+VOCAL_AVX2 inline __m256 depthNoiseWeight(const DepthNoiseModel& noise, __m256 z_current, __m256 z_reference) {
+  const __m256 a = _mm256_mul_ps(z_current, z_current), b = _mm256_mul_ps(z_reference, z_reference);
+  const __m256 variance = _mm256_add_ps(_mm256_set1_ps(2.0f * noise.floor_squared),
+                                        _mm256_mul_ps(_mm256_set1_ps(noise.quadratic_squared),
+                                                      _mm256_add_ps(_mm256_mul_ps(a, a), _mm256_mul_ps(b, b))));
+  return _mm256_div_ps(_mm256_set1_ps(noise.variance_at_one_metre), variance);
+}
+
 VOCAL_AVX2 inline __m256 mul3(const float* row, __m256 x, __m256 y, __m256 z) {
   return _mm256_fmadd_ps(_mm256_set1_ps(row[0]), x,
                          _mm256_fmadd_ps(_mm256_set1_ps(row[1]), y, _mm256_mul_ps(_mm256_set1_ps(row[2]), z)));
@@ -153,13 +162,7 @@ void trackRowAvx2(const SoaPyramidLevel& cur, const SoaPyramidLevel& ref, const 
                            _mm256_fmsub_ps(pz, qnx, _mm256_mul_ps(px, qnz)),
                            _mm256_fmsub_ps(px, qny, _mm256_mul_ps(py, qnx))};
       const __m256 r = _mm256_fmadd_ps(qnx, dx, _mm256_fmadd_ps(qny, dy, _mm256_mul_ps(qnz, dz)));
-      // The pair's noise weight (DepthNoiseModel::icpWeight, same operations).
-      const __m256 za = _mm256_mul_ps(pz, pz), zb = _mm256_mul_ps(qvz, qvz);
-      const __m256 variance = _mm256_add_ps(_mm256_set1_ps(2.0f * th.depth_noise.floor_squared),
-                                            _mm256_mul_ps(_mm256_set1_ps(th.depth_noise.quadratic_squared),
-                                                          _mm256_add_ps(_mm256_mul_ps(za, za), _mm256_mul_ps(zb, zb))));
-      const __m256 weight = _mm256_div_ps(_mm256_set1_ps(th.depth_noise.variance_at_one_metre), variance);
-      accumulate(&icp_acc, J, r, weight, ok, true);
+      accumulate(&icp_acc, J, r, depthNoiseWeight(th.depth_noise, pz, qvz), ok, true);
     }
 
     if (rgb_sums) {

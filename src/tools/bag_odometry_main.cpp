@@ -107,8 +107,10 @@ int run(const vocal::CommandLine& args) {
     const vocal::PinholeCamera camera = vocal::fromCameraInfo(*info, info_topic);
     std::string lens_problem;
     const vocal::LensDistortion lens = vocal::odometryLensFromCameraInfo(*info, info_topic, &lens_problem);
-    if (!lens_problem.empty() && !said_lens_problem) std::fprintf(stderr, "%s\n", lens_problem.c_str());
-    said_lens_problem = said_lens_problem || !lens_problem.empty();
+    if (!lens_problem.empty() && !said_lens_problem) {
+      std::fprintf(stderr, "%s\n", lens_problem.c_str());
+      said_lens_problem = true;
+    }
     if (!odometry || !(odometry->camera() == camera) || !(odometry->lens() == lens)) {
       std::string notice;
       auto backend = vocal::makeOdometryBackend(camera, config, &notice);

@@ -54,10 +54,10 @@ int run(const vocal::CommandLine& args) {
   std::string notice;
   auto backend = vocal::makeOdometryBackend(sequence.camera(), config, &notice);
   if (!notice.empty()) std::fprintf(stderr, "%s\n", notice.c_str());
-  const std::string backend_name = backend->name();
   vocal::IcpDvoOdometry odometry(sequence.camera(), config, std::move(backend), sequence.lens());
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s; %s\n", frames, sequence.cameraSource().c_str(),
-               vocal::odometryModeName(config.mode).c_str(), backend_name.c_str(), odometry.cameraModelText().c_str());
+               vocal::odometryModeName(config.mode).c_str(), odometry.backend().name().c_str(),
+               odometry.cameraModelText().c_str());
 
   if (args.has("start-from-ground-truth")) {
     if (!sequence.hasGroundTruth()) throw vocal::InputError(sequence.folder() + ": --start-from-ground-truth needs groundtruth.txt");
