@@ -341,3 +341,28 @@ TEST(FrameRectification, DepthTakenBeforeTheColourIsTurnedToTheColoursInstant) {
   // Taken together: nothing to turn, nothing to do.
   EXPECT_FALSE(vocal::FrameRectification(camera, vocal::LensDistortion(), 0.0, 0.0).active());
 }
+
+// Where a moving camera's rows are looked up outside the input (the image's edges, turned and shifted
+// over the readout), the rectified frame has no depth and the colour of the nearest border pixel: a
+// black band there was an edge that moved with the estimated motion, and in an untextured room the
+// photometric term tracked it rather than the room (OdometryAccuracy.RollingShutterUntexturedRoom...).
+TEST(FrameRectification, LookupsOutsideTheInputGiveNoDepthAndNoFalseEdge) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(160, 120);
+  vocal::RgbdFrame frame;
+  frame.color = vocal::ColorImage(camera.width, camera.height);
+  frame.depth = vocal::DepthImage(camera.width, camera.height, 2.0f);
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) frame.color(x, y) = {100, 120, 140};
+  const vocal::RgbdFrame rectified = vocal::FrameRectification(camera, freiburg1Lens(), 0.03)
+                                         .rectify(frame, Eigen::Vector3d(0.5, 2.0, 0.3), Eigen::Vector3d(0.5, 0.2, 0.1));
+  int outside = 0, off_colour = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      outside += rectified.depth(x, y) == 0.0f;
+      const vocal::Rgb8 c = rectified.color(x, y);
+      off_colour += c.r != 100 || c.g != 120 || c.b != 140;
+    }
+  }
+  EXPECT_GT(outside, camera.width) << "the motion must take some lookups outside the input for this test to mean anything";
+  EXPECT_EQ(off_colour, 0);
+}

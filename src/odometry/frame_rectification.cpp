@@ -94,16 +94,24 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
       for (int u = i * kGridStep; u < u_end; ++u) {
         float sx = left.x() + (u - i * kGridStep) * step.x(), sy = left.y() + (u - i * kGridStep) * step.y();
         // NaN (no lookup) fails these tests too.
-        if (!(sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y)) continue;
-        if (colour_translating) {
+        bool seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
+        if (seen && colour_translating) {
           const float z = depth_in[static_cast<std::size_t>(sy + 0.5f) * w + static_cast<std::size_t>(sx + 0.5f)];
           if (isValidDepth(z)) {
             const float share = sy / h - 0.5f;  // of the readout, after the middle row
             const float x_ideal = (u - cx) / fx;
             sx -= fx * share * (moving.x() - x_ideal * moving.z()) / z;
             sy -= fy * share * (moving.y() - y_ideal * moving.z()) / z;
-            if (!(sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y)) continue;
+            seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
           }
+        }
+        if (!seen) {
+          // Outside the input: no depth, and the colour of the nearest border pixel. Black there made an
+          // edge that moves with the estimated motion, not with the scene, and the photometric term
+          // tracked it (in an untextured room it outweighed the scene's creases: DVO then turned
+          // against the true rotation).
+          sx = std::clamp(std::isnan(sx) ? static_cast<float>(u) : sx, 0.0f, max_x);
+          sy = std::clamp(std::isnan(sy) ? static_cast<float>(v) : sy, 0.0f, max_y);
         }
         const int x = std::min(static_cast<int>(sx), w - 2), y = std::min(static_cast<int>(sy), h - 2);
         const float fa = sx - x, fb = sy - y;
@@ -115,6 +123,7 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
         colour_out[u] = {static_cast<std::uint8_t>((w00 * p00.r + w10 * p10.r + w01 * p01.r + w11 * p11.r + 32768) >> 16),
                          static_cast<std::uint8_t>((w00 * p00.g + w10 * p10.g + w01 * p01.g + w11 * p11.g + 32768) >> 16),
                          static_cast<std::uint8_t>((w00 * p00.b + w10 * p10.b + w01 * p01.b + w11 * p11.b + 32768) >> 16)};
+        if (!seen) continue;
         if (!depth_apart) {
           depth_out[u] = depth_in[static_cast<std::size_t>(y + (fb >= 0.5f)) * w + x + (fa >= 0.5f)];
           continue;
