@@ -266,10 +266,10 @@ TEST(OdometryAccuracy, DepthNoiseWeightsLowerIcpDriftOnNoisyFarDepth) {
 
 // An untextured room through a Kinect's noise (colour 2 levels, depth growing with z^2), rendered by a
 // global shutter but rectified with the default 20 ms readout (a user who left the setting on): the few
-// pixels with gradient lie on creases and edges, and they must help the fused solve, not pull it from
-// what ICP alone finds (6.3 mm). 60 frames: fused 2.7 mm; rgb_weight 5 2.0, 10 3.7, depth-noise ICP
-// weights + rgb_weight 10 3.2. (Before the rectification stopped writing black outside its lookups the
-// same run gave 12.7 mm, rgb_weight 10 25.6: the photometric term tracked that band.)
+// pixels with gradient lie on creases and edges, and the fused solve must stay near what ICP alone finds
+// (6.3 mm over 60 frames): defaults (rgb_weight 20) 5.4 mm, rgb_weight 3 2.7. (Before the rectification
+// stopped writing black outside its lookups, rgb_weight 3 gave 12.7 mm and 10 gave 25.6: the
+// photometric term tracked that band.)
 TEST(OdometryAccuracy, FusedTracksAnUntexturedRoomThroughKinectNoise) {
   const RunSummary icp = runOnScene(vocal::SceneVariant::kBareRoom, vocal::OdometryMode::kIcp, 60, true);
   const RunSummary fused = runOnScene(vocal::SceneVariant::kBareRoom, vocal::OdometryMode::kFused, 60, true);
@@ -278,14 +278,17 @@ TEST(OdometryAccuracy, FusedTracksAnUntexturedRoomThroughKinectNoise) {
   std::cout << "untextured room, Kinect-like noise, 60 frames: ATE fused " << ate_fused * 1000 << " mm, ICP alone "
             << ate_icp * 1000 << " mm\n";
   EXPECT_LT(ate_icp, 0.01);
-  EXPECT_LT(ate_fused, ate_icp);
+  EXPECT_LT(ate_fused, 1.25 * ate_icp);
 }
 
 // The untextured room as a Kinect takes it: rows read over 20 ms, depth and colour through its noise,
 // rectified by the defaults. The creases are all the photometric term has, and whatever else the
 // rectified frame shows as an edge wins against them: until the rectification filled lookups outside
 // the input with black, that band (moving with the estimated motion) turned DVO alone against the true
-// rotation (ATE 290 mm over 90 frames) and the fused solve 10x off ICP alone.
+// rotation (ATE 254 mm over 60 frames) and the fused solve (rgb_weight 3) to 10.6 mm, ICP alone 5.8.
+// Now DVO alone 13.0 mm, rgb_weight 3 3.7 mm; the default weight (20, chosen on the real textured
+// sequences, where it lowers RPE by 18-41 %) 6.3 mm: the price of that weight where there is no
+// texture, held within a quarter of ICP alone.
 TEST(OdometryAccuracy, RollingShutterUntexturedRoomIsTrackedByTheCreasesAlone) {
   const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kBareRoom);
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
@@ -296,11 +299,12 @@ TEST(OdometryAccuracy, RollingShutterUntexturedRoomIsTrackedByTheCreasesAlone) {
   for (int i = 0; i < options.frames; ++i) {
     frames.push_back(vocal::renderRollingShutterFrame(scene, camera, truth, i, 0.02, vocal::kinectLikeSensorModel(), 300 + i));
   }
+  const double default_weight = vocal::OdometryConfig().rgb_weight;
   std::map<std::string, double> ate;
-  for (const auto& [name, mode, rgb_weight] : {std::make_tuple("icp", vocal::OdometryMode::kIcp, 3.0),
-                                               std::make_tuple("rgb", vocal::OdometryMode::kRgb, 3.0),
-                                               std::make_tuple("fused", vocal::OdometryMode::kFused, 3.0),
-                                               std::make_tuple("fused, rgb_weight 10", vocal::OdometryMode::kFused, 10.0)}) {
+  for (const auto& [name, mode, rgb_weight] : {std::make_tuple("icp", vocal::OdometryMode::kIcp, default_weight),
+                                               std::make_tuple("rgb", vocal::OdometryMode::kRgb, default_weight),
+                                               std::make_tuple("fused", vocal::OdometryMode::kFused, default_weight),
+                                               std::make_tuple("fused, rgb_weight 3", vocal::OdometryMode::kFused, 3.0)}) {
     vocal::OdometryConfig config;
     config.mode = mode;
     config.rgb_weight = rgb_weight;
@@ -319,8 +323,8 @@ TEST(OdometryAccuracy, RollingShutterUntexturedRoomIsTrackedByTheCreasesAlone) {
     std::cout << "untextured room, rolling shutter rectified, 60 frames, " << name << ": ATE " << ate[name] * 1000 << " mm\n";
   }
   EXPECT_LT(ate["rgb"], 0.02);
-  EXPECT_LT(ate["fused"], ate["icp"]);
-  EXPECT_LT(ate["fused, rgb_weight 10"], ate["icp"]);
+  EXPECT_LT(ate["fused"], 1.25 * ate["icp"]);
+  EXPECT_LT(ate["fused, rgb_weight 3"], ate["icp"]);
 }
 
 TEST(OdometryAccuracy, DvoTracksAFlatWallWhereIcpIsDegenerate) {
@@ -483,6 +487,38 @@ TEST(OdometryRealData, RealCameraModelsLowerDriftOnEveryRealSequence) {
     }
     std::cout << name << ": RPE " << rpe[1] << " m/s with the camera modelled, " << rpe[0] << " as a pinhole\n";
     EXPECT_LT(rpe[1], rpe[0]) << name;
+  }
+  EXPECT_GT(sequences, 0);
+}
+
+// Every real TUM sequence in ../shared: tracking against keyframes, the default, must drift no more
+// than tracking frame to frame (RPE over 1 s within 1 %), and no frame may go untrusted. Measured from
+// frames 0-40 (five starts, docs/benchmarks.md): keyframes 10-24 % below frame to frame.
+TEST(OdometryRealData, KeyframesDriftNoMoreThanFrameToFrameOnEveryRealSequence) {
+  if (vocal_test::tumDataFolder().empty()) GTEST_SKIP() << "TUM data not present";
+  int sequences = 0;
+  for (const char* name : {"rgbd_dataset_freiburg1_xyz_first300", "rgbd_dataset_freiburg1_desk_first120",
+                           "rgbd_dataset_freiburg1_rpy_first150"}) {
+    const std::string folder = std::string(VOCAL_TUM_DATA_DIR) + "/" + name;
+    if (!std::ifstream(folder + "/rgb.txt")) {
+      std::cerr << "*** " << folder << " not found: SKIPPED ***\n";
+      continue;
+    }
+    ++sequences;
+    const vocal::TumSequence sequence = vocal::TumSequence::open(folder);
+    std::map<vocal::TrackingReference, double> rpe;
+    for (const vocal::TrackingReference reference : {vocal::TrackingReference::kKeyframe, vocal::TrackingReference::kFrame}) {
+      vocal::OdometryConfig config;
+      config.tracking_reference = reference;
+      vocal::IcpDvoOdometry odometry(sequence.camera(), config, nullptr, sequence.lens());
+      int untrusted = 0;
+      const vocal::Trajectory estimate = trackSequence(sequence, &odometry, &untrusted);
+      EXPECT_EQ(untrusted, 0) << name;
+      rpe[reference] = vocal::computeRpe(sequence.groundTruth(), estimate).translation_rmse_m_per_s;
+    }
+    std::cout << name << ": RPE " << rpe[vocal::TrackingReference::kKeyframe] << " m/s against keyframes, "
+              << rpe[vocal::TrackingReference::kFrame] << " frame to frame\n";
+    EXPECT_LE(rpe[vocal::TrackingReference::kKeyframe], 1.01 * rpe[vocal::TrackingReference::kFrame]) << name;
   }
   EXPECT_GT(sequences, 0);
 }

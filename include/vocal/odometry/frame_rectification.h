@@ -11,7 +11,9 @@
 // would find it in the input: turned by the camera's rotation over the time between its row and the
 // middle one, shifted by its translation over that time at the depth found there (constant velocity,
 // the last measured), then distorted. Colour is interpolated bilinearly, depth taken from the nearest
-// pixel (interpolating across an edge would invent surfaces). Depth values are kept as measured:
+// pixel (interpolating across an edge would invent surfaces). A lookup outside the input gives no depth
+// and the nearest border pixel's colour: black there was an edge moving with the estimated motion,
+// which the photometric term tracked. Depth values are kept as measured:
 // moving them to the middle instant too (first order in the motion) made freiburg1_xyz 12 % worse in
 // RPE, although a rendered rolling-shutter depth sensor would want it. The rotation's lookup is exact
 // on a grid of nodes every kGridStep pixels and interpolated between them (the map is smooth).
