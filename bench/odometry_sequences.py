@@ -52,6 +52,11 @@ CONFIGURATIONS = [
     ("--features off", ["--features", "off"], {}),
     ("--reference frame --features always", ["--reference", "frame", "--features", "always"], {}),
     ("convergence 1e-4", [], {"convergence_translation": "1.0e-4", "convergence_rotation": "1.0e-4"}),
+    # Fewer steps at full size: the coarse levels converge; one or two steps refine.
+    ("iterations 2 5 4", [], {"iterations": "[2, 5, 4]"}),
+    ("iterations 1 5 4", [], {"iterations": "[1, 5, 4]"}),
+    ("iterations 1 5 4 --reference frame", ["--reference", "frame"], {"iterations": "[1, 5, 4]"}),
+    ("iterations 1 8 4", [], {"iterations": "[1, 8, 4]"}),
     ("--rgb-weight 3 (the default before 2026-11-26)", ["--rgb-weight", "3"], {}),
     ("--rgb-weight 10", ["--rgb-weight", "10"], {}),
     ("--rgb-weight 15", ["--rgb-weight", "15"], {}),
@@ -119,6 +124,10 @@ def main():
     configurations = CONFIGURATIONS
     if args.configs:
         wanted = args.configs.split(",")
+        unknown = [label for label in wanted if label not in [c[0] for c in CONFIGURATIONS]]
+        if unknown:
+            sys.exit("bench/odometry_sequences.py: unknown configuration %s; the labels are:\n  %s" %
+                     (", ".join("'%s'" % label for label in unknown), "\n  ".join(c[0] for c in CONFIGURATIONS)))
         configurations = [c for c in CONFIGURATIONS if c[0] in wanted or c[0] in ("default", "--reference frame")]
     folders = sorted(f for f in glob.glob(os.path.join(args.data, "rgbd_dataset_*")) if os.path.isdir(f))
     if not folders:
