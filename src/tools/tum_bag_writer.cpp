@@ -60,11 +60,13 @@ void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosb
     const RgbdFrame frame = sequence.loadFrame(i);
     const ros::Time rgb_stamp(entry.rgb.stamp), depth_stamp(entry.depth.stamp);
     bag->write(spec.rgb_image, rgb_stamp, spec.color(frame.color, spec.rgb_frame, rgb_stamp));
-    if (!options.without_camera_info) bag->write(spec.rgb_info, rgb_stamp, toCameraInfo(camera, spec.rgb_frame, rgb_stamp));
+    // The folder's lens (TUM's published D for freiburg1/2): its images are not undistorted, and a
+    // camera_info without it would have the odometry take them as a pinhole's.
+    if (!options.without_camera_info) bag->write(spec.rgb_info, rgb_stamp, toCameraInfo(camera, spec.rgb_frame, rgb_stamp, sequence.lens()));
     if (!options.without_depth) {
       bag->write(spec.depth_image, depth_stamp, spec.depth(frame.depth, spec.depth_frame, depth_stamp));
       if (!options.without_camera_info)
-        bag->write(spec.depth_info, depth_stamp, toCameraInfo(camera, spec.depth_frame, depth_stamp));
+        bag->write(spec.depth_info, depth_stamp, toCameraInfo(camera, spec.depth_frame, depth_stamp, sequence.lens()));
     }
     ++summary->frames;
     if (progress) progress(i + 1, sequence.size());

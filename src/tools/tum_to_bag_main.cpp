@@ -12,7 +12,9 @@ const char kUsage[] =
     "  tum (default): /camera/rgb/image_color (rgb8), /camera/depth/image (32FC1 m), /camera/rgb/camera_info,\n"
     "          /camera/depth/camera_info, /tf world -> kinect (ground truth), /tf_static\n"
     "  openni2: /camera/rgb/image_rect_color (bgr8), /camera/depth_registered/image_raw (16UC1 mm),\n"
-    "          /camera/rgb/camera_info, /camera/depth_registered/camera_info, /tf_static (no ground truth)\n";
+    "          /camera/rgb/camera_info, /camera/depth_registered/camera_info, /tf_static (no ground truth)\n"
+    "  camera_info carries the folder's camera (camera.yaml, else TUM's published intrinsics and lens\n"
+    "  distortion by the folder's name): TUM's images are not undistorted.\n";
 
 int run(const vocal::CommandLine& args) {
   vocal::TumSequenceOptions options;
