@@ -38,17 +38,6 @@ double relativeDifference(const vocal::NormalEquations& a, const vocal::NormalEq
   return std::max((a.A - reference.A).norm() / reference.A.norm(), (a.b - reference.b).norm() / reference.b.norm());
 }
 
-// What kinectLikeSensorModel() sets (synthetic_sequence.h, which needs OpenCV for its files).
-vocal::RgbdSensorModel kinectLikeNoise() {
-  vocal::RgbdSensorModel model;
-  model.color_noise_sigma = 2.0;
-  model.axial_noise = true;
-  model.quantize_disparity = true;
-  model.missing_fraction = 0.02;
-  model.drop_discontinuities = true;
-  return model;
-}
-
 void timeBackends(int width, int repeats) {
   const vocal::PinholeCamera camera = vocal::defaultKinectCamera(width, width * 3 / 4);
   const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
@@ -58,8 +47,8 @@ void timeBackends(int width, int repeats) {
   std::vector<vocal::RgbdFrame> frames;
   for (int i = 0; i < options.frames; ++i) {
     vocal::RenderedView view = scene.render(camera, truth[i].pose);
-    vocal::applyDepthSensorModel(kinectLikeNoise(), i, &view.depth);
-    vocal::applyColorSensorModel(kinectLikeNoise(), i, &view.color);
+    vocal::applyDepthSensorModel(vocal::kinectLikeSensorModel(), i, &view.depth);
+    vocal::applyColorSensorModel(vocal::kinectLikeSensorModel(), i, &view.color);
     vocal::RgbdFrame frame;
     frame.stamp = truth[i].stamp;
     frame.color = std::move(view.color);

@@ -6,9 +6,10 @@ TUM-layout frames and prints accuracy and speed side by side.
 
 OpenCV and Open3D run frame to frame with a 3-level pyramid and the reference iterations (10/5/4 from
 fine to coarse), vocal with its defaults (3 levels, keyframes, the same iterations); all with the same
-intrinsics, depth range and depth-difference threshold, everything else at each library's defaults. Frames per second count the estimator only (image loading excluded), on whatever
-this machine offers (each uses the cores it uses by default). Accuracy comes from vocal's
-evaluate_trajectory for every trajectory. A library that is not installed is said so and left out.
+intrinsics, depth range and depth-difference threshold, everything else at each library's defaults.
+Frames per second count the estimator only (image loading excluded), on whatever this machine offers
+(each uses the cores it uses by default). Accuracy comes from vocal's evaluate_trajectory for every
+trajectory. A library that is not installed is said so and left out.
 """
 import argparse
 import os

@@ -94,4 +94,14 @@ void applyColorSensorModel(const RgbdSensorModel& model, std::uint32_t seed, Col
   for (Rgb8& p : color->pixels()) p = {noisy(p.r), noisy(p.g), noisy(p.b)};
 }
 
+RgbdSensorModel kinectLikeSensorModel(double missing_fraction) {
+  RgbdSensorModel model;
+  model.color_noise_sigma = 2.0;
+  model.axial_noise = true;
+  model.quantize_disparity = true;
+  model.missing_fraction = missing_fraction;
+  model.drop_discontinuities = true;
+  return model;
+}
+
 }  // namespace vocal

@@ -22,16 +22,6 @@ std::string stampName(double stamp) {
 }
 }  // namespace
 
-RgbdSensorModel kinectLikeSensorModel(double missing_fraction) {
-  RgbdSensorModel model;
-  model.color_noise_sigma = 2.0;
-  model.axial_noise = true;
-  model.quantize_disparity = true;
-  model.missing_fraction = missing_fraction;
-  model.drop_discontinuities = true;
-  return model;
-}
-
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
                                const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
                                std::uint32_t noise_seed) {

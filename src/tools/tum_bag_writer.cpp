@@ -50,6 +50,9 @@ void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosb
                  const std::function<void(std::size_t, std::size_t)>& progress, TumBagSummary* summary) {
   const LayoutSpec spec = layoutSpec(options.layout);
   const PinholeCamera& camera = sequence.camera();
+  // The folder's lens (TUM's published D for freiburg1/2): its images are not undistorted, and a
+  // camera_info without it would have the odometry take them as a pinhole's.
+  const LensDistortion& lens = sequence.lens();
   const ros::Time first_stamp(sequence.entry(0).rgb.stamp);
   tf2_msgs::TFMessage static_transforms;
   for (const auto& [child, parent_from_child] : spec.static_transforms)
@@ -60,13 +63,11 @@ void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosb
     const RgbdFrame frame = sequence.loadFrame(i);
     const ros::Time rgb_stamp(entry.rgb.stamp), depth_stamp(entry.depth.stamp);
     bag->write(spec.rgb_image, rgb_stamp, spec.color(frame.color, spec.rgb_frame, rgb_stamp));
-    // The folder's lens (TUM's published D for freiburg1/2): its images are not undistorted, and a
-    // camera_info without it would have the odometry take them as a pinhole's.
-    if (!options.without_camera_info) bag->write(spec.rgb_info, rgb_stamp, toCameraInfo(camera, spec.rgb_frame, rgb_stamp, sequence.lens()));
+    if (!options.without_camera_info) bag->write(spec.rgb_info, rgb_stamp, toCameraInfo(camera, spec.rgb_frame, rgb_stamp, lens));
     if (!options.without_depth) {
       bag->write(spec.depth_image, depth_stamp, spec.depth(frame.depth, spec.depth_frame, depth_stamp));
       if (!options.without_camera_info)
-        bag->write(spec.depth_info, depth_stamp, toCameraInfo(camera, spec.depth_frame, depth_stamp, sequence.lens()));
+        bag->write(spec.depth_info, depth_stamp, toCameraInfo(camera, spec.depth_frame, depth_stamp, lens));
     }
     ++summary->frames;
     if (progress) progress(i + 1, sequence.size());

@@ -26,6 +26,10 @@ struct RgbdSensorModel {
   static double axialSigma(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
 };
 
+// Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
+// command-line --kinect-noise switch sets them.
+RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
+
 // Apply the model in place; `seed` makes the noise reproducible (use one per frame).
 void applyDepthSensorModel(const RgbdSensorModel& model, std::uint32_t seed, DepthImage* depth);
 void applyColorSensorModel(const RgbdSensorModel& model, std::uint32_t seed, ColorImage* color);

@@ -29,10 +29,6 @@ struct SyntheticSequenceOptions {
   double rolling_shutter_readout = 0.0;
 };
 
-// Kinect-like depth noise, quantisation and drop-outs, and colour noise of 2 levels, as the
-// command-line --kinect-noise switch sets them.
-RgbdSensorModel kinectLikeSensorModel(double missing_fraction = 0.02);
-
 // Renders one frame; `noise_seed` makes the depth model reproducible.
 RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera& camera,
                                const StampedPose& world_from_camera, const RgbdSensorModel& sensor_model,
