@@ -68,9 +68,10 @@ struct OdometryConfig {
   double depth_time_offset = -0.005;
 
   // Fusion: A = A_icp / var_icp + rgb_weight * A_rgb / var_rgb (b likewise), each term scaled by the
-  // variance of its residuals in that iteration: 1 trusts both by their measured noise. Real Kinect
-  // depth errs more than its residuals say (the ICP term's errors are correlated, not independent):
-  // on every real TUM sequence RPE falls from 3 to 20 (fr1_xyz 0.0168 -> 0.0137, desk 0.0215 -> 0.0173,
+  // variance of its residuals in that iteration: 1 trusts both by their measured noise. On real Kinect
+  // frames the photometric term is worth more than that (why is not measured; likely the ICP term's
+  // errors are correlated across the image, which its variance does not show): on every real TUM
+  // sequence RPE falls from 3 to 20 (fr1_xyz 0.0168 -> 0.0137, desk 0.0215 -> 0.0173,
   // rpy 0.0392 -> 0.0230); at 30 xyz rises again (0.0146); a simulated untextured room stays within a
   // quarter of ICP alone (docs/benchmarks.md).
   double rgb_weight = 20.0;
