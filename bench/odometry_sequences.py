@@ -52,6 +52,13 @@ CONFIGURATIONS = [
     ("--features off", ["--features", "off"], {}),
     ("--reference frame --features always", ["--reference", "frame", "--features", "always"], {}),
     ("convergence 1e-4", [], {"convergence_translation": "1.0e-4", "convergence_rotation": "1.0e-4"}),
+    ("finest_convergence_factor 1 (the default before 2026-11-26)", [], {"finest_convergence_factor": "1.0"}),
+    ("finest_convergence_factor 2", [], {"finest_convergence_factor": "2.0"}),
+    ("finest_convergence_factor 5", [], {"finest_convergence_factor": "5.0"}),
+    # The local window: each new keyframe solved against 1 or 2 earlier ones, 4 refined together.
+    ("local window 4 keyframes 1 link", [], {"local_window_keyframes": "4", "local_window_links": "1"}),
+    ("local window 4 keyframes 2 links", [], {"local_window_keyframes": "4", "local_window_links": "2"}),
+    ("local window 6 keyframes 2 links", [], {"local_window_keyframes": "6", "local_window_links": "2"}),
     # Fewer steps at full size: the coarse levels converge; one or two steps refine.
     ("iterations 2 5 4", [], {"iterations": "[2, 5, 4]"}),
     ("iterations 1 5 4", [], {"iterations": "[1, 5, 4]"}),

@@ -526,6 +526,7 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.levels, defaults.levels);
   EXPECT_EQ(file.iterations, defaults.iterations);
   EXPECT_EQ(file.convergence_translation, defaults.convergence_translation);
+  EXPECT_EQ(file.finest_convergence_factor, defaults.finest_convergence_factor);
   EXPECT_EQ(file.icp_max_distance, defaults.icp_max_distance);
   EXPECT_EQ(file.icp_max_angle_deg, defaults.icp_max_angle_deg);
   EXPECT_EQ(file.depth_smoothing_radius, defaults.depth_smoothing_radius);
@@ -548,6 +549,8 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.keyframe_max_rotation_deg, defaults.keyframe_max_rotation_deg);
   EXPECT_EQ(file.keyframe_after_unconverged, defaults.keyframe_after_unconverged);
   EXPECT_EQ(file.keyframes_kept, defaults.keyframes_kept);
+  EXPECT_EQ(file.local_window_keyframes, defaults.local_window_keyframes);
+  EXPECT_EQ(file.local_window_links, defaults.local_window_links);
   EXPECT_EQ(file.max_predicted_frames, defaults.max_predicted_frames);
   EXPECT_EQ(file.relocalisation, defaults.relocalisation);
   EXPECT_EQ(file.wrong_minimum_residual_ratio, defaults.wrong_minimum_residual_ratio);
@@ -576,6 +579,12 @@ TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
       {"depth_noise_floor: 0", "odometry config: depth_noise_floor must be in (0, 1) metres"},
       {"depth_noise_quadratic: -0.001",
        "odometry config: depth_noise_quadratic must be in [0, 1) per metre (0 = every ICP pair weighted alike)"},
+      {"finest_convergence_factor: 0",
+       "odometry config: finest_convergence_factor must be a positive number (1: the coarse levels' thresholds)"},
+      {"local_window_keyframes: 1", "odometry config: local_window_keyframes must be 0 (no window) or in [2, 50], got 1"},
+      {"local_window_keyframes: 12",
+       "odometry config: local_window_keyframes (12) must not exceed keyframes_kept (10): the window refines kept keyframes"},
+      {"local_window_links: 0", "odometry config: local_window_links must be at least 1, got 0"},
       {"[levels]: 2", "line 1: a key is a list or map, not a name"},  // found by fuzzing
   };
   for (const auto& [line, error] : cases) {

@@ -158,38 +158,46 @@ void expectSamePoseAsTheReference(const BackendFactory& make_other) {
 }
 }  // namespace
 
+// Both passes: the portable one and, where the CPU has it, the AVX2 one (the depth smoothing's, here).
 TEST(FastCpuParity, SameMapsOnEveryLevel) {
   const FramePair pair = renderPair(3, true);
   const vocal::OdometryConfig config;
   const vocal::FramePyramid reference = vocal::buildFramePyramid(pair.second, pair.camera, config);
-  vocal::FastCpuOdometryBackend fast(pair.camera, config);
-  fast.pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
-  for (int level = 0; level < config.levels; ++level) {
-    const vocal::PyramidLevel& r = reference[level];
-    const vocal::SoaPyramidLevel& f = fast.current()[level];
-    const std::string where = "level " + std::to_string(level);
-    ASSERT_EQ(f.width, r.depth.width()) << where;
-    ASSERT_EQ(f.height, r.depth.height()) << where;
-    expectSameMap(f.depth, r.depth.pixels(), 0.0f, "depth " + where);
-    expectSameMap(f.intensity, r.intensity.pixels(), 0.0f, "intensity " + where);
-    expectSameMap(f.gradient_x, r.gradient_x.pixels(), 0.0f, "gradient_x " + where);
-    expectSameMap(f.gradient_y, r.gradient_y.pixels(), 0.0f, "gradient_y " + where);
-    std::vector<float> vertex[3], normal[3], reference_vertex[3], reference_normal[3];
-    for (std::size_t i = 0; i < f.surface.size(); ++i) {
-      const vocal::SurfaceRecord& s = f.surface[i];
-      const float fast_values[6] = {s.vx, s.vy, s.vz, s.nx, s.ny, s.nz};
-      for (int k = 0; k < 3; ++k) {
-        vertex[k].push_back(fast_values[k]);
-        normal[k].push_back(fast_values[3 + k]);
-        reference_vertex[k].push_back(r.vertices.pixels()[i][k]);
-        reference_normal[k].push_back(r.normals.pixels()[i][k]);
+  for (const vocal::CpuTrackingPass pass : {vocal::CpuTrackingPass::kBest, vocal::CpuTrackingPass::kPortable}) {
+    vocal::FastCpuOdometryBackend fast(pair.camera, config, pass);
+    fast.pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
+    for (int level = 0; level < config.levels; ++level) {
+      const vocal::PyramidLevel& r = reference[level];
+      const vocal::SoaPyramidLevel& f = fast.current()[level];
+      const std::string where = "level " + std::to_string(level) + ", " + fast.name();
+      ASSERT_EQ(f.width, r.depth.width()) << where;
+      ASSERT_EQ(f.height, r.depth.height()) << where;
+      expectSameMap(f.depth, r.depth.pixels(), 0.0f, "depth " + where);
+      if (level == 0) {
+        const vocal::DepthImage smoothed =
+            vocal::smoothDepth(r.depth, config.depth_smoothing_radius, static_cast<float>(config.depth_smoothing_factor));
+        expectSameMap(f.smoothed_depth, smoothed.pixels(), 0.0f, "smoothed depth " + where);
       }
-      ASSERT_EQ(f.photometric[i].depth, f.depth[i]);
-      ASSERT_EQ(f.photometric[i].gradient_x, f.gradient_x[i]);
-    }
-    for (int k = 0; k < 3; ++k) {
-      expectSameMap(vertex[k], reference_vertex[k], 0.0f, "vertex " + std::to_string(k) + " " + where);
-      expectSameMap(normal[k], reference_normal[k], 1e-6f, "normal " + std::to_string(k) + " " + where);
+      expectSameMap(f.intensity, r.intensity.pixels(), 0.0f, "intensity " + where);
+      expectSameMap(f.gradient_x, r.gradient_x.pixels(), 0.0f, "gradient_x " + where);
+      expectSameMap(f.gradient_y, r.gradient_y.pixels(), 0.0f, "gradient_y " + where);
+      std::vector<float> vertex[3], normal[3], reference_vertex[3], reference_normal[3];
+      for (std::size_t i = 0; i < f.surface.size(); ++i) {
+        const vocal::SurfaceRecord& s = f.surface[i];
+        const float fast_values[6] = {s.vx, s.vy, s.vz, s.nx, s.ny, s.nz};
+        for (int k = 0; k < 3; ++k) {
+          vertex[k].push_back(fast_values[k]);
+          normal[k].push_back(fast_values[3 + k]);
+          reference_vertex[k].push_back(r.vertices.pixels()[i][k]);
+          reference_normal[k].push_back(r.normals.pixels()[i][k]);
+        }
+        ASSERT_EQ(f.photometric[i].depth, f.depth[i]);
+        ASSERT_EQ(f.photometric[i].gradient_x, f.gradient_x[i]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        expectSameMap(vertex[k], reference_vertex[k], 0.0f, "vertex " + std::to_string(k) + " " + where);
+        expectSameMap(normal[k], reference_normal[k], 1e-6f, "normal " + std::to_string(k) + " " + where);
+      }
     }
   }
 }

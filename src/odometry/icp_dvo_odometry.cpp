@@ -24,6 +24,9 @@ constexpr double kMinRgbVariance = (1.0 / 255) * (1.0 / 255);  // one 8-bit leve
 constexpr double kFeatureMotionTolerance = 0.5;
 // The pose covariance reported while lost: nothing is known (the nav_msgs convention for "unknown").
 constexpr double kLostVariance = 1e6;
+// The share of a window's correction of the estimate the published pose takes in per frame: most of
+// it within ten frames, no step a jump.
+constexpr double kCorrectionSharePerFrame = 0.2;
 }  // namespace
 
 IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
@@ -38,6 +41,7 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
   if (!backend_) backend_ = makeOdometryBackend(camera_, config_);
   rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout,
                                       config_.depth_time_offset);
+  if (config_.local_window_keyframes > 0) window_.emplace(config_.local_window_keyframes);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -49,7 +53,9 @@ void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   velocity_seconds_ = 0.0;
   lost_frames_ = 0;
   residual_level_ = 0.0;
-  pose_ = pose;
+  pose_ = published_pose_ = pose;
+  unpublished_correction_ = Eigen::Isometry3d::Identity();
+  if (window_) window_->clear();
   pose_covariance_.setZero();
 }
 
@@ -83,7 +89,9 @@ double IcpDvoOdometry::residualLevelOf(const OdometryQuality& quality) const {
 }
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference, const RgbdFrame& current,
-                                                     const Eigen::Isometry3d& start, const Eigen::Isometry3d& last) {
+                                                     const Eigen::Isometry3d& start, const Eigen::Isometry3d& last,
+                                                     OdometryBackend* backend) {
+  if (!backend) backend = backend_.get();
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   DenseSolve solve;
@@ -95,13 +103,15 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
   int steps = 0;
   BrightnessTransfer brightness;
   for (int level = config_.levels - 1; level >= 0; --level) {
+    // The finest level's steps cost four times a coarser one's; it stops at a looser threshold.
+    const double factor = level == 0 ? config_.finest_convergence_factor : 1.0;
     // Once per level, where the motion has improved: the pixels both frames see depend on it.
     if (use_rgb && config_.brightness_model == BrightnessModel::kAffine && config_.iterations[level] > 0) {
       brightness = estimateBrightnessTransfer(reference, current, camera_, T, config_.rgb_max_depth_difference);
     }
     for (int iteration = 0; iteration < config_.iterations[level]; ++iteration) {
       NormalEquations icp, rgb;
-      backend_->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, brightness, use_icp ? &icp : nullptr,
+      backend->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, brightness, use_icp ? &icp : nullptr,
                                 use_rgb ? &rgb : nullptr);
       if (rgb.count > 0) rgb_sigma = rgb.rmse();
       // Each term is scaled by the inverse variance of its residuals (the fused system is then the
@@ -122,7 +132,8 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
       T = se3Exp(x) * T;
       ++steps;
       // Converged: further steps at this level would not move the estimate.
-      if (x.head<3>().norm() < config_.convergence_translation && x.tail<3>().norm() < config_.convergence_rotation) {
+      if (x.head<3>().norm() < factor * config_.convergence_translation &&
+          x.tail<3>().norm() < factor * config_.convergence_rotation) {
         if (level == 0) solve.quality.converged = true;
         break;
       }
@@ -346,6 +357,46 @@ bool IcpDvoOdometry::relocalise(const RgbdFrame& frame, std::shared_ptr<const Fr
   return true;
 }
 
+void IcpDvoOdometry::refineWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result) {
+  Keyframe& added = *active_;
+  window_->addKeyframe(added.id, added.pose);
+  window_->addLink({tracked_against, added.id, solve.increment, solve.information});
+  // The new keyframe against the newest earlier ones of the window (a bounded cost per keyframe: a
+  // failed solve, too little overlap or a poor fit, is not replaced by an older one).
+  int tried = 0;
+  for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend() && tried < config_.local_window_links; ++earlier) {
+    const Keyframe& reference = **earlier;
+    const std::optional<Eigen::Isometry3d> reference_pose = window_->pose(reference.id);
+    if (reference.id == added.id || reference.id == tracked_against || !reference_pose) continue;
+    ++tried;
+    if (!window_backend_) window_backend_ = makeOdometryBackend(camera_, config_);
+    window_backend_->pushFrame(reference.frame, ReferenceUpdate::kPreviousFrame);
+    window_backend_->pushFrame(added.frame, ReferenceUpdate::kPreviousFrame);
+    const Eigen::Isometry3d start = reference_pose->inverse() * added.pose;
+    DenseSolve link = solveFrom(reference.frame, added.frame, start, start, window_backend_.get());
+    rejectWrongMinimum(std::nullopt, &link);
+    if (!link.failure.empty()) continue;
+    window_->addLink({reference.id, added.id, link.increment, link.information});
+    ++result->window_links;
+  }
+  if (result->window_links == 0 || !window_->optimise()) return;
+  for (const std::shared_ptr<Keyframe>& keyframe : keyframes_) {
+    if (const std::optional<Eigen::Isometry3d> refined = window_->pose(keyframe->id)) keyframe->pose = *refined;
+  }
+  // The estimate (the new keyframe itself) moves with the keyframe; what is published does not, yet.
+  const Eigen::Isometry3d moved = pose_.inverse() * added.pose;
+  result->window_correction_m = moved.translation().norm();
+  result->window_correction_deg = rotationAngle(moved) * 180.0 / M_PI;
+  unpublished_correction_ = unpublished_correction_ * pose_ * added.pose.inverse();
+  pose_ = added.pose;
+}
+
+Eigen::Isometry3d IcpDvoOdometry::publish(const Eigen::Isometry3d& estimate) {
+  const Eigen::Isometry3d published = unpublished_correction_ * estimate;
+  unpublished_correction_ = se3Exp((1.0 - kCorrectionSharePerFrame) * se3Log(unpublished_correction_));
+  return published;
+}
+
 OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   input.validate("odometry frame");
   if (!input.color.sameSize(camera_.width, camera_.height)) {
@@ -384,7 +435,8 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     result.quality.trusted = true;
     result.new_keyframe = true;
     result.keyframe_id = active_->id;
-    result.pose = pose_;
+    if (window_) window_->addKeyframe(active_->id, active_->pose);
+    result.pose = published_pose_ = publish(pose_);
     result.pose_covariance = pose_covariance_;
     return result;
   }
@@ -412,7 +464,6 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     result.lost_frames = ++lost_frames_;
     if (lost_frames_ <= config_.max_predicted_frames) {
       result.state = TrackingState::kPredicted;
-      result.increment = velocity_;
       // The prediction may be off by as much as the motion it repeats (at least 1 cm and 0.01 rad).
       Vector6d sigma;
       sigma.head<3>().setConstant(std::max(velocity_.translation().norm(), 0.01));
@@ -426,7 +477,10 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
       result.state = TrackingState::kLost;
       result.pose_covariance = Matrix6d::Identity() * kLostVariance;
     }
-    result.pose = pose_;
+    // Lost, the pose stays (and so does what is left of a window's correction).
+    const Eigen::Isometry3d published = result.state == TrackingState::kLost ? published_pose_ : publish(pose_);
+    result.increment = published_pose_.inverse() * published;
+    result.pose = published_pose_ = published;
     result.timings.solve_ms += lapMilliseconds(&clock);
     return result;
   }
@@ -459,23 +513,29 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   // pose's adjoint; the keyframe's own uncertainty adds (drift grows per keyframe, not per frame).
   const Matrix6d to_odometry = adjoint(keyframe.pose);
   pose_covariance_ = keyframe.pose_covariance + to_odometry * result.covariance * to_odometry.transpose();
-  const Eigen::Isometry3d pose = keyframe.pose * T;
-  result.increment = pose_.inverse() * pose;
-  pose_ = pose;
+  pose_ = keyframe.pose * T;
   active_from_last_ = T;
-  result.pose = pose_;
   result.pose_covariance = pose_covariance_;
   if (keyframe.first_inliers == 0) {
     keyframe.first_inliers = inliersOf(solve.quality);
     keyframe.first_residual = residual;
   }
   if (keyframeWornOut(keyframe, solve)) {
+    const int tracked_against = keyframe.id;  // `keyframe` may leave the kept ones now
     addKeyframe(frame, features);
     if (rectified_at_rest) active_->unrectified = input;
     backend_current_id_ = active_->id;
     active_from_last_ = Eigen::Isometry3d::Identity();
     result.new_keyframe = true;
+    if (window_) {
+      result.timings.solve_ms += lapMilliseconds(&clock);
+      refineWindow(tracked_against, solve, &result);
+      result.timings.window_ms = lapMilliseconds(&clock);
+    }
   }
+  const Eigen::Isometry3d published = publish(pose_);
+  result.increment = published_pose_.inverse() * published;
+  result.pose = published_pose_ = published;
   result.timings.solve_ms += lapMilliseconds(&clock);
   return result;
 }

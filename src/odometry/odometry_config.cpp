@@ -26,6 +26,14 @@ void OdometryConfig::validate() const {
   if (!(keyframe_max_translation > 0.0)) fail("keyframe_max_translation must be positive");
   if (!(keyframe_max_rotation_deg > 0.0)) fail("keyframe_max_rotation_deg must be positive");
   if (keyframes_kept < 1 || keyframes_kept > 1000) fail("keyframes_kept must be in [1, 1000], got " + std::to_string(keyframes_kept));
+  if (!(finest_convergence_factor > 0.0) || !std::isfinite(finest_convergence_factor))
+    fail("finest_convergence_factor must be a positive number (1: the coarse levels' thresholds)");
+  if (local_window_keyframes != 0 && (local_window_keyframes < 2 || local_window_keyframes > 50))
+    fail("local_window_keyframes must be 0 (no window) or in [2, 50], got " + std::to_string(local_window_keyframes));
+  if (local_window_keyframes > keyframes_kept)
+    fail("local_window_keyframes (" + std::to_string(local_window_keyframes) + ") must not exceed keyframes_kept (" +
+         std::to_string(keyframes_kept) + "): the window refines kept keyframes");
+  if (local_window_links < 1) fail("local_window_links must be at least 1, got " + std::to_string(local_window_links));
   if (max_predicted_frames < 0) fail("max_predicted_frames must not be negative");
   if (!(wrong_minimum_residual_ratio > 1.0)) fail("wrong_minimum_residual_ratio must be > 1");
   if (!(wrong_minimum_feature_translation > 0.0)) fail("wrong_minimum_feature_translation must be positive");

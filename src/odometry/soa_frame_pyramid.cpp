@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -59,10 +63,48 @@ void addSmoothingTap(const float* __restrict tap_depth, const float* __restrict 
   }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+// One interior row of the smoothing window, pixels [x0, x1 - (x1 - x0) % 8): eight pixels at a time,
+// each summing its taps in registers in the reference's order (rows, then columns), so that each
+// pixel's sum is the reference's exactly; only the taps are read, nothing but the result is written
+// (the tap-by-tap loop above stores and reloads every pixel's sums once per tap: 2x slower).
+__attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, const float* inverse, int w, int y, int radius,
+                                                          float factor, int x0, int x1, float* out_row) {
+  const float* centre = depth + static_cast<std::size_t>(y) * w;
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), f = _mm256_set1_ps(factor);
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  int x = x0;
+  for (; x + 8 <= x1; x += 8) {
+    const __m256 c = _mm256_loadu_ps(centre + x);
+    const __m256 limit = _mm256_mul_ps(_mm256_mul_ps(f, c), c);
+    __m256 sum = zero, count = zero;
+    for (int dy = -radius; dy <= radius; ++dy) {
+      const std::size_t row = static_cast<std::size_t>(y + dy) * w + x;
+      for (int dx = -radius; dx <= radius; ++dx) {
+        const __m256 d = _mm256_loadu_ps(depth + row + dx);
+        const __m256 distance = _mm256_and_ps(_mm256_sub_ps(d, c), magnitude);
+        const __m256 inside = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(distance, limit, _CMP_LT_OQ));
+        sum = _mm256_add_ps(sum, _mm256_and_ps(inside, _mm256_loadu_ps(inverse + row + dx)));
+        count = _mm256_add_ps(count, _mm256_and_ps(inside, one));
+      }
+    }
+    // A missing centre has no taps (0 / 0): masked to 0.
+    const __m256 smoothed = _mm256_and_ps(_mm256_div_ps(count, sum), _mm256_cmp_ps(c, zero, _CMP_GT_OQ));
+    _mm256_storeu_ps(out_row + x, smoothed);
+  }
+  return x;
+}
+
+bool cpuHasAvx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+#endif
+
 // smoothDepth of frame_pyramid.cpp: the average of the inverse depths within `radius` whose depth is
 // within factor * z^2 of the centre. Interior rows accumulate tap by tap over the whole row, so the
 // inner loop runs over x (vectorised) while each pixel sums in the reference's order.
-void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads,
+void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads, bool allow_avx2,
                  std::vector<float>* inverse_scratch, std::vector<float>* out_depth) {
   std::vector<float>& inv = *inverse_scratch;
   std::vector<float>& out = *out_depth;
@@ -104,7 +146,13 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
       }
       for (int x = 0; x < radius; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
       for (int x = w - radius; x < w; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
-      const int x0 = radius, x1 = w - radius;
+      int x0 = radius;
+      const int x1 = w - radius;
+#if defined(__x86_64__) && defined(__GNUC__)
+      static const bool cpu_avx2 = cpuHasAvx2();
+      if (allow_avx2 && cpu_avx2) x0 = smoothInteriorRowAvx2(depth.data(), inv.data(), w, y, radius, factor, x0, x1, out_row);
+      if (x0 == x1) continue;
+#endif
       float* __restrict s = sum.data();
       float* __restrict c = count.data();
       float* __restrict l = limit.data();
@@ -240,7 +288,7 @@ std::size_t SoaPyramidLevel::memoryBytes() const {
 }
 
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid) {
+                          int threads, SoaFramePyramid* pyramid, bool avx2) {
   pyramid->resize(config.levels);
   for (int level = 0; level < config.levels; ++level) {
     SoaPyramidLevel& l = (*pyramid)[level];
@@ -256,7 +304,7 @@ void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, c
     if (level == 0 && config.depth_smoothing_radius > 0) {
       // Normals from smoothed depth, points raw (see buildFramePyramid).
       smoothDepth(l.depth, l.width, l.height, config.depth_smoothing_radius,
-                  static_cast<float>(config.depth_smoothing_factor), threads, &l.inverse_depth, &l.smoothed_depth);
+                  static_cast<float>(config.depth_smoothing_factor), threads, avx2, &l.inverse_depth, &l.smoothed_depth);
       normal_depth = l.smoothed_depth.data();
     }
     records(normal_depth, threads, &l);

@@ -68,7 +68,7 @@ int run(const vocal::CommandLine& args) {
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
-  int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0;
+  int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0, window_links = 0, window_refined = 0;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
     const vocal::RgbdFrame frame = sequence.loadFrame(skip + i);
@@ -79,6 +79,9 @@ int run(const vocal::CommandLine& args) {
     stage_sums.preprocess_ms += result.timings.preprocess_ms;
     stage_sums.features_ms += result.timings.features_ms;
     stage_sums.solve_ms += result.timings.solve_ms;
+    stage_sums.window_ms += result.timings.window_ms;
+    window_links += result.window_links;
+    window_refined += result.window_correction_m > 0.0;
     feature_fallbacks += result.quality.feature_fallback;
     keyframes += result.new_keyframe;
     relocalisations += result.state == vocal::TrackingState::kRelocalised;
@@ -106,6 +109,10 @@ int run(const vocal::CommandLine& args) {
   if (config.feature_initialisation == vocal::FeatureInitialisation::kFallback)
     std::printf("feature_fallbacks: %d\n", feature_fallbacks);
   std::printf("keyframes: %d\nrelocalisations: %d\n", keyframes, relocalisations);
+  if (config.local_window_keyframes > 0) {
+    std::printf("window_ms: %.2f\nwindow_links: %d\nwindow_refined_keyframes: %d\n", stage_sums.window_ms / n, window_links,
+                window_refined);
+  }
   if (sequence.hasGroundTruth()) {
     const double delta = args.number("delta", 1.0);
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(sequence.groundTruth(), trajectory),

@@ -17,6 +17,7 @@
 #include "vocal/core/se3.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/frame_rectification.h"
+#include "vocal/odometry/keyframe_window.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/odometry_config.h"
 
@@ -56,6 +57,7 @@ struct OdometryTimings {
   double preprocess_ms = 0.0;  // pyramids, maps, gradients (the backend's pushFrame)
   double features_ms = 0.0;    // ORB extraction, matching and PnP (feature initialisation)
   double solve_ms = 0.0;       // the coarse-to-fine dense solve(s) and the result checks
+  double window_ms = 0.0;      // the local window: its links' preprocessing and solves, the pose graph
 };
 
 struct OdometryResult {
@@ -75,6 +77,11 @@ struct OdometryResult {
   TrackingState state = TrackingState::kTracking;
   int keyframe_id = 0;       // the keyframe this frame was tracked against (ids count from 0 per reset)
   bool new_keyframe = false; // this frame became the keyframe the next ones are tracked against
+  // Local window (new keyframes only): the dense links to earlier keyframes added besides the one the
+  // frame was tracked against, and how far the window moved this keyframe (0 when not refined).
+  int window_links = 0;
+  double window_correction_m = 0.0;
+  double window_correction_deg = 0.0;
   int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
 };
 
@@ -98,7 +105,8 @@ class IcpDvoOdometry {
   // Forgets the reference frame; the next frame starts again at `pose`.
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
 
-  const Eigen::Isometry3d& pose() const { return pose_; }
+  // The pose published for the last frame (result.pose).
+  const Eigen::Isometry3d& pose() const { return published_pose_; }
   const Matrix6d& poseCovariance() const { return pose_covariance_; }
   const OdometryBackend& backend() const { return *backend_; }
   const PinholeCamera& camera() const { return camera_; }
@@ -139,7 +147,7 @@ class IcpDvoOdometry {
   // from `start` (keyframe <- current), and its checks; a jump is measured from `last` (the last
   // frame's pose in the keyframe).
   DenseSolve solveFrom(const RgbdFrame& reference, const RgbdFrame& current, const Eigen::Isometry3d& start,
-                       const Eigen::Isometry3d& last);
+                       const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
@@ -161,6 +169,13 @@ class IcpDvoOdometry {
   // Whether the keyframe should be replaced after `solve` (always frame to frame).
   bool keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
   void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
+  // The local window after the active keyframe was made from a frame tracked against keyframe `tracked_against`
+  // by `solve`: the link between them, dense links from the new keyframe to earlier ones in the window,
+  // and the refined poses (the active keyframe's, and the estimate's, moved with it).
+  void refineWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result);
+  // The published pose of an estimated one: the estimate with the part of the window's corrections not
+  // yet let through (so /odom never jumps), that part shrunk for the next frame.
+  Eigen::Isometry3d publish(const Eigen::Isometry3d& estimate);
   // The last measured motion per second (twist [v; w] of last <- current over its time; zero before one).
   Vector6d velocityPerSecond() const;
   int inliersOf(const OdometryQuality& quality) const;
@@ -172,6 +187,12 @@ class IcpDvoOdometry {
   RgbdFrame rectified_;
   std::unique_ptr<OdometryBackend> backend_;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();  // of the last frame (tracked or predicted)
+  // What was published for the last frame, and published = correction * estimate: a window's correction
+  // of the estimate enters the published pose a share per frame.
+  Eigen::Isometry3d published_pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d unpublished_correction_ = Eigen::Isometry3d::Identity();
+  std::optional<KeyframeWindow> window_;             // the local window (none when off)
+  std::unique_ptr<OdometryBackend> window_backend_;  // solves the window's links (made when first needed)
   Matrix6d pose_covariance_ = Matrix6d::Zero();
   std::deque<std::shared_ptr<Keyframe>> keyframes_;  // the recent ones, oldest first; empty before the first frame
   std::shared_ptr<Keyframe> active_;                 // the one frames are tracked against

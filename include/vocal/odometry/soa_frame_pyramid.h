@@ -40,8 +40,9 @@ struct SoaPyramidLevel {
 
 using SoaFramePyramid = std::vector<SoaPyramidLevel>;
 
-// Fills `pyramid` (resized and reused) with the same maps as buildFramePyramid, on `threads` threads.
+// Fills `pyramid` (resized and reused) with the same maps as buildFramePyramid, on `threads` threads;
+// `avx2`: the depth smoothing's AVX2 pass where the CPU has it (false: the portable one everywhere).
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid);
+                          int threads, SoaFramePyramid* pyramid, bool avx2 = true);
 
 }  // namespace vocal
