@@ -2,7 +2,7 @@
 """Plays a recording in real time into the IcpDvoOdometry nodelet, as a robot's camera would feed it, and
 compares what it published with bag_odometry's offline run of the same recording.
 
-  bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P]
+  bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P] [--config FILE]
 
 1. tum_to_bag --layout openni2: the frames as openni2_launch records them (bgr8 on
    /camera/rgb/image_rect_color, 16UC1 millimetres on /camera/depth_registered/image_raw, camera_info).
@@ -92,6 +92,7 @@ def main():
     parser.add_argument("--workdir", default="/tmp/vocal_nodelet_realtime")
     parser.add_argument("--no-clouds", action="store_true", help="nobody subscribes to the clouds")
     parser.add_argument("--port", type=int, default=11417, help="port of the ROS master this run starts")
+    parser.add_argument("--config", help="odometry settings for both runs (default: config/odometry.yaml)")
     args = parser.parse_args()
     ground_truth = os.path.join(args.folder, "groundtruth.txt")
     if not os.path.exists(ground_truth):
@@ -100,14 +101,16 @@ def main():
     bag = os.path.join(args.workdir, "openni2.bag")
     run([os.path.join(TOOLS, "tum_to_bag"), args.folder, bag, "--layout", "openni2", "--quiet"], "tum_to_bag")
     offline_trajectory = os.path.join(args.workdir, "bag_odometry.txt")
+    config = ["--config", os.path.abspath(args.config)] if args.config else []
     offline = metrics(run([os.path.join(TOOLS, "bag_odometry"), bag, "--output", offline_trajectory, "--groundtruth",
-                           ground_truth, "--quiet"], "bag_odometry").stdout)
+                           ground_truth, "--quiet"] + config, "bag_odometry").stdout)
 
     env = ros_environment(args.port)
     record_bag = os.path.join(args.workdir, "nodelet_output.bag")
     topics = ["/odom", "/diagnostics"] + ([] if args.no_clouds else ["/cloud", "/fused_cloud"])
     launch_log = open(os.path.join(args.workdir, "roslaunch.log"), "w")
-    launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"], env=env,
+    launch_config = ["config:=" + os.path.abspath(args.config)] if args.config else []
+    launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"] + launch_config, env=env,
                               stdout=launch_log, stderr=subprocess.STDOUT)
     recorder = None
     try:

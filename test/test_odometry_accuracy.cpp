@@ -551,6 +551,7 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.keyframes_kept, defaults.keyframes_kept);
   EXPECT_EQ(file.local_window_keyframes, defaults.local_window_keyframes);
   EXPECT_EQ(file.local_window_links, defaults.local_window_links);
+  EXPECT_EQ(file.local_window_background, defaults.local_window_background);
   EXPECT_EQ(file.max_predicted_frames, defaults.max_predicted_frames);
   EXPECT_EQ(file.relocalisation, defaults.relocalisation);
   EXPECT_EQ(file.wrong_minimum_residual_ratio, defaults.wrong_minimum_residual_ratio);

@@ -277,6 +277,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     }
     keyframe_id_ = result.keyframe_id;
     keyframes_ += result.new_keyframe;
+    window_links_ += result.window_links;
+    window_links_skipped_ += result.window_links_skipped;
     const bool trusted = result.quality.trusted;
     if (!trusted) {
       ++frames_lost_;
@@ -455,6 +457,11 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("relocalisations", relocalisations_);
     status.add("keyframes", keyframes_);
     status.add("keyframe", keyframe_id_);
+    if (config_.local_window_keyframes > 0) {
+      status.add("local window links", window_links_);
+      // New keyframes whose links were not solved: the last ones were still being solved (background).
+      status.add("local window keyframes skipped", window_links_skipped_);
+    }
     status.add("frames dropped", frames_dropped_);
     status.add("frames out of order", frames_out_of_order_);
     status.add("resets", resets_);
@@ -516,7 +523,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
               resets_ = 0, time_jumps_back_ = 0, frames_received_at_watchdog_ = 0;
   // Tracking loss: frames_lost_ counts every frame not tracked, of which these were predicted.
-  std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0;
+  std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0, window_links_ = 0, window_links_skipped_ = 0;
   TrackingState state_ = TrackingState::kTracking;
   TrackingState worst_since_report_ = TrackingState::kTracking;  // lost > predicted > tracking, since the last diagnostics
   int lost_frames_ = 0, keyframe_id_ = 0;

@@ -1,6 +1,7 @@
 #include "vocal/odometry/icp_dvo_odometry.h"
 
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -8,6 +9,10 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "vocal/core/errors.h"
 #include "vocal/core/lap_timer.h"
@@ -45,6 +50,8 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
+  if (window_job_.valid()) window_job_.wait();  // its links are of the keyframes forgotten now
+  window_job_ = {};
   keyframes_.clear();
   active_.reset();
   next_keyframe_id_ = 0;
@@ -357,38 +364,90 @@ bool IcpDvoOdometry::relocalise(const RgbdFrame& frame, std::shared_ptr<const Fr
   return true;
 }
 
-void IcpDvoOdometry::refineWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result) {
-  Keyframe& added = *active_;
+void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result) {
+  const Keyframe& added = *active_;
   window_->addKeyframe(added.id, added.pose);
   window_->addLink({tracked_against, added.id, solve.increment, solve.information});
+  if (window_job_.valid()) {
+    result->window_links_skipped = true;  // the last keyframe's links are still being solved
+    return;
+  }
   // The new keyframe against the newest earlier ones of the window (a bounded cost per keyframe: a
-  // failed solve, too little overlap or a poor fit, is not replaced by an older one).
-  int tried = 0;
-  for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend() && tried < config_.local_window_links; ++earlier) {
+  // failed solve, too little overlap or a poor fit, is not replaced by an older one). The frames are
+  // copied: a keyframe's frame may be rectified again meanwhile.
+  auto job = std::make_shared<WindowJob>();
+  job->added_id = added.id;
+  job->added_frame = added.frame;
+  job->residual_level = residual_level_;
+  for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend(); ++earlier) {
+    if (static_cast<int>(job->references.size()) == config_.local_window_links) break;
     const Keyframe& reference = **earlier;
     const std::optional<Eigen::Isometry3d> reference_pose = window_->pose(reference.id);
     if (reference.id == added.id || reference.id == tracked_against || !reference_pose) continue;
-    ++tried;
-    if (!window_backend_) window_backend_ = makeOdometryBackend(camera_, config_);
-    window_backend_->pushFrame(reference.frame, ReferenceUpdate::kPreviousFrame);
-    window_backend_->pushFrame(added.frame, ReferenceUpdate::kPreviousFrame);
-    const Eigen::Isometry3d start = reference_pose->inverse() * added.pose;
-    DenseSolve link = solveFrom(reference.frame, added.frame, start, start, window_backend_.get());
-    rejectWrongMinimum(std::nullopt, &link);
-    if (!link.failure.empty()) continue;
-    window_->addLink({reference.id, added.id, link.increment, link.information});
-    ++result->window_links;
+    job->references.push_back({reference.id, reference.frame, reference_pose->inverse() * added.pose});
   }
-  if (result->window_links == 0 || !window_->optimise()) return;
+  if (job->references.empty()) return;
+  if (!config_.local_window_background) {
+    applyWindowLinks(solveWindowLinks(*job), result);
+    return;
+  }
+  window_job_ = std::async(std::launch::async, [this, job] {
+#ifdef _OPENMP
+    omp_set_num_threads(1);  // beside the tracking's threads, not on top of them
+#endif
+    return solveWindowLinks(*job);
+  });
+}
+
+std::vector<KeyframeLink> IcpDvoOdometry::solveWindowLinks(const WindowJob& job) {
+  if (!window_backend_) {
+    OdometryConfig config = config_;
+    if (config_.local_window_background) config.cpu_threads = 1;
+    window_backend_ = makeOdometryBackend(camera_, config);
+  }
+  std::vector<KeyframeLink> links;
+  for (const WindowJob::Reference& reference : job.references) {
+    window_backend_->pushFrame(reference.frame, ReferenceUpdate::kPreviousFrame);
+    window_backend_->pushFrame(job.added_frame, ReferenceUpdate::kPreviousFrame);
+    const DenseSolve link = solveFrom(reference.frame, job.added_frame, reference.start, reference.start, window_backend_.get());
+    // Failed checks, or a wrong minimum by the running residual level (as tracking tells them).
+    if (!link.failure.empty()) continue;
+    if (job.residual_level > 0.0 && residualLevelOf(link.quality) > config_.wrong_minimum_residual_ratio * job.residual_level) continue;
+    links.push_back({reference.id, job.added_id, link.increment, link.information});
+  }
+  return links;
+}
+
+void IcpDvoOdometry::applyWindowLinks(const std::vector<KeyframeLink>& links, OdometryResult* result) {
+  for (const KeyframeLink& link : links) window_->addLink(link);
+  result->window_links += static_cast<int>(links.size());
+  if (links.empty() || !window_->optimise()) return;
   for (const std::shared_ptr<Keyframe>& keyframe : keyframes_) {
     if (const std::optional<Eigen::Isometry3d> refined = window_->pose(keyframe->id)) keyframe->pose = *refined;
   }
-  // The estimate (the new keyframe itself) moves with the keyframe; what is published does not, yet.
-  const Eigen::Isometry3d moved = pose_.inverse() * added.pose;
+  // The estimate moves with the active keyframe; what is published does not, yet.
+  const Eigen::Isometry3d estimate = active_->pose * active_from_last_;
+  const Eigen::Isometry3d moved = pose_.inverse() * estimate;
   result->window_correction_m = moved.translation().norm();
   result->window_correction_deg = rotationAngle(moved) * 180.0 / M_PI;
-  unpublished_correction_ = unpublished_correction_ * pose_ * added.pose.inverse();
-  pose_ = added.pose;
+  unpublished_correction_ = unpublished_correction_ * pose_ * estimate.inverse();
+  pose_ = estimate;
+}
+
+void IcpDvoOdometry::collectWindow(bool wait, OdometryResult* result) {
+  if (!window_job_.valid()) return;
+  if (!wait && window_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  const std::vector<KeyframeLink> links = window_job_.get();
+  if (active_) applyWindowLinks(links, result);
+}
+
+void IcpDvoOdometry::finishWindow() {
+  OdometryResult ignored;
+  collectWindow(true, &ignored);
+}
+
+IcpDvoOdometry::~IcpDvoOdometry() {
+  if (window_job_.valid()) window_job_.wait();
 }
 
 Eigen::Isometry3d IcpDvoOdometry::publish(const Eigen::Isometry3d& estimate) {
@@ -441,6 +500,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     return result;
   }
 
+  if (window_) {
+    // Links solved in the background since the last frame: the keyframes move before this frame is
+    // placed on its keyframe.
+    result.timings.preprocess_ms += lapMilliseconds(&clock);  // the rectification
+    collectWindow(false, &result);
+    result.timings.window_ms += lapMilliseconds(&clock);
+  }
   pushAgainst(*active_, frame);
   result.timings.preprocess_ms += lapMilliseconds(&clock);
   // Frame to frame the solve starts from the last motion (constant velocity). Against a keyframe it
@@ -529,8 +595,8 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     result.new_keyframe = true;
     if (window_) {
       result.timings.solve_ms += lapMilliseconds(&clock);
-      refineWindow(tracked_against, solve, &result);
-      result.timings.window_ms = lapMilliseconds(&clock);
+      startWindow(tracked_against, solve, &result);
+      result.timings.window_ms += lapMilliseconds(&clock);
     }
   }
   const Eigen::Isometry3d published = publish(pose_);

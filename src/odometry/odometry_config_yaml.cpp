@@ -55,6 +55,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"keyframes_kept", [&](const YAML::Node& n) { config.keyframes_kept = n.as<int>(); }},
       {"local_window_keyframes", [&](const YAML::Node& n) { config.local_window_keyframes = n.as<int>(); }},
       {"local_window_links", [&](const YAML::Node& n) { config.local_window_links = n.as<int>(); }},
+      {"local_window_background", [&](const YAML::Node& n) { config.local_window_background = n.as<bool>(); }},
       {"max_predicted_frames", [&](const YAML::Node& n) { config.max_predicted_frames = n.as<int>(); }},
       {"relocalisation", [&](const YAML::Node& n) { config.relocalisation = n.as<bool>(); }},
       {"wrong_minimum_residual_ratio", [&](const YAML::Node& n) { config.wrong_minimum_residual_ratio = n.as<double>(); }},

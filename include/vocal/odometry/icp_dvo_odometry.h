@@ -5,9 +5,11 @@
 // by relocalising against a recent keyframe.
 
 #include <deque>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -77,11 +79,14 @@ struct OdometryResult {
   TrackingState state = TrackingState::kTracking;
   int keyframe_id = 0;       // the keyframe this frame was tracked against (ids count from 0 per reset)
   bool new_keyframe = false; // this frame became the keyframe the next ones are tracked against
-  // Local window (new keyframes only): the dense links to earlier keyframes added besides the one the
-  // frame was tracked against, and how far the window moved this keyframe (0 when not refined).
+  // Local window: the dense links between keyframes (besides the tracked ones) added to it in this
+  // call, and how far the window's refinement then moved the estimate (0 when it did not run). In the
+  // background a new keyframe's links arrive some frames later, or are skipped when the last
+  // keyframe's were still being solved.
   int window_links = 0;
   double window_correction_m = 0.0;
   double window_correction_deg = 0.0;
+  bool window_links_skipped = false;
   int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
 };
 
@@ -96,6 +101,9 @@ class IcpDvoOdometry {
   // camera's distortion (camera_info's D), undone before tracking when config.undistort_lens.
   IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
                  std::unique_ptr<OdometryBackend> backend = nullptr, const LensDistortion& lens = {});
+  ~IcpDvoOdometry();  // waits for the local window's links being solved in the background
+  IcpDvoOdometry(const IcpDvoOdometry&) = delete;
+  IcpDvoOdometry& operator=(const IcpDvoOdometry&) = delete;
 
   // Estimates the frame's pose (against the keyframe, or the previous frame). Throws InputError when
   // the frame does not fit the camera (size, colour vs depth); bad content (no valid depth, no texture
@@ -104,9 +112,15 @@ class IcpDvoOdometry {
 
   // Forgets the reference frame; the next frame starts again at `pose`.
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
+  // Waits for the local window's links being solved in the background and refines the window with
+  // them now (the next frame's pose shows it); nothing without a window or a pending job.
+  void finishWindow();
 
   // The pose published for the last frame (result.pose).
   const Eigen::Isometry3d& pose() const { return published_pose_; }
+  // The estimate of the last frame: with the local window, the published pose plus what it has not yet
+  // taken in of the window's refinements (without, the same).
+  const Eigen::Isometry3d& estimatedPose() const { return pose_; }
   const Matrix6d& poseCovariance() const { return pose_covariance_; }
   const OdometryBackend& backend() const { return *backend_; }
   const PinholeCamera& camera() const { return camera_; }
@@ -169,10 +183,28 @@ class IcpDvoOdometry {
   // Whether the keyframe should be replaced after `solve` (always frame to frame).
   bool keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
   void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
-  // The local window after the active keyframe was made from a frame tracked against keyframe `tracked_against`
-  // by `solve`: the link between them, dense links from the new keyframe to earlier ones in the window,
-  // and the refined poses (the active keyframe's, and the estimate's, moved with it).
-  void refineWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result);
+  // The local window after the active keyframe was made from a frame tracked against keyframe
+  // `tracked_against` by `solve`: both join the window with their link, and the new keyframe's dense
+  // links to earlier ones are solved (now, or in the background when config.local_window_background).
+  struct WindowJob {
+    struct Reference {
+      int id = 0;
+      RgbdFrame frame;
+      Eigen::Isometry3d start;  // the reference keyframe <- the new one, as the window has them
+    };
+    int added_id = 0;
+    RgbdFrame added_frame;
+    std::vector<Reference> references;
+    double residual_level = 0.0;  // the running level when the job was made
+  };
+  void startWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result);
+  // The links of a job on the window's own backend; touches nothing the tracking uses.
+  std::vector<KeyframeLink> solveWindowLinks(const WindowJob& job);
+  // Adds links to the window and refines it: the keyframes and the estimate move, the published pose
+  // follows them over the next frames.
+  void applyWindowLinks(const std::vector<KeyframeLink>& links, OdometryResult* result);
+  // Applies the background job's links once it has finished (`wait`: waits for it).
+  void collectWindow(bool wait, OdometryResult* result);
   // The published pose of an estimated one: the estimate with the part of the window's corrections not
   // yet let through (so /odom never jumps), that part shrunk for the next frame.
   Eigen::Isometry3d publish(const Eigen::Isometry3d& estimate);
@@ -193,6 +225,7 @@ class IcpDvoOdometry {
   Eigen::Isometry3d unpublished_correction_ = Eigen::Isometry3d::Identity();
   std::optional<KeyframeWindow> window_;             // the local window (none when off)
   std::unique_ptr<OdometryBackend> window_backend_;  // solves the window's links (made when first needed)
+  std::future<std::vector<KeyframeLink>> window_job_;  // the links being solved in the background
   Matrix6d pose_covariance_ = Matrix6d::Zero();
   std::deque<std::shared_ptr<Keyframe>> keyframes_;  // the recent ones, oldest first; empty before the first frame
   std::shared_ptr<Keyframe> active_;                 // the one frames are tracked against

@@ -115,6 +115,11 @@ struct OdometryConfig {
   // the refined keyframe; the published pose takes the change in over a few frames (never a jump).
   int local_window_keyframes = 0;
   int local_window_links = 1;
+  // The window's links solved on a thread of their own (one CPU thread, or the GPU), off the tracking
+  // path: a live stream loses no frame to them; a new keyframe's links are skipped while the last
+  // keyframe's are still being solved. False: solved within the frame that made the keyframe (the
+  // same trajectory every run).
+  bool local_window_background = true;
 
   // Tracking loss: frames whose solve fails a check are not trusted. The first of them are bridged by
   // a constant-velocity prediction (state predicted); after that the odometry is lost, and each frame
