@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -365,4 +367,41 @@ TEST(FrameRectification, LookupsOutsideTheInputGiveNoDepthAndNoFalseEdge) {
   }
   EXPECT_GT(outside, camera.width) << "the motion must take some lookups outside the input for this test to mean anything";
   EXPECT_EQ(off_colour, 0);
+}
+
+// The AVX2 pass (8 pixels of a grid cell at a time, where the CPU has it) gives the portable loop's
+// output to the bit: every colour byte and depth value, with a lens, turning and moving rows, depth
+// taken at another instant, lookups leaving the image, and missing depth.
+TEST(FrameRectification, VectorPassGivesThePortableOutputExactly) {
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(164, 120);  // the last cell is partial
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kIndoorRoom);
+  const vocal::Trajectory path = vocal::generateSyntheticTrajectory(scene.workspace(), vocal::SyntheticTrajectoryOptions{});
+  vocal::RgbdFrame frame = vocal::renderSyntheticFrame(scene, camera, path.front(), vocal::kinectLikeSensorModel(), 7);
+  for (int x = 0; x < camera.width; x += 5) frame.depth(x, 60) = std::numeric_limits<float>::quiet_NaN();
+  for (int x = 0; x < camera.width; x += 3) frame.depth(x, 30) = 0.0f;
+  struct Case {
+    double readout, depth_offset;
+    Eigen::Vector3d angular, linear;
+  };
+  for (const Case& c : {Case{0.0, 0.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()},
+                        Case{0.03, 0.0, Eigen::Vector3d(0.5, 2.0, 0.3), Eigen::Vector3d::Zero()},
+                        Case{0.03, 0.0, Eigen::Vector3d(0.5, -1.5, 0.3), Eigen::Vector3d(0.6, -0.3, 0.4)},
+                        Case{0.03, -0.008, Eigen::Vector3d(-1.0, 2.0, 0.2), Eigen::Vector3d(0.6, 0.2, -0.5)}}) {
+    const vocal::FrameRectification portable(camera, freiburg1Lens(), c.readout, c.depth_offset, false);
+    const vocal::FrameRectification best(camera, freiburg1Lens(), c.readout, c.depth_offset, true);
+    const vocal::RgbdFrame expected = portable.rectify(frame, c.angular, c.linear);
+    const vocal::RgbdFrame actual = best.rectify(frame, c.angular, c.linear);
+    int colour_differences = 0, depth_differences = 0, outside = 0;
+    for (int y = 0; y < camera.height; ++y) {
+      for (int x = 0; x < camera.width; ++x) {
+        const vocal::Rgb8 e = expected.color(x, y), a = actual.color(x, y);
+        colour_differences += e.r != a.r || e.g != a.g || e.b != a.b;
+        depth_differences += std::memcmp(&expected.depth(x, y), &actual.depth(x, y), sizeof(float)) != 0;
+        outside += expected.depth(x, y) == 0.0f;
+      }
+    }
+    EXPECT_EQ(colour_differences, 0) << "readout " << c.readout << ", depth offset " << c.depth_offset;
+    EXPECT_EQ(depth_differences, 0) << "readout " << c.readout << ", depth offset " << c.depth_offset;
+    EXPECT_GT(outside, camera.width) << "some lookups must leave the image or miss depth for this to mean anything";
+  }
 }
