@@ -44,6 +44,23 @@ VOCAL_AVX2_INLINE __m256 validDepth(__m256 z, __m256 mask) {
                                            _mm256_cmp_ps(z, _mm256_set1_ps(1e30f), _CMP_LT_OQ)));
 }
 
+// The camera's own move over `time` (times `motion`) shifts the lookups (x, y) that are `inside` by
+// (fx (t_x - x_ideal t_z), fy (t_y - y_ideal t_z)) / z at the depth z found there; `inside` is
+// tested again where they moved.
+VOCAL_AVX2_INLINE void shiftAlongTranslation(const RowConstants& c, __m256 time, const Eigen::Vector3f& motion, __m256 x_ideal,
+                                             __m256* x, __m256* y, __m256* inside) {
+  const __m256 z = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), c.depth_in, nearestIndex(*x, *y, _mm256_set1_epi32(c.w)), *inside, 4);
+  const __m256 valid = validDepth(z, *inside);
+  const __m256 shift_x = _mm256_div_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(c.fx), time),
+                                                     _mm256_sub_ps(_mm256_set1_ps(motion.x()), _mm256_mul_ps(x_ideal, _mm256_set1_ps(motion.z())))),
+                                       z);
+  const __m256 shift_y =
+      _mm256_div_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(c.fy), time), _mm256_set1_ps(motion.y() - c.y_ideal * motion.z())), z);
+  *x = _mm256_blendv_ps(*x, _mm256_sub_ps(*x, shift_x), valid);
+  *y = _mm256_blendv_ps(*y, _mm256_sub_ps(*y, shift_y), valid);
+  *inside = _mm256_blendv_ps(*inside, insideImage(*x, *y, _mm256_set1_ps(c.max_x), _mm256_set1_ps(c.max_y)), valid);
+}
+
 // One grid cell (8 pixels from u0) of FrameRectification::rectify's row loop, the same operations in
 // the same order in 8 lanes (no FMA: the same roundings), so the output is the scalar loop's exactly;
 // colour and depth are fetched with gathers.
@@ -56,21 +73,13 @@ __attribute__((target("avx2"))) void rectifyCellAvx2(const RowConstants& c, int 
   const __m256 lane = _mm256_setr_ps(0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f);
   const __m256 u = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(u0)), lane);
   const __m256 x_ideal = _mm256_div_ps(_mm256_sub_ps(u, _mm256_set1_ps(c.cx)), _mm256_set1_ps(c.fx));
-  const __m256 fx = _mm256_set1_ps(c.fx), fy = _mm256_set1_ps(c.fy), height = _mm256_set1_ps(static_cast<float>(c.h));
+  const __m256 height = _mm256_set1_ps(static_cast<float>(c.h));
   __m256 sx = _mm256_add_ps(_mm256_set1_ps(left.x()), _mm256_mul_ps(lane, _mm256_set1_ps(step.x())));
   __m256 sy = _mm256_add_ps(_mm256_set1_ps(left.y()), _mm256_mul_ps(lane, _mm256_set1_ps(step.y())));
   __m256 seen = insideImage(sx, sy, max_x, max_y);
   if (c.colour_translating) {
-    const __m256 z = _mm256_mask_i32gather_ps(zero, c.depth_in, nearestIndex(sx, sy, w), seen, 4);
-    const __m256 valid = validDepth(z, seen);
-    const __m256 share = _mm256_sub_ps(_mm256_div_ps(sy, height), half);
-    const __m256 shift_x = _mm256_div_ps(
-        _mm256_mul_ps(_mm256_mul_ps(fx, share), _mm256_sub_ps(_mm256_set1_ps(c.moving.x()), _mm256_mul_ps(x_ideal, _mm256_set1_ps(c.moving.z())))), z);
-    const __m256 shift_y = _mm256_div_ps(
-        _mm256_mul_ps(_mm256_mul_ps(fy, share), _mm256_set1_ps(c.moving.y() - c.y_ideal * c.moving.z())), z);
-    sx = _mm256_blendv_ps(sx, _mm256_sub_ps(sx, shift_x), valid);
-    sy = _mm256_blendv_ps(sy, _mm256_sub_ps(sy, shift_y), valid);
-    seen = _mm256_blendv_ps(seen, insideImage(sx, sy, max_x, max_y), valid);
+    const __m256 share = _mm256_sub_ps(_mm256_div_ps(sy, height), half);  // of the readout, after the middle row
+    shiftAlongTranslation(c, share, c.moving, x_ideal, &sx, &sy, &seen);
   }
   // Outside the input: the nearest border pixel (NaN: the output pixel itself).
   const __m256 clamped_x = _mm256_min_ps(_mm256_max_ps(_mm256_blendv_ps(sx, u, _mm256_cmp_ps(sx, sx, _CMP_UNORD_Q)), zero), max_x);
@@ -123,17 +132,9 @@ __attribute__((target("avx2"))) void rectifyCellAvx2(const RowConstants& c, int 
   __m256 dy = _mm256_add_ps(_mm256_set1_ps(depth_left.y()), _mm256_mul_ps(lane, _mm256_set1_ps(depth_step.y())));
   __m256 found = _mm256_and_ps(seen, insideImage(dx, dy, max_x, max_y));
   if (c.translating) {
-    const __m256 z = _mm256_mask_i32gather_ps(zero, c.depth_in, nearestIndex(dx, dy, w), found, 4);
-    const __m256 valid = validDepth(z, found);
     const __m256 seconds =
         _mm256_add_ps(_mm256_set1_ps(c.depth_offset), _mm256_mul_ps(_mm256_set1_ps(c.readout), _mm256_sub_ps(_mm256_div_ps(dy, height), half)));
-    const __m256 shift_x = _mm256_div_ps(
-        _mm256_mul_ps(_mm256_mul_ps(fx, seconds), _mm256_sub_ps(_mm256_set1_ps(c.velocity.x()), _mm256_mul_ps(x_ideal, _mm256_set1_ps(c.velocity.z())))), z);
-    const __m256 shift_y = _mm256_div_ps(
-        _mm256_mul_ps(_mm256_mul_ps(fy, seconds), _mm256_set1_ps(c.velocity.y() - c.y_ideal * c.velocity.z())), z);
-    dx = _mm256_blendv_ps(dx, _mm256_sub_ps(dx, shift_x), valid);
-    dy = _mm256_blendv_ps(dy, _mm256_sub_ps(dy, shift_y), valid);
-    found = _mm256_blendv_ps(found, insideImage(dx, dy, max_x, max_y), valid);
+    shiftAlongTranslation(c, seconds, c.velocity, x_ideal, &dx, &dy, &found);
   }
   _mm256_storeu_ps(depth_out + u0, _mm256_mask_i32gather_ps(zero, c.depth_in, nearestIndex(dx, dy, w), found, 4));
 }
