@@ -279,6 +279,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     keyframes_ += result.new_keyframe;
     window_links_ += result.window_links;
     window_links_skipped_ += result.window_links_skipped;
+    if (!result.window_error.empty()) NODELET_ERROR_STREAM("IcpDvoOdometry: " << result.window_error);
     const bool trusted = result.quality.trusted;
     if (!trusted) {
       ++frames_lost_;

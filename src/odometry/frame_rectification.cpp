@@ -4,17 +4,15 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
 
 #include <Eigen/Geometry>
+
+#include "vector_dispatch.h"
 
 namespace vocal {
 
 namespace {
-#if defined(__x86_64__) && defined(__GNUC__)
-#define VOCAL_RECTIFY_AVX2 1
+#ifdef VOCAL_HAND_AVX2
 // What one row's cells share.
 struct RowConstants {
   const Rgb8* colour_in;
@@ -138,18 +136,13 @@ __attribute__((target("avx2"))) void rectifyCellAvx2(const RowConstants& c, int 
   }
   _mm256_storeu_ps(depth_out + u0, _mm256_mask_i32gather_ps(zero, c.depth_in, nearestIndex(dx, dy, w), found, 4));
 }
-
-bool cpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
 #endif
 }  // namespace
 
 FrameRectification::FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds,
                                        double depth_time_offset, bool allow_avx2)
     : camera_(camera), lens_(lens), readout_(readout_seconds), depth_time_offset_(depth_time_offset) {
-#ifdef VOCAL_RECTIFY_AVX2
+#ifdef VOCAL_HAND_AVX2
   avx2_ = allow_avx2 && cpuHasAvx2();
 #else
   (void)allow_avx2;
@@ -225,7 +218,7 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
     Rgb8* colour_out = &out.color(0, v);
     float* depth_out = &out.depth(0, v);
     const float y_ideal = (v - cy) / fy;
-#ifdef VOCAL_RECTIFY_AVX2
+#ifdef VOCAL_HAND_AVX2
     const RowConstants row{colour_in, depth_in, w, h, v, max_x, max_y, fx, fy, cx, cy, y_ideal, depth_offset, readout,
                            moving, velocity, colour_translating, translating, depth_apart};
 #endif
@@ -239,7 +232,7 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
         depth_step = (depth_top[i + 1] + b * (depth_bottom[i + 1] - depth_top[i + 1]) - depth_left) / static_cast<float>(kGridStep);
       }
       const int u_end = std::min(w, (i + 1) * kGridStep);
-#ifdef VOCAL_RECTIFY_AVX2
+#ifdef VOCAL_HAND_AVX2
       static_assert(kGridStep == 8, "a cell is one AVX2 register of pixels");
       if (avx2_ && u_end - i * kGridStep == kGridStep) {
         rectifyCellAvx2(row, i * kGridStep, left, step, depth_left, depth_step, colour_out, depth_out);

@@ -1,8 +1,8 @@
 #include "vocal/odometry/icp_dvo_odometry.h"
 
 #include <chrono>
-#include <future>
 #include <cmath>
+#include <future>
 #include <iomanip>
 #include <limits>
 #include <optional>
@@ -373,8 +373,7 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
     return;
   }
   // The new keyframe against the newest earlier ones of the window (a bounded cost per keyframe: a
-  // failed solve, too little overlap or a poor fit, is not replaced by an older one). The frames are
-  // copied: a keyframe's frame may be rectified again meanwhile.
+  // failed solve, too little overlap or a poor fit, is not replaced by an older one).
   auto job = std::make_shared<WindowJob>();
   job->added_id = added.id;
   job->added_frame = added.frame;
@@ -437,7 +436,15 @@ void IcpDvoOdometry::applyWindowLinks(const std::vector<KeyframeLink>& links, Od
 void IcpDvoOdometry::collectWindow(bool wait, OdometryResult* result) {
   if (!window_job_.valid()) return;
   if (!wait && window_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-  const std::vector<KeyframeLink> links = window_job_.get();
+  std::vector<KeyframeLink> links;
+  try {
+    links = window_job_.get();
+  } catch (const std::exception& e) {
+    // Its backend could not be made or failed: tracking goes on without the window.
+    result->window_error = std::string("the local window's links could not be solved, the window is off from now: ") + e.what();
+    window_.reset();
+    return;
+  }
   if (active_) applyWindowLinks(links, result);
 }
 

@@ -4,10 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -63,7 +59,7 @@ void addSmoothingTap(const float* __restrict tap_depth, const float* __restrict 
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef VOCAL_HAND_AVX2
 // One interior row of the smoothing window, pixels [x0, x1 - (x1 - x0) % 8): eight pixels at a time,
 // each summing its taps in registers in the reference's order (rows, then columns), so that each
 // pixel's sum is the reference's exactly; only the taps are read, nothing but the result is written
@@ -94,16 +90,12 @@ __attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, co
   }
   return x;
 }
-
-bool cpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
 #endif
 
 // smoothDepth of frame_pyramid.cpp: the average of the inverse depths within `radius` whose depth is
-// within factor * z^2 of the centre. Interior rows accumulate tap by tap over the whole row, so the
-// inner loop runs over x (vectorised) while each pixel sums in the reference's order.
+// within factor * z^2 of the centre. Interior rows: eight pixels at a time in AVX2 registers where the
+// CPU has it, else tap by tap over the whole row (the inner loop over x, vectorised); each pixel sums
+// in the reference's order either way.
 void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads, bool allow_avx2,
                  std::vector<float>* inverse_scratch, std::vector<float>* out_depth) {
   std::vector<float>& inv = *inverse_scratch;
@@ -148,7 +140,7 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
       for (int x = w - radius; x < w; ++x) out_row[x] = pixelWithShrunkWindow(x, y);
       int x0 = radius;
       const int x1 = w - radius;
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef VOCAL_HAND_AVX2
       static const bool cpu_avx2 = cpuHasAvx2();
       if (allow_avx2 && cpu_avx2) x0 = smoothInteriorRowAvx2(depth.data(), inv.data(), w, y, radius, factor, x0, x1, out_row);
       if (x0 == x1) continue;
@@ -248,7 +240,7 @@ void gradients(int threads, SoaPyramidLevel* l) {
   }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef VOCAL_HAND_AVX2
 // A vertex (u z, v z, z) where z > 0, else NaN; returns where it is valid.
 __attribute__((target("avx2"), always_inline)) inline __m256 vertexAvx2(__m256 z, __m256 u, __m256 v, __m256* x, __m256* y,
                                                                         __m256* zz) {
@@ -311,7 +303,7 @@ void records(const float* normal_depth, int threads, bool allow_avx2, SoaPyramid
     const float z = depth[y * w + x];
     return z > 0.0f ? Eigen::Vector3f((x - cx) * fx_inv * z, (y - cy) * fy_inv * z, z) : Eigen::Vector3f::Constant(kNaN);
   };
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef VOCAL_HAND_AVX2
   static const bool cpu_avx2 = cpuHasAvx2();
   const bool avx2 = allow_avx2 && cpu_avx2;
 #else
@@ -321,7 +313,7 @@ void records(const float* normal_depth, int threads, bool allow_avx2, SoaPyramid
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < h; ++y) {
     int x_start = 0;
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef VOCAL_HAND_AVX2
     if (avx2 && y + 1 < h) {
       // Eight at a time while each has a right neighbour; the rest (the last column's) below.
       for (; x_start + 8 < w; x_start += 8)

@@ -8,3 +8,14 @@
 #else
 #define VOCAL_VECTOR_CLONES
 #endif
+
+// Hand-written AVX2 passes (functions marked __attribute__((target("avx2")))) where this build can
+// have them; cpuHasAvx2() says whether this CPU runs them.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define VOCAL_HAND_AVX2 1
+#include <immintrin.h>
+inline bool cpuHasAvx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+#endif

@@ -86,6 +86,7 @@ int run(const vocal::CommandLine& args) {
     keyframes += result.new_keyframe;
     relocalisations += result.state == vocal::TrackingState::kRelocalised;
     failures += !result.quality.trusted;
+    if (!result.window_error.empty()) std::fprintf(stderr, "\nframe %zu: %s\n", i, result.window_error.c_str());
     const std::string event = vocal::trackingEvent(result);
     if (!event.empty()) std::fprintf(stderr, "\nframe %zu (%.6f): %s\n", i, frame.stamp, event.c_str());
     if (args.has("verbose")) {

@@ -59,7 +59,8 @@ struct OdometryTimings {
   double preprocess_ms = 0.0;  // pyramids, maps, gradients (the backend's pushFrame)
   double features_ms = 0.0;    // ORB extraction, matching and PnP (feature initialisation)
   double solve_ms = 0.0;       // the coarse-to-fine dense solve(s) and the result checks
-  double window_ms = 0.0;      // the local window: its links' preprocessing and solves, the pose graph
+  double window_ms = 0.0;      // the local window on this thread: its pose graph, and its links' solves
+                               // unless they run in the background
 };
 
 struct OdometryResult {
@@ -87,6 +88,7 @@ struct OdometryResult {
   double window_correction_m = 0.0;
   double window_correction_deg = 0.0;
   bool window_links_skipped = false;
+  std::string window_error;  // why the window stopped (its background solve failed); empty while it works
   int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
 };
 
@@ -183,9 +185,8 @@ class IcpDvoOdometry {
   // Whether the keyframe should be replaced after `solve` (always frame to frame).
   bool keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const;
   void addKeyframe(const RgbdFrame& frame, std::shared_ptr<const FrameFeatures> features);
-  // The local window after the active keyframe was made from a frame tracked against keyframe
-  // `tracked_against` by `solve`: both join the window with their link, and the new keyframe's dense
-  // links to earlier ones are solved (now, or in the background when config.local_window_background).
+  // The dense links of a new keyframe to earlier ones, to be solved: copies of the frames, as a
+  // keyframe's frame may be rectified again meanwhile.
   struct WindowJob {
     struct Reference {
       int id = 0;
@@ -197,6 +198,9 @@ class IcpDvoOdometry {
     std::vector<Reference> references;
     double residual_level = 0.0;  // the running level when the job was made
   };
+  // The local window after the active keyframe was made from a frame tracked against keyframe
+  // `tracked_against` by `solve`: both join the window with their link, and the new keyframe's dense
+  // links to earlier ones are solved (now, or in the background when config.local_window_background).
   void startWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result);
   // The links of a job on the window's own backend; touches nothing the tracking uses.
   std::vector<KeyframeLink> solveWindowLinks(const WindowJob& job);
