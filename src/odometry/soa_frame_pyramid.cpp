@@ -164,35 +164,79 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
   }
 }
 
+#ifdef VOCAL_HAND_AVX2
+// p[0], p[2], ..., p[14]: the even ones of 16 floats.
+__attribute__((target("avx2"), always_inline)) inline __m256 evenFloats(const float* p) {
+  const __m256 mixed = _mm256_shuffle_ps(_mm256_loadu_ps(p), _mm256_loadu_ps(p + 8), _MM_SHUFFLE(2, 0, 2, 0));
+  return _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(mixed), _MM_SHUFFLE(3, 1, 2, 0)));
+}
+
+// Outputs [x, x + 8) of row y of downsampleDepth below, all of whose 5x5 windows lie inside the input:
+// the same sums in the same order in 8 lanes (a tap outside the limit adds 0), so the reference's values.
+__attribute__((target("avx2"))) void downsampleDepthAvx2(const float* in, int w, int x, int y, float limit, float* out) {
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), bound = _mm256_set1_ps(limit);
+  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 centre = evenFloats(in + static_cast<std::size_t>(2 * y) * w + 2 * x);
+  __m256 sum = zero, count = zero;
+  for (int dy = -2; dy <= 2; ++dy) {
+    const float* row = in + static_cast<std::size_t>(2 * y + dy) * w + 2 * x;
+    for (int dx = -2; dx <= 2; ++dx) {
+      const __m256 d = evenFloats(row + dx);
+      const __m256 distance = _mm256_and_ps(_mm256_sub_ps(d, centre), magnitude);
+      const __m256 inside = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(distance, bound, _CMP_LT_OQ));
+      sum = _mm256_add_ps(sum, _mm256_and_ps(inside, d));
+      count = _mm256_add_ps(count, _mm256_and_ps(inside, one));
+    }
+  }
+  // A missing centre gives 0 (its lanes' 0 / 0 masked).
+  _mm256_storeu_ps(out + x, _mm256_and_ps(_mm256_div_ps(sum, count), _mm256_cmp_ps(centre, zero, _CMP_GT_OQ)));
+}
+#endif
+
 // downsampleDepth of frame_pyramid.cpp: 5x5 average of the neighbours within 3 sigma of the centre.
-void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, SoaPyramidLevel* out) {
+void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, bool allow_avx2, SoaPyramidLevel* out) {
   const float limit = 3.0f * sigma;
   const int w = in.width, h = in.height;
+  auto pixel = [&](int x, int y) {
+    const float centre = in.depth[2 * y * w + 2 * x];
+    if (!(centre > 0.0f)) return 0.0f;
+    float sum = 0.0f;
+    int count = 0;
+    for (int dy = -2; dy <= 2; ++dy) {
+      const int sy = 2 * y + dy;
+      if (sy < 0 || sy >= h) continue;
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int sx = 2 * x + dx;
+        if (sx < 0 || sx >= w) continue;
+        const float d = in.depth[sy * w + sx];
+        if (d > 0.0f && std::fabs(d - centre) < limit) {
+          sum += d;
+          ++count;
+        }
+      }
+    }
+    return sum / count;
+  };
+#ifdef VOCAL_HAND_AVX2
+  static const bool cpu_avx2 = cpuHasAvx2();
+  const bool avx2 = allow_avx2 && cpu_avx2;
+#else
+  const bool avx2 = false;
+  (void)allow_avx2;
+#endif
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < out->height; ++y) {
-    for (int x = 0; x < out->width; ++x) {
-      const float centre = in.depth[2 * y * w + 2 * x];
-      float value = 0.0f;
-      if (centre > 0.0f) {
-        float sum = 0.0f;
-        int count = 0;
-        for (int dy = -2; dy <= 2; ++dy) {
-          const int sy = 2 * y + dy;
-          if (sy < 0 || sy >= h) continue;
-          for (int dx = -2; dx <= 2; ++dx) {
-            const int sx = 2 * x + dx;
-            if (sx < 0 || sx >= w) continue;
-            const float d = in.depth[sy * w + sx];
-            if (d > 0.0f && std::fabs(d - centre) < limit) {
-              sum += d;
-              ++count;
-            }
-          }
-        }
-        value = sum / count;
-      }
-      out->depth[y * out->width + x] = value;
+    float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
+    int x = 0;
+#ifdef VOCAL_HAND_AVX2
+    if (avx2 && 2 * y - 2 >= 0 && 2 * y + 2 < h) {
+      // From x = 1 (the window's left edge inside), 8 at a time while the last load (16 floats from
+      // 2 x + 2) stays inside the row.
+      for (; x < 1 && x < out->width; ++x) out_row[x] = pixel(x, y);
+      for (; x + 8 <= out->width && 2 * x + 17 < w; x += 8) downsampleDepthAvx2(in.depth.data(), w, x, y, limit, out_row);
     }
+#endif
+    for (; x < out->width; ++x) out_row[x] = pixel(x, y);
   }
 }
 
@@ -356,7 +400,7 @@ void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, c
     if (level == 0) {
       sanitizeAndConvert(frame, static_cast<float>(config.min_depth), static_cast<float>(config.max_depth), threads, &l);
     } else {
-      downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), threads, &l);
+      downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), threads, avx2, &l);
       downsampleIntensity((*pyramid)[level - 1], threads, &l);
     }
     gradients(threads, &l);
