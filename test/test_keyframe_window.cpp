@@ -120,13 +120,19 @@ TEST(OdometryLocalWindow, KeyframesAreLinkedAndRefinedWithoutAJumpInThePublished
       refined[run] += result.window_correction_m > 0.0;
       largest_correction[run] = std::max(largest_correction[run], result.window_correction_m);
       skipped[run] += result.window_links_skipped;
-      if (run == kWithinTheFrame && result.window_links > 0) EXPECT_TRUE(result.new_keyframe) << "frame " << i;
+      if (run == kWithinTheFrame && result.window_links > 0) {
+        EXPECT_TRUE(result.new_keyframe) << "frame " << i;
+      }
       // A refinement moves the estimate at once and the published pose a share per frame: a frame after
       // it, most of the move is still to come.
       const double unpublished = (odometry.estimatedPose().inverse() * result.pose).translation().norm();
-      if (last_correction > 0.0 && result.window_correction_m == 0.0) EXPECT_GT(unpublished, 0.5 * last_correction) << "frame " << i;
+      if (last_correction > 0.0 && result.window_correction_m == 0.0) {
+        EXPECT_GT(unpublished, 0.5 * last_correction) << "frame " << i;
+      }
       last_correction = result.window_correction_m;
-      if (run == kOff) EXPECT_EQ(unpublished, 0.0);
+      if (run == kOff) {
+        EXPECT_EQ(unpublished, 0.0);
+      }
       if (i == 0) continue;
       const Eigen::Isometry3d error = (truth[i - 1].pose.inverse() * truth[i].pose).inverse() * result.increment;
       worst_increment_error[run] = std::max(worst_increment_error[run], error.translation().norm());

@@ -158,7 +158,8 @@ void expectSamePoseAsTheReference(const BackendFactory& make_other) {
 }
 }  // namespace
 
-// Both passes: the portable one and, where the CPU has it, the AVX2 one (the depth smoothing's, here).
+// Both passes: the portable one and, where the CPU has it, the AVX2 one (depth smoothing, depth pyramid,
+// vertex and normal records).
 TEST(FastCpuParity, SameMapsOnEveryLevel) {
   const FramePair pair = renderPair(3, true);
   const vocal::OdometryConfig config;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-
 #include <Eigen/Geometry>
 
 #include "vector_dispatch.h"
@@ -22,8 +21,6 @@ struct RowConstants {
   Eigen::Vector3f moving, velocity;
   bool colour_translating, translating, depth_apart;
 };
-
-#define VOCAL_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 
 VOCAL_AVX2_INLINE __m256 insideImage(__m256 x, __m256 y, __m256 max_x, __m256 max_y) {
   const __m256 zero = _mm256_setzero_ps();
@@ -141,13 +138,8 @@ __attribute__((target("avx2"))) void rectifyCellAvx2(const RowConstants& c, int 
 
 FrameRectification::FrameRectification(const PinholeCamera& camera, const LensDistortion& lens, double readout_seconds,
                                        double depth_time_offset, bool allow_avx2)
-    : camera_(camera), lens_(lens), readout_(readout_seconds), depth_time_offset_(depth_time_offset) {
-#ifdef VOCAL_HAND_AVX2
-  avx2_ = allow_avx2 && cpuHasAvx2();
-#else
-  (void)allow_avx2;
-#endif
-}
+    : camera_(camera), lens_(lens), readout_(readout_seconds), depth_time_offset_(depth_time_offset),
+      avx2_(allow_avx2 && handAvx2Available()) {}
 
 Eigen::Vector2d FrameRectification::sourcePixel(double u, double v, const Eigen::Vector3d& angular_velocity,
                                                 double time_offset) const {

@@ -457,10 +457,15 @@ IcpDvoOdometry::~IcpDvoOdometry() {
   if (window_job_.valid()) window_job_.wait();
 }
 
-Eigen::Isometry3d IcpDvoOdometry::publish(const Eigen::Isometry3d& estimate) {
-  const Eigen::Isometry3d published = unpublished_correction_ * estimate;
-  unpublished_correction_ = se3Exp((1.0 - kCorrectionSharePerFrame) * se3Log(unpublished_correction_));
-  return published;
+void IcpDvoOdometry::publish(OdometryResult* result) {
+  // Lost, the pose stays (and so does what is left of a window's correction).
+  Eigen::Isometry3d published = published_pose_;
+  if (result->state != TrackingState::kLost) {
+    published = unpublished_correction_ * pose_;
+    unpublished_correction_ = se3Exp((1.0 - kCorrectionSharePerFrame) * se3Log(unpublished_correction_));
+  }
+  result->increment = published_pose_.inverse() * published;
+  result->pose = published_pose_ = published;
 }
 
 OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
@@ -502,7 +507,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     result.new_keyframe = true;
     result.keyframe_id = active_->id;
     if (window_) window_->addKeyframe(active_->id, active_->pose);
-    result.pose = published_pose_ = publish(pose_);
+    publish(&result);
     result.pose_covariance = pose_covariance_;
     return result;
   }
@@ -550,10 +555,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
       result.state = TrackingState::kLost;
       result.pose_covariance = Matrix6d::Identity() * kLostVariance;
     }
-    // Lost, the pose stays (and so does what is left of a window's correction).
-    const Eigen::Isometry3d published = result.state == TrackingState::kLost ? published_pose_ : publish(pose_);
-    result.increment = published_pose_.inverse() * published;
-    result.pose = published_pose_ = published;
+    publish(&result);
     result.timings.solve_ms += lapMilliseconds(&clock);
     return result;
   }
@@ -606,9 +608,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
       result.timings.window_ms += lapMilliseconds(&clock);
     }
   }
-  const Eigen::Isometry3d published = publish(pose_);
-  result.increment = published_pose_.inverse() * published;
-  result.pose = published_pose_ = published;
+  publish(&result);
   result.timings.solve_ms += lapMilliseconds(&clock);
   return result;
 }

@@ -87,11 +87,10 @@ bool KeyframeWindow::optimise() {
   // Links that form no loop (a chain, a tree) fit exactly: nothing to refine.
   std::set<int> linked;
   for (const KeyframeLink& link : links_) linked.insert({link.from_id, link.to_id});
-  if (links_.size() < linked.size()) return false;
+  if (links_.empty() || links_.size() < linked.size()) return false;
   std::map<int, PoseBlock> blocks;
   for (const auto& [id, pose] : poses_) blocks[id] = {Eigen::Quaterniond(pose.linear()).normalized(), pose.translation()};
   ceres::Problem problem;
-  int oldest_linked = -1;
   for (const KeyframeLink& link : links_) {
     // The square root of the information: its Cholesky factor (a singular one keeps its eigen form).
     const Eigen::LLT<Matrix6d> llt(link.information);
@@ -106,15 +105,13 @@ bool KeyframeWindow::optimise() {
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LinkError, 6, 4, 3, 4, 3>(new LinkError(link.from_T_to, sqrt_information)),
                              nullptr, a.rotation.coeffs().data(), a.translation.data(), b.rotation.coeffs().data(),
                              b.translation.data());
-    for (int id : {link.from_id, link.to_id})
-      if (oldest_linked < 0 || std::find(ids_.begin(), ids_.end(), id) < std::find(ids_.begin(), ids_.end(), oldest_linked))
-        oldest_linked = id;
   }
+  // The window's anchor: its oldest linked keyframe (the odometry before it is not revisited).
+  const int oldest_linked = *std::find_if(ids_.begin(), ids_.end(), [&](int id) { return linked.count(id) > 0; });
   for (auto& [id, block] : blocks) {
     if (!problem.HasParameterBlock(block.rotation.coeffs().data())) continue;
     problem.SetManifold(block.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
     if (id == oldest_linked) {
-      // The window's anchor: the odometry before it is not revisited.
       problem.SetParameterBlockConstant(block.rotation.coeffs().data());
       problem.SetParameterBlockConstant(block.translation.data());
     }

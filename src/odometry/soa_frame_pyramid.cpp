@@ -60,6 +60,17 @@ void addSmoothingTap(const float* __restrict tap_depth, const float* __restrict 
 }
 
 #ifdef VOCAL_HAND_AVX2
+// One tap of an edge-preserving window in 8 lanes: where the tap's depth d is valid and within `limit`
+// of the centre's, `value` is added to the sum and 1 to the count (else 0: the sums stay exactly the
+// scalar loops', which skip the tap).
+VOCAL_AVX2_INLINE void addTapWithin(__m256 d, __m256 value, __m256 centre, __m256 limit, __m256* sum, __m256* count) {
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 distance = _mm256_and_ps(_mm256_sub_ps(d, centre), _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+  const __m256 inside = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(distance, limit, _CMP_LT_OQ));
+  *sum = _mm256_add_ps(*sum, _mm256_and_ps(inside, value));
+  *count = _mm256_add_ps(*count, _mm256_and_ps(inside, _mm256_set1_ps(1.0f)));
+}
+
 // One interior row of the smoothing window, pixels [x0, x1 - (x1 - x0) % 8): eight pixels at a time,
 // each summing its taps in registers in the reference's order (rows, then columns), so that each
 // pixel's sum is the reference's exactly; only the taps are read, nothing but the result is written
@@ -67,8 +78,7 @@ void addSmoothingTap(const float* __restrict tap_depth, const float* __restrict 
 __attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, const float* inverse, int w, int y, int radius,
                                                           float factor, int x0, int x1, float* out_row) {
   const float* centre = depth + static_cast<std::size_t>(y) * w;
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), f = _mm256_set1_ps(factor);
-  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 zero = _mm256_setzero_ps(), f = _mm256_set1_ps(factor);
   int x = x0;
   for (; x + 8 <= x1; x += 8) {
     const __m256 c = _mm256_loadu_ps(centre + x);
@@ -77,11 +87,7 @@ __attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, co
     for (int dy = -radius; dy <= radius; ++dy) {
       const std::size_t row = static_cast<std::size_t>(y + dy) * w + x;
       for (int dx = -radius; dx <= radius; ++dx) {
-        const __m256 d = _mm256_loadu_ps(depth + row + dx);
-        const __m256 distance = _mm256_and_ps(_mm256_sub_ps(d, c), magnitude);
-        const __m256 inside = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(distance, limit, _CMP_LT_OQ));
-        sum = _mm256_add_ps(sum, _mm256_and_ps(inside, _mm256_loadu_ps(inverse + row + dx)));
-        count = _mm256_add_ps(count, _mm256_and_ps(inside, one));
+        addTapWithin(_mm256_loadu_ps(depth + row + dx), _mm256_loadu_ps(inverse + row + dx), c, limit, &sum, &count);
       }
     }
     // A missing centre has no taps (0 / 0): masked to 0.
@@ -96,7 +102,7 @@ __attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, co
 // within factor * z^2 of the centre. Interior rows: eight pixels at a time in AVX2 registers where the
 // CPU has it, else tap by tap over the whole row (the inner loop over x, vectorised); each pixel sums
 // in the reference's order either way.
-void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads, bool allow_avx2,
+void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads, [[maybe_unused]] bool avx2,
                  std::vector<float>* inverse_scratch, std::vector<float>* out_depth) {
   std::vector<float>& inv = *inverse_scratch;
   std::vector<float>& out = *out_depth;
@@ -141,8 +147,7 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
       int x0 = radius;
       const int x1 = w - radius;
 #ifdef VOCAL_HAND_AVX2
-      static const bool cpu_avx2 = cpuHasAvx2();
-      if (allow_avx2 && cpu_avx2) x0 = smoothInteriorRowAvx2(depth.data(), inv.data(), w, y, radius, factor, x0, x1, out_row);
+      if (avx2) x0 = smoothInteriorRowAvx2(depth.data(), inv.data(), w, y, radius, factor, x0, x1, out_row);
       if (x0 == x1) continue;
 #endif
       float* __restrict s = sum.data();
@@ -166,7 +171,7 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
 
 #ifdef VOCAL_HAND_AVX2
 // p[0], p[2], ..., p[14]: the even ones of 16 floats.
-__attribute__((target("avx2"), always_inline)) inline __m256 evenFloats(const float* p) {
+VOCAL_AVX2_INLINE __m256 evenFloats(const float* p) {
   const __m256 mixed = _mm256_shuffle_ps(_mm256_loadu_ps(p), _mm256_loadu_ps(p + 8), _MM_SHUFFLE(2, 0, 2, 0));
   return _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(mixed), _MM_SHUFFLE(3, 1, 2, 0)));
 }
@@ -174,18 +179,14 @@ __attribute__((target("avx2"), always_inline)) inline __m256 evenFloats(const fl
 // Outputs [x, x + 8) of row y of downsampleDepth below, all of whose 5x5 windows lie inside the input:
 // the same sums in the same order in 8 lanes (a tap outside the limit adds 0), so the reference's values.
 __attribute__((target("avx2"))) void downsampleDepthAvx2(const float* in, int w, int x, int y, float limit, float* out) {
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), bound = _mm256_set1_ps(limit);
-  const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+  const __m256 zero = _mm256_setzero_ps(), bound = _mm256_set1_ps(limit);
   const __m256 centre = evenFloats(in + static_cast<std::size_t>(2 * y) * w + 2 * x);
   __m256 sum = zero, count = zero;
   for (int dy = -2; dy <= 2; ++dy) {
     const float* row = in + static_cast<std::size_t>(2 * y + dy) * w + 2 * x;
     for (int dx = -2; dx <= 2; ++dx) {
       const __m256 d = evenFloats(row + dx);
-      const __m256 distance = _mm256_and_ps(_mm256_sub_ps(d, centre), magnitude);
-      const __m256 inside = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(distance, bound, _CMP_LT_OQ));
-      sum = _mm256_add_ps(sum, _mm256_and_ps(inside, d));
-      count = _mm256_add_ps(count, _mm256_and_ps(inside, one));
+      addTapWithin(d, d, centre, bound, &sum, &count);
     }
   }
   // A missing centre gives 0 (its lanes' 0 / 0 masked).
@@ -194,7 +195,7 @@ __attribute__((target("avx2"))) void downsampleDepthAvx2(const float* in, int w,
 #endif
 
 // downsampleDepth of frame_pyramid.cpp: 5x5 average of the neighbours within 3 sigma of the centre.
-void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, bool allow_avx2, SoaPyramidLevel* out) {
+void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, [[maybe_unused]] bool avx2, SoaPyramidLevel* out) {
   const float limit = 3.0f * sigma;
   const int w = in.width, h = in.height;
   auto pixel = [&](int x, int y) {
@@ -217,13 +218,6 @@ void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, bool a
     }
     return sum / count;
   };
-#ifdef VOCAL_HAND_AVX2
-  static const bool cpu_avx2 = cpuHasAvx2();
-  const bool avx2 = allow_avx2 && cpu_avx2;
-#else
-  const bool avx2 = false;
-  (void)allow_avx2;
-#endif
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < out->height; ++y) {
     float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
@@ -286,8 +280,7 @@ void gradients(int threads, SoaPyramidLevel* l) {
 
 #ifdef VOCAL_HAND_AVX2
 // A vertex (u z, v z, z) where z > 0, else NaN; returns where it is valid.
-__attribute__((target("avx2"), always_inline)) inline __m256 vertexAvx2(__m256 z, __m256 u, __m256 v, __m256* x, __m256* y,
-                                                                        __m256* zz) {
+VOCAL_AVX2_INLINE __m256 vertexAvx2(__m256 z, __m256 u, __m256 v, __m256* x, __m256* y, __m256* zz) {
   const __m256 valid = _mm256_cmp_ps(z, _mm256_setzero_ps(), _CMP_GT_OQ), nan = _mm256_set1_ps(kNaN);
   *x = _mm256_blendv_ps(nan, _mm256_mul_ps(u, z), valid);
   *y = _mm256_blendv_ps(nan, _mm256_mul_ps(v, z), valid);
@@ -339,7 +332,7 @@ __attribute__((target("avx2"))) void recordsAvx2(const float* depth, const float
 
 // Vertices from `depth`, normals from `normal_depth` (the smoothed depth at level 0, else the same):
 // computeVertices and computeNormals of frame_pyramid.cpp, written into the per-pixel records.
-void records(const float* normal_depth, int threads, bool allow_avx2, SoaPyramidLevel* l) {
+void records(const float* normal_depth, int threads, [[maybe_unused]] bool avx2, SoaPyramidLevel* l) {
   const int w = l->width, h = l->height;
   const float fx_inv = static_cast<float>(1.0 / l->camera.fx), fy_inv = static_cast<float>(1.0 / l->camera.fy);
   const float cx = static_cast<float>(l->camera.cx), cy = static_cast<float>(l->camera.cy);
@@ -347,13 +340,6 @@ void records(const float* normal_depth, int threads, bool allow_avx2, SoaPyramid
     const float z = depth[y * w + x];
     return z > 0.0f ? Eigen::Vector3f((x - cx) * fx_inv * z, (y - cy) * fy_inv * z, z) : Eigen::Vector3f::Constant(kNaN);
   };
-#ifdef VOCAL_HAND_AVX2
-  static const bool cpu_avx2 = cpuHasAvx2();
-  const bool avx2 = allow_avx2 && cpu_avx2;
-#else
-  const bool avx2 = false;
-  (void)allow_avx2;
-#endif
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < h; ++y) {
     int x_start = 0;
@@ -392,7 +378,9 @@ std::size_t SoaPyramidLevel::memoryBytes() const {
 }
 
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid, bool avx2) {
+                          int threads, SoaFramePyramid* pyramid, bool allow_avx2) {
+  // Each pass below takes this (its AVX2 code only compiled where the build can have it).
+  const bool avx2 = allow_avx2 && handAvx2Available();
   pyramid->resize(config.levels);
   for (int level = 0; level < config.levels; ++level) {
     SoaPyramidLevel& l = (*pyramid)[level];

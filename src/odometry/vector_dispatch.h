@@ -9,13 +9,22 @@
 #define VOCAL_VECTOR_CLONES
 #endif
 
-// Hand-written AVX2 passes (functions marked __attribute__((target("avx2")))) where this build can
-// have them; cpuHasAvx2() says whether this CPU runs them.
+// Hand-written AVX2 passes (functions marked __attribute__((target("avx2")))), where this build can
+// have them; handAvx2Available() says whether this CPU runs them (asked once).
 #if defined(__GNUC__) && defined(__x86_64__)
 #define VOCAL_HAND_AVX2 1
+#define VOCAL_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 #include <immintrin.h>
-inline bool cpuHasAvx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
 #endif
+
+inline bool handAvx2Available() {
+#ifdef VOCAL_HAND_AVX2
+  static const bool available = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return available;
+#else
+  return false;
+#endif
+}

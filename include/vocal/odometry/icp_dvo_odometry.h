@@ -209,9 +209,10 @@ class IcpDvoOdometry {
   void applyWindowLinks(const std::vector<KeyframeLink>& links, OdometryResult* result);
   // Applies the background job's links once it has finished (`wait`: waits for it).
   void collectWindow(bool wait, OdometryResult* result);
-  // The published pose of an estimated one: the estimate with the part of the window's corrections not
-  // yet let through (so /odom never jumps), that part shrunk for the next frame.
-  Eigen::Isometry3d publish(const Eigen::Isometry3d& estimate);
+  // The result's pose and increment from the estimate pose_: the estimate with the part of the
+  // window's corrections not yet let through (so /odom never jumps), that part shrunk for the next
+  // frame; the last published pose again while lost.
+  void publish(OdometryResult* result);
   // The last measured motion per second (twist [v; w] of last <- current over its time; zero before one).
   Vector6d velocityPerSecond() const;
   int inliersOf(const OdometryQuality& quality) const;

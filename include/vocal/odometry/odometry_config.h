@@ -27,10 +27,9 @@ struct OdometryConfig {
   double convergence_translation = 3e-4;
   double convergence_rotation = 3e-4;
   // The finest level stops at this times those thresholds: its steps cost four times a coarser
-  // level's, and after the coarse levels its second step is mostly a refinement below the noise. On
-  // every real TUM sequence (3 starts each, docs/benchmarks.md) 3 kept RPE (desk 0.0167 -> 0.0165,
-  // rpy 0.0227 -> 0.0225, xyz 0.0137 -> 0.0138) and cut the solve by 2-3 ms a frame; 5 doubled the
-  // untextured room's error.
+  // level's (by pixel count). On every real TUM sequence (3 starts each, docs/benchmarks.md) 3 kept
+  // RPE (desk 0.0167 -> 0.0165, rpy 0.0227 -> 0.0225, xyz 0.0137 -> 0.0138) and cut the solve by
+  // 1.9-3.3 ms a frame; 5 raised the untextured room's RPE by half (0.0069 -> 0.0101).
   double finest_convergence_factor = 3.0;
 
   // ICP: projective association, then rejection of far or differently oriented pairs.

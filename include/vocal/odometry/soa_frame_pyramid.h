@@ -41,8 +41,9 @@ struct SoaPyramidLevel {
 using SoaFramePyramid = std::vector<SoaPyramidLevel>;
 
 // Fills `pyramid` (resized and reused) with the same maps as buildFramePyramid, on `threads` threads;
-// `avx2`: the depth smoothing's AVX2 pass where the CPU has it (false: the portable one everywhere).
+// `allow_avx2`: the AVX2 passes (depth smoothing, depth pyramid, vertex and normal records) where the
+// CPU has AVX2, the same maps to the bit (false: the portable loops everywhere).
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid, bool avx2 = true);
+                          int threads, SoaFramePyramid* pyramid, bool allow_avx2 = true);
 
 }  // namespace vocal
