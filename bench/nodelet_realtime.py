@@ -2,14 +2,15 @@
 """Plays a recording in real time into the IcpDvoOdometry nodelet, as a robot's camera would feed it, and
 compares what it published with bag_odometry's offline run of the same recording.
 
-  bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P] [--config FILE]
+  bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P] [--config FILE] [--busy N]
 
 1. tum_to_bag --layout openni2: the frames as openni2_launch records them (bgr8 on
    /camera/rgb/image_rect_color, 16UC1 millimetres on /camera/depth_registered/image_raw, camera_info).
 2. bag_odometry on that bag (every frame, as fast as it goes): the offline trajectory.
 3. roslaunch vocal odometry.launch (its own master on --port), rosbag record of /odom, /diagnostics and,
    unless --no-clouds, the current and fused clouds (subscribers make the nodelet build them), then
-   rosbag play at --rate (1 = real time).
+   rosbag play at --rate (1 = real time); with --busy N, N CPU-bound processes run beside the live part (a
+   robot's other work: the CPU is shared with them, the player and the recorder).
 4. Prints the share of frames with odometry, RPE / ATE of both trajectories against the ground truth and
    the nodelet's last diagnostics (skipped frames, per-stage means).
 """
@@ -20,6 +21,7 @@ import subprocess
 import sys
 import time
 
+from cpu_burners import busy_processes
 from tool_metrics import metrics
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -93,6 +95,7 @@ def main():
     parser.add_argument("--no-clouds", action="store_true", help="nobody subscribes to the clouds")
     parser.add_argument("--port", type=int, default=11417, help="port of the ROS master this run starts")
     parser.add_argument("--config", help="odometry settings for both runs (default: config/odometry.yaml)")
+    parser.add_argument("--busy", type=int, default=0, help="CPU-bound processes running beside the live run")
     args = parser.parse_args()
     ground_truth = os.path.join(args.folder, "groundtruth.txt")
     if not os.path.exists(ground_truth):
@@ -119,8 +122,9 @@ def main():
         recorder = subprocess.Popen(["rosbag", "record", "-O", record_bag] + topics, env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(3.0)  # the recorder's subscriptions reach the nodelet
-        run(["rosbag", "play", "--quiet", "--rate", str(args.rate), bag], "rosbag play", env=env)
-        time.sleep(3.0)  # the last frame's odometry and a diagnostics update
+        with busy_processes(args.busy):
+            run(["rosbag", "play", "--quiet", "--rate", str(args.rate), bag], "rosbag play", env=env)
+            time.sleep(3.0)  # the last frame's odometry and a diagnostics update
     finally:
         if recorder:
             stop(recorder)
@@ -143,7 +147,8 @@ def main():
                          "evaluate_trajectory").stdout)
 
     frames = int(offline.get("frames", 0))
-    print(f"recording: {bag} ({frames} frames, openni2_launch topics, bgr8 + 16UC1), played at rate {args.rate}")
+    print(f"recording: {bag} ({frames} frames, openni2_launch topics, bgr8 + 16UC1), played at rate {args.rate}, "
+          f"{args.busy} busy processes beside it on {os.cpu_count()} CPUs")
     print(f"odometry_published: {len(poses)}")
     print(f"odometry_share: {len(poses) / max(frames, 1):.3f}")
     print(f"clouds_published: {clouds}")

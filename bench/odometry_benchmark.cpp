@@ -9,6 +9,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/lens_distortion.h"
+#include "vocal/core/worker_pool.h"
 #include "vocal/odometry/brightness_transfer.h"
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
@@ -115,7 +116,8 @@ void BM_Features(benchmark::State& state) {
 
 // Rectifying one frame as the estimator does before tracking: freiburg1's lens undone, and with arg 1
 // as the defaults do it, a 20 ms rolling shutter's rows turned and shifted by a hand-held motion and
-// the depth (taken 5 ms before the colour) on its own grid; arg 0: the lens alone.
+// the depth (taken 5 ms before the colour) on its own grid; arg 0: the lens alone. On every core, as the
+// estimator runs it.
 void BM_Rectify(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(0)));
   const vocal::LensDistortion lens =
@@ -124,15 +126,19 @@ void BM_Rectify(benchmark::State& state) {
   const vocal::FrameRectification rectification(f.camera, lens, state.range(1) ? defaults.rolling_shutter_readout : 0.0,
                                                 state.range(1) ? defaults.depth_time_offset : 0.0);
   const Eigen::Vector3d turning(0.2, 0.5, 0.1), moving(0.3, 0.1, -0.2);
+  vocal::WorkerPool workers;
   std::size_t i = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(rectification.rectify(f.frames[i++ % f.frames.size()], turning, moving));
+  for (auto _ : state) benchmark::DoNotOptimize(rectification.rectify(f.frames[i++ % f.frames.size()], turning, moving, &workers));
 }
 
-// The exposure change between two frames (one estimate; the estimator makes one per pyramid level).
+// The exposure change between two frames (one estimate; the estimator makes one per pyramid level), on
+// every core.
 void BM_BrightnessTransfer(benchmark::State& state) {
   const Frames& f = frames(static_cast<int>(state.range(0)));
   const Eigen::Isometry3d T = f.truth[0].pose.inverse() * f.truth[1].pose;
-  for (auto _ : state) benchmark::DoNotOptimize(vocal::estimateBrightnessTransfer(f.frames[0], f.frames[1], f.camera, T, 0.07));
+  vocal::WorkerPool workers;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(vocal::estimateBrightnessTransfer(f.frames[0], f.frames[1], f.camera, T, 0.07, &workers));
 }
 
 // Preprocessing of the new frame plus the full coarse-to-fine solve: the cost of one frame of odometry.

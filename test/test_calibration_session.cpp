@@ -207,6 +207,41 @@ TEST(CalibrationSession, CalibratesLidarsOfEveryKind) {
   }
 }
 
+// The target is searched in several messages at once, the results taken in bag order: 1, 2 and 4
+// threads give the same counts and the same calibration to the bit.
+TEST(CalibrationSession, EveryThreadCountReadsABagToTheSameCalibration) {
+  const std::string folder = vocal_test::makeTempFolder("calibration_session_threads");
+  const std::vector<vocal::SimulatedSensor> sensors = vocal::exampleRig(1, 1, 1, 1);
+  const vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, vocal::TargetDescription{}, false);
+  vocal::SimulatedSessionOptions options;
+  options.target_poses = 6;
+  options.depth_width = 80;
+  options.depth_height = 60;
+  options.seed = 9;
+  vocal::writeSimulatedCalibrationBag(sensors, rig, options, folder + "/session.bag");
+  std::vector<vocal::CalibrationResult> results;
+  std::vector<std::vector<int>> found;
+  for (int threads : {1, 2, 4}) {
+    vocal::CalibrationSession session(rig);
+    const vocal::BagReadSummary read = vocal::readCalibrationBag(folder + "/session.bag", &session, nullptr, threads);
+    EXPECT_EQ(read.dropped, 0u) << threads << " threads";
+    found.emplace_back();
+    for (const auto& counts : session.counts()) found.back().push_back(counts.target_found);
+    results.push_back(session.calibrate());
+    ASSERT_TRUE(results.back().trusted) << threads << " threads: " << results.back().failure;
+  }
+  for (std::size_t k = 1; k < results.size(); ++k) {
+    EXPECT_EQ(found[k], found[0]) << "run " << k;
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      EXPECT_EQ(results[k].sensors[s].reference_from_sensor.matrix(), results[0].sensors[s].reference_from_sensor.matrix())
+          << "run " << k << ", " << sensors[s].spec.name;
+    }
+  }
+  vocal::CalibrationSession session(rig);
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::readCalibrationBag(folder + "/session.bag", &session, nullptr, -1); }),
+            "calibration bag reading: threads must be >= 0 (0 = the cores), got -1");
+}
+
 namespace {
 // Each sensor's error against the simulator's truth must be within the bounds.
 void expectWithin(const std::vector<vocal::SimulatedSensor>& sensors, const vocal::CalibrationResult& result, double metres,

@@ -558,7 +558,7 @@ TEST(OdometryConfigFile, ShippedYamlMatchesTheDefaults) {
   EXPECT_EQ(file.wrong_minimum_feature_translation, defaults.wrong_minimum_feature_translation);
   EXPECT_EQ(file.wrong_minimum_feature_rotation_deg, defaults.wrong_minimum_feature_rotation_deg);
   EXPECT_EQ(file.backend, defaults.backend);
-  EXPECT_EQ(file.cpu_threads, defaults.cpu_threads);
+  EXPECT_EQ(file.threads, defaults.threads);
 }
 
 TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
@@ -568,7 +568,8 @@ TEST(OdometryConfigFile, BadKeysAndValuesAreNamed) {
       {"rgb_weigth: 2", "unknown odometry setting 'rgb_weigth'"},
       {"mode: sideways", "odometry mode 'sideways' is unknown: expected icp, rgb or fused"},
       {"backend: gpu", "odometry backend 'gpu' is unknown: expected auto, cpu, reference or opencl"},
-      {"cpu_threads: -1", "odometry config: cpu_threads must be in [0, 256] (0 = every core), got -1"},
+      {"threads: -1", "odometry config: threads must be in [0, 256] (0 = OMP_NUM_THREADS or the cores), got -1"},
+      {"cpu_threads: 300", "odometry config: threads must be in [0, 256] (0 = OMP_NUM_THREADS or the cores), got 300"},
       {"feature_initialisation: sometimes", "feature initialisation 'sometimes' is unknown: expected always, fallback or off"},
       {"feature_fallback_residual_ratio: 0.5", "odometry config: feature_fallback_residual_ratio must be finite and > 1"},
       {"levels: 2", "odometry config: iterations lists 3 values for 2 levels"},

@@ -49,7 +49,7 @@ std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, con
   return "";
 }
 
-// Base <- camera: 10 cm ahead, 30 cm up, optical axes turned to REP-103 body axes.
+// Base <- the camera's optical frame: 10 cm ahead, 30 cm up, optical axes turned to REP-103 body axes.
 Eigen::Isometry3d baseFromCamera() {
   return vocal::poseFromTranslationQuaternion(Eigen::Vector3d(0.1, 0.0, 0.3), Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5));
 }
@@ -101,7 +101,11 @@ class OdometryNodelet : public ::testing::Test {
                                                               received_.newest_status = s;
                                                         })};
     spinner_.start();
-    static_broadcaster_.sendTransform(vocal::toTransformStamped(baseFromCamera(), "base_link", T::kCameraFrame, ros::Time(0)));
+    // The bag's kinect is the camera's body frame, its optical frame a rotated child: base <- optical is baseFromCamera().
+    Eigen::Isometry3d optical_from_body = Eigen::Isometry3d::Identity();
+    optical_from_body.linear() = vocal::bodyFromOpticalRotation().transpose();
+    static_broadcaster_.sendTransform(
+        vocal::toTransformStamped(baseFromCamera() * optical_from_body, "base_link", T::kCameraFrame, ros::Time(0)));
   }
 
   // Publishers of the frame topics the nodelets subscribe to, once every nodelet is connected.

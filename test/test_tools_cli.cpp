@@ -82,7 +82,7 @@ TEST(ToolsCli, GenerateEvaluateAndConvert) {
 
   r = runTool("tum_to_bag " + folder + "/seq " + folder + "/seq.bag --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("wrote 40 frames and 40 ground-truth poses"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote 40 frames, 40 ground-truth poses and 40 accelerometer samples"), std::string::npos) << r.output;
 }
 
 TEST(ToolsCli, BadInputGivesOneClearLine) {

@@ -7,6 +7,8 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "test_support.h"
@@ -25,10 +27,24 @@ TEST(TumBagWriter, WritesTheBenchmarkLayout) {
   const vocal::TumBagSummary summary = vocal::writeTumBag(sequence, folder + "/seq.bag");
   EXPECT_EQ(summary.frames, 5u);
   EXPECT_EQ(summary.ground_truth_poses, 5u);
+  ASSERT_EQ(sequence.accelerometer().size(), 5u);
+  EXPECT_EQ(summary.accelerometer_samples, 5u);
 
   rosbag::Bag bag(folder + "/seq.bag", rosbag::bagmode::Read);
   std::map<std::string, int> counts;
-  std::size_t rgb_index = 0, depth_index = 0, tf_index = 0;
+  std::size_t rgb_index = 0, depth_index = 0, tf_index = 0, imu_index = 0;
+  // /tf_static first (messages at the first stamp come in no fixed order): kinect -> each child.
+  std::map<std::string, Eigen::Isometry3d> body_from_child;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/tf_static"))) {
+    EXPECT_EQ(m.getConnectionHeader()->at("latching"), "1");
+    const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+    ASSERT_TRUE(tf);
+    for (const auto& t : tf->transforms) {
+      EXPECT_EQ(t.header.frame_id, T::kCameraFrame);
+      body_from_child[t.child_frame_id] = tf2::transformToEigen(t.transform);
+    }
+  }
+  ASSERT_EQ(body_from_child.size(), 3u);
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
     ++counts[m.getTopic()];
     if (m.getTopic() == T::kRgbImage) {
@@ -77,9 +93,24 @@ TEST(TumBagWriter, WritesTheBenchmarkLayout) {
       const Eigen::Vector3d expected = sequence.groundTruth()[tf_index].pose.translation();
       EXPECT_NEAR(t.transform.translation.x, expected.x(), 1e-12);
       EXPECT_NEAR(t.transform.translation.z, expected.z(), 1e-12);
+      // kinect is the camera's body frame (x forward, z up): its optical frame is the folder's pose.
+      const Eigen::Isometry3d world_from_optical = tf2::transformToEigen(t.transform) * body_from_child.at(T::kRgbFrame);
+      EXPECT_TRUE(world_from_optical.isApprox(sequence.groundTruth()[tf_index].pose, 1e-9)) << "pose " << tf_index;
       ++tf_index;
-    } else if (m.getTopic() == "/tf_static") {
-      EXPECT_EQ(m.getConnectionHeader()->at("latching"), "1");
+    } else if (m.getTopic() == T::kImu) {
+      const auto imu = m.instantiate<sensor_msgs::Imu>();
+      ASSERT_TRUE(imu);
+      EXPECT_EQ(imu->header.frame_id, T::kAccelerometerFrame);
+      EXPECT_EQ(imu->orientation_covariance[0], -1.0);  // REP-145: no orientation
+      const vocal::AccelerometerSample& sample = sequence.accelerometer()[imu_index];
+      EXPECT_EQ(imu->header.stamp, ros::Time(sample.stamp));
+      EXPECT_EQ(imu->linear_acceleration.y, sample.specific_force.y());
+      // At rest the accelerometer reads up: in the body frame, the world's up seen from the camera.
+      const Eigen::Matrix3d world_from_body =
+          sequence.groundTruth()[imu_index].pose.linear() * body_from_child.at(T::kRgbFrame).linear().transpose();
+      const Eigen::Vector3d up_in_body = body_from_child.at(T::kAccelerometerFrame).linear() * sample.specific_force.normalized();
+      EXPECT_GT((world_from_body * up_in_body).z(), 0.99) << "sample " << imu_index;
+      ++imu_index;
     }
   }
   EXPECT_EQ(counts[T::kRgbImage], 5);
@@ -88,6 +119,7 @@ TEST(TumBagWriter, WritesTheBenchmarkLayout) {
   EXPECT_EQ(counts[T::kDepthInfo], 5);
   EXPECT_EQ(counts["/tf"], 5);
   EXPECT_EQ(counts["/tf_static"], 1);
+  EXPECT_EQ(counts[T::kImu], 5);
 }
 
 TEST(TumBagWriter, UnwritableBagIsNamed) {

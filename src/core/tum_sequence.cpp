@@ -108,6 +108,8 @@ TumSequence TumSequence::open(const std::string& folder, const TumSequenceOption
   if (isRegularFile(ground_truth_path)) {
     sequence.ground_truth_ = readTumTrajectory(ground_truth_path);
   }
+  const std::string accelerometer_path = joinPath(folder, "accelerometer.txt");
+  if (isRegularFile(accelerometer_path)) sequence.accelerometer_ = readAccelerometerFile(accelerometer_path);
   return sequence;
 }
 

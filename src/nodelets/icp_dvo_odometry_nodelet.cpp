@@ -3,15 +3,20 @@
 // A thin adapter: parameters -> OdometryConfig, messages -> RgbdFrame, IcpDvoOdometry does the work.
 // Topic and parameter names follow rtabmap_ros's rgbd_odometry.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
+#include <deque>
 #include <iomanip>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <image_transport/image_transport.h>
@@ -37,6 +42,8 @@
 
 #include "vocal/core/colored_point.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/frame_rate_report.h"
+#include "vocal/core/gravity.h"
 #include "vocal/core/lap_timer.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/stream_silence.h"
@@ -100,6 +107,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     const bool approx_sync = pnh.param("approx_sync", true);
     skip_to_newest_ = pnh.param("skip_to_newest", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 10));
+    imu_topic_ = pnh.param<std::string>("imu_topic", "");
     try {
       XmlRpc::XmlRpcValue parameters;
       YAML::Node settings;
@@ -130,6 +138,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     // new keyframe published the growing map.
     fused_cloud_timer_ = nh.createWallTimer(ros::WallDuration(std::max(0.05, fused_cloud_period)),
                                             [this](const ros::WallTimerEvent&) { publishFusedCloud(); });
+
+    if (!imu_topic_.empty()) {
+      // The accelerometer levels odom at the first frame: a still reading of gravity turns it z up.
+      // On the multi-threaded queue: the first frame waits for these (with skip_to_newest false it is
+      // tracked on this nodelet's own single-threaded queue).
+      imu_sub_ = getMTNodeHandle().subscribe<sensor_msgs::Imu>(imu_topic_, 200,
+                                                               [this](const sensor_msgs::Imu::ConstPtr& m) { onImu(*m); });
+    }
 
     image_transport::ImageTransport rgb_it(nh), depth_it(nh);
     const image_transport::TransportHints rgb_hints("raw", ros::TransportHints(), pnh, "rgb_image_transport");
@@ -163,6 +179,70 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   void setupError(const std::string& message) {
     setup_error_ = message;
     NODELET_ERROR_STREAM("IcpDvoOdometry: " << message << "; the nodelet stays idle");
+  }
+
+  void onImu(const sensor_msgs::Imu& msg) {
+    ++imu_count_;
+    std::lock_guard<std::mutex> lock(imu_mutex_);
+    try {
+      const AccelerometerSample sample = fromImuAcceleration(msg, imu_topic_);
+      imu_frame_ = msg.header.frame_id;
+      accelerometer_.push_back(sample);
+      // Only the samples around the first frame are read: two seconds are kept.
+      while (!accelerometer_.empty() && accelerometer_.front().stamp < sample.stamp - 2.0) accelerometer_.pop_front();
+    } catch (const InputError& e) {
+      ++imu_dropped_;
+      NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: " << e.what());
+    }
+  }
+
+  // odom <- the base at the first frame: level (z up, the heading kept) where the accelerometer read
+  // gravity still around that frame, else the identity (odom is then the base's first pose), with why.
+  Eigen::Isometry3d levelledStart(const std::string& base_frame, const ros::Time& stamp, std::string* how) {
+    if (imu_topic_.empty()) {
+      *how = "not levelled: no imu_topic (odom is the first pose of " + base_frame + ")";
+      return Eigen::Isometry3d::Identity();
+    }
+    std::vector<AccelerometerSample> samples;
+    std::string imu_frame;
+    // The samples after the frame come on their own topic, maybe later than the frame: waited for up
+    // to kImuWaitSeconds, once per start.
+    const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(kImuWaitSeconds);
+    for (;;) {
+      {
+        std::lock_guard<std::mutex> lock(imu_mutex_);
+        if ((!accelerometer_.empty() && accelerometer_.back().stamp >= stamp.toSec() + kGravityWindowSeconds) ||
+            ros::WallTime::now() >= give_up) {
+          samples.assign(accelerometer_.begin(), accelerometer_.end());
+          imu_frame = imu_frame_;
+          break;
+        }
+      }
+      ros::WallDuration(0.01).sleep();
+    }
+    std::string why;
+    const std::optional<Eigen::Vector3d> force = stillSpecificForce(samples, stamp.toSec(), kGravityWindowSeconds, &why);
+    Eigen::Isometry3d base_from_imu = Eigen::Isometry3d::Identity();
+    if (force && imu_frame != base_frame) {
+      try {
+        base_from_imu = tf2::transformToEigen(tf_buffer_->lookupTransform(base_frame, imu_frame, stamp, ros::Duration(wait_for_transform_)));
+      } catch (const tf2::TransformException& e) {
+        why = "tf " + base_frame + " <- " + imu_frame + " unavailable: " + e.what();
+      }
+    }
+    if (!force || !why.empty()) {
+      *how = "not levelled: " + imu_topic_ + ": " + why + " (odom is the first pose of " + base_frame + ")";
+      return Eigen::Isometry3d::Identity();
+    }
+    const Eigen::Vector3d up = base_from_imu.linear() * *force;
+    Eigen::Isometry3d level = Eigen::Isometry3d::Identity();
+    level.linear() = levelFromUp(up);
+    std::ostringstream text;
+    text << "levelled by the accelerometer on " << imu_topic_ << " (" << base_frame << " started "
+         << std::fixed << std::setprecision(1) << std::acos(std::clamp(up.normalized().z(), -1.0, 1.0)) * 180.0 / M_PI
+         << " deg from level)";
+    *how = text.str();
+    return level;
   }
 
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth, const CameraInfoMsg::ConstPtr& info) {
@@ -264,6 +344,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     }
 
     const OdometryResult result = odometry_->track(frame);
+    if (result.first_frame) {
+      odom_from_start_ = levelledStart(base_frame, rgb.header.stamp, &odom_levelling_);
+      NODELET_INFO_STREAM("IcpDvoOdometry: odom " << odom_levelling_);
+    }
     stage_sums_.preprocess += result.timings.preprocess_ms;
     stage_sums_.features += result.timings.features_ms;
     stage_sums_.solve += result.timings.solve_ms;
@@ -298,16 +382,18 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
 
     // Every frame gets its odometry: tracked, predicted (the last motion repeated, its covariance
     // grown) or lost (the pose stays, the covariance says nothing is known and tf is not moved on).
-    // The odometry frame is the base's pose at the first frame: odom <- base = B (cam0 <- cam) B^-1.
+    // The odometry frame is the base's pose at the first frame, levelled where the accelerometer allowed
+    // (L): odom <- base = L B (cam0 <- cam) B^-1.
     const Eigen::Isometry3d& B = base_from_camera;
-    const Eigen::Isometry3d odom_from_base = B * result.pose * B.inverse();
+    const Eigen::Isometry3d odom_from_base = odom_from_start_ * B * result.pose * B.inverse();
     const Matrix6d to_base = adjoint(B);
+    const Matrix6d to_odom = adjoint(odom_from_start_ * B);
     nav_msgs::Odometry odom;
     odom.header.stamp = rgb.header.stamp;
     odom.header.frame_id = odom_frame_id_;
     odom.child_frame_id = base_frame;
     odom.pose.pose = toPoseMsg(odom_from_base);
-    copyCovariance(to_base * result.pose_covariance * to_base.transpose(), &odom.pose.covariance);
+    copyCovariance(to_odom * result.pose_covariance * to_odom.transpose(), &odom.pose.covariance);
     if (!result.first_frame && dt > 0.0) {
       const Vector6d twist = se3Log(B * result.increment * B.inverse()) / dt;
       odom.twist.twist.linear.x = twist[0], odom.twist.twist.linear.y = twist[1], odom.twist.twist.linear.z = twist[2];
@@ -426,6 +512,12 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     using diagnostic_msgs::DiagnosticStatus;
     const std::size_t received = frames_received_;
+    const FrameRatePeriod period =
+        rate_report_.update(std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(), received,
+                            frames_processed_, frames_skipped_.load(), processing_seconds_);
+    // Frames skipped for want of time: said in the summary and the log, never as a growing lag.
+    const std::string skip_warning = frameSkipWarning(period);
+    if (!skip_warning.empty()) NODELET_WARN_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << skip_warning);
     if (!setup_error_.empty()) {
       status.summary(DiagnosticStatus::ERROR, setup_error_);
     } else if (received == 0) {
@@ -440,14 +532,23 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       message << (state_ == TrackingState::kLost ? "lost" : "predicting from the last motion") << " for " << lost_frames_
               << " frames: " << last_problem_;
       status.summary(state_ == TrackingState::kLost ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN, message.str());
+    } else if (!skip_warning.empty()) {
+      status.summary(DiagnosticStatus::WARN, skip_warning);
     } else if (!last_problem_.empty()) {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
       status.summary(DiagnosticStatus::OK, trackingStateName(state_));
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
+    status.add("odom", odom_levelling_.empty() ? "no frame yet" : odom_levelling_);
+    if (!imu_topic_.empty()) {
+      status.add(imu_topic_ + " messages", imu_count_.load());
+      status.add(imu_topic_ + " messages dropped", imu_dropped_.load());
+    }
     status.add("frames received", received);
     status.add("frames skipped", frames_skipped_.load());
+    status.add("frames received per second (last report period)", period.received_hz);
+    status.add("frames processed per second (last report period)", period.processed_hz);
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);
     status.add("frames predicted", frames_predicted_);
@@ -520,6 +621,11 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::size_t frames_on_path_ = 0, path_stride_ = 1;
   // Further back than this is a new stream (a looped bag), nearer an out-of-order frame.
   static constexpr double kRestartAfterJumpBackSeconds = 1.0;
+  // Gravity is the accelerometer's mean within this of the first frame: a hand-held camera turns little
+  // in 0.2 s, and 100 samples of a 500 Hz Kinect average its noise. The first frame waits this long at
+  // most for the samples after it.
+  static constexpr double kGravityWindowSeconds = 0.1;
+  static constexpr double kImuWaitSeconds = 0.3;
   OdometryQuality quality_;
   std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
               resets_ = 0, time_jumps_back_ = 0, frames_received_at_watchdog_ = 0;
@@ -530,6 +636,17 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   int lost_frames_ = 0, keyframe_id_ = 0;
   double processing_seconds_ = 0.0;
   StageTimes stage_sums_;
+  FrameRateReport rate_report_;
+  Eigen::Isometry3d odom_from_start_ = Eigen::Isometry3d::Identity();  // odom <- the base at the first frame
+  std::string odom_levelling_;  // how odom was chosen, for the log and the diagnostics
+
+  // The accelerometer (imu_topic): the last two seconds, under imu_mutex_ (it arrives on its own thread).
+  std::string imu_topic_;
+  ros::Subscriber imu_sub_;
+  std::mutex imu_mutex_;
+  std::deque<AccelerometerSample> accelerometer_;
+  std::string imu_frame_;
+  std::atomic<std::size_t> imu_count_{0}, imu_dropped_{0};
 
   // The newest synchronised frame and the worker that tracks it (under pending_mutex_; arrival counts
   // are atomic: they change outside both locks).

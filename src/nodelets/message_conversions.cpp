@@ -459,4 +459,29 @@ RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image&
   return frame;
 }
 
+sensor_msgs::Imu toAccelerometerImu(const AccelerometerSample& sample, const std::string& frame_id) {
+  sensor_msgs::Imu msg;
+  msg.header.stamp = ros::Time(sample.stamp);
+  msg.header.frame_id = frame_id;
+  msg.orientation_covariance[0] = -1.0;
+  msg.angular_velocity_covariance[0] = -1.0;
+  msg.linear_acceleration.x = sample.specific_force.x();
+  msg.linear_acceleration.y = sample.specific_force.y();
+  msg.linear_acceleration.z = sample.specific_force.z();
+  return msg;
+}
+
+AccelerometerSample fromImuAcceleration(const sensor_msgs::Imu& msg, const std::string& what) {
+  AccelerometerSample sample;
+  sample.stamp = msg.header.stamp.toSec();
+  sample.specific_force = Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
+  if (!sample.specific_force.allFinite()) {
+    std::ostringstream message;
+    message << what << ": linear_acceleration (" << msg.linear_acceleration.x << ", " << msg.linear_acceleration.y << ", "
+            << msg.linear_acceleration.z << ") is not finite";
+    throw InputError(message.str());
+  }
+  return sample;
+}
+
 }  // namespace vocal

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "vocal/core/worker_pool.h"
+
 namespace vocal {
 
 namespace {
@@ -12,6 +14,8 @@ float intensityOf(const Rgb8& p) { return (0.299f * p.r + 0.587f * p.g + 0.114f 
 
 // Intensities within this distance of black or white may be clipped: they do not follow the map.
 constexpr float kClipMargin = 8.0f / 255.0f;
+// Sampled rows a thread takes at a time.
+constexpr int kSampleRowsPerBlock = 8;
 
 struct Quartiles {
   float lower, median, upper;
@@ -31,19 +35,22 @@ Quartiles quartilesOf(std::vector<float>* values) {
 
 BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const RgbdFrame& current,
                                               const PinholeCamera& camera, const Eigen::Isometry3d& reference_from_current,
-                                              double max_depth_difference, int stride, int min_samples) {
+                                              double max_depth_difference, WorkerPool* workers, int stride,
+                                              int min_samples) {
   const Eigen::Matrix3f R = reference_from_current.linear().cast<float>();
   const Eigen::Vector3f t = reference_from_current.translation().cast<float>();
   const float fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
   const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
   const int w = current.depth.width(), h = current.depth.height();
-  // Rows are split between the threads: the quantiles do not depend on the order pairs are found in.
-  std::vector<float> seen_current, seen_reference;
-#pragma omp parallel
-  {
-    std::vector<float> mine_current, mine_reference;
-#pragma omp for schedule(static) nowait
-    for (int y = 0; y < h; y += stride) {
+  const int sampled_rows = (h + stride - 1) / stride;
+  // Pairs found per block of sampled rows, joined in block order: the same sets with any thread count.
+  struct Pairs {
+    std::vector<float> current, reference;
+  };
+  std::vector<Pairs> found(WorkerPool::blockCount(sampled_rows, kSampleRowsPerBlock));
+  const auto sampleRows = [&](int block, int row_begin, int row_end) {
+    Pairs& mine = found[block];
+    for (int y = row_begin * stride; y < row_end * stride && y < h; y += stride) {
       for (int x = 0; x < w; x += stride) {
         const float z = current.depth(x, y);
         if (!isValidDepth(z)) continue;
@@ -55,26 +62,26 @@ BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const 
         if (!isValidDepth(zr) || std::fabs(zr - p.z()) > max_depth_difference) continue;
         const float ic = intensityOf(current.color(x, y)), ir = intensityOf(reference.color(u, v));
         if (std::min(ic, ir) < kClipMargin || std::max(ic, ir) > 1.0f - kClipMargin) continue;
-        mine_current.push_back(ic);
-        mine_reference.push_back(ir);
+        mine.current.push_back(ic);
+        mine.reference.push_back(ir);
       }
     }
-#pragma omp critical
-    {
-      seen_current.insert(seen_current.end(), mine_current.begin(), mine_current.end());
-      seen_reference.insert(seen_reference.end(), mine_reference.begin(), mine_reference.end());
-    }
+  };
+  WorkerPool caller_only(1);
+  WorkerPool& pool = workers ? *workers : caller_only;
+  pool.forBlocks(sampled_rows, kSampleRowsPerBlock, sampleRows);
+  std::vector<float> seen_current, seen_reference;
+  for (const Pairs& pairs : found) {
+    seen_current.insert(seen_current.end(), pairs.current.begin(), pairs.current.end());
+    seen_reference.insert(seen_reference.end(), pairs.reference.begin(), pairs.reference.end());
   }
   BrightnessTransfer transfer;
   if (static_cast<int>(seen_current.size()) < min_samples) return transfer;
-  Quartiles seen_in_current{}, seen_in_reference{};
-#pragma omp parallel sections
-  {
-#pragma omp section
-    seen_in_current = quartilesOf(&seen_current);
-#pragma omp section
-    seen_in_reference = quartilesOf(&seen_reference);
-  }
+  Quartiles seen[2]{};
+  std::vector<float>* sets[2] = {&seen_current, &seen_reference};
+  pool.forBlocks(2, 1, [&](int set, int, int) { seen[set] = quartilesOf(sets[set]); });
+  const Quartiles& seen_in_current = seen[0];
+  const Quartiles& seen_in_reference = seen[1];
   const float current_spread = seen_in_current.upper - seen_in_current.lower;
   const float reference_spread = seen_in_reference.upper - seen_in_reference.lower;
   if (!(current_spread > 0.0f)) return transfer;

@@ -4,34 +4,26 @@
 #include <cmath>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "tracking_row.h"
 
 namespace vocal {
 
 namespace {
-int resolveThreads(int requested) {
-  if (requested > 0) return requested;
-#ifdef _OPENMP
-  return omp_get_num_procs();
-#else
-  return 1;
-#endif
-}
+// Rows of the tracking pass a thread claims at a time; each block's sums are kept apart and added in
+// block order, so the systems are the same to the bit whatever the number of threads.
+constexpr int kTrackingRowsPerBlock = 4;
 }  // namespace
 
 FastCpuOdometryBackend::FastCpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
                                                CpuTrackingPass pass)
-    : camera_(camera), config_(config), threads_(resolveThreads(config.cpu_threads)) {
+    : camera_(camera), config_(config), workers_(config.threads) {
   TrackRowFunction avx2 = pass == CpuTrackingPass::kBest ? avx2TrackRow() : nullptr;
   track_row_ = avx2 ? avx2 : &trackRowPortable;
 }
 
 std::string FastCpuOdometryBackend::name() const {
-  return "cpu fast (" + std::to_string(threads_) + (threads_ == 1 ? " thread, " : " threads, ") +
+  const int threads = workers_.threads();
+  return "cpu fast (" + std::to_string(threads) + (threads == 1 ? " thread, " : " threads, ") +
          (track_row_ == &trackRowPortable ? "portable" : "AVX2") + ")";
 }
 
@@ -39,7 +31,7 @@ void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate u
   // The old current frame becomes the reference and the old reference's buffers are reused, or the
   // reference stays and the current buffers are overwritten.
   if (update == ReferenceUpdate::kPreviousFrame) current_ ^= 1;
-  buildSoaFramePyramid(frame, camera_, config_, threads_, &frames_[current_], track_row_ != &trackRowPortable);
+  buildSoaFramePyramid(frame, camera_, config_, workers_, &frames_[current_], track_row_ != &trackRowPortable);
 }
 
 void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d& reference_from_current,
@@ -57,23 +49,16 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
                               min_gradient * min_gradient,
                               static_cast<float>(huber_threshold),
                               DepthNoiseModel(config_.depth_noise_floor, config_.depth_noise_quadratic)};
-  // Per thread, then summed in thread order: the same result for the same thread count every time.
-  std::vector<std::array<double, 2 * kReductionValues>> partial(threads_);
-#pragma omp parallel num_threads(threads_)
-  {
-#ifdef _OPENMP
-    const int thread = omp_get_thread_num();
-#else
-    const int thread = 0;
-#endif
-    std::array<double, 2 * kReductionValues>& sums = partial[thread];
+  using Sums = std::array<double, 2 * kReductionValues>;
+  block_sums_.resize(WorkerPool::blockCount(cur.height, kTrackingRowsPerBlock));
+  workers_.forBlocks(cur.height, kTrackingRowsPerBlock, [&](int block, int y_begin, int y_end) {
+    Sums& sums = block_sums_[block];
     sums.fill(0.0);
-#pragma omp for schedule(static, 4)
-    for (int y = 0; y < cur.height; ++y)
+    for (int y = y_begin; y < y_end; ++y)
       track_row_(cur, ref, warp, thresholds, y, icp ? sums.data() : nullptr, rgb ? sums.data() + kReductionValues : nullptr);
-  }
-  std::array<double, 2 * kReductionValues> total{};
-  for (const auto& sums : partial)
+  });
+  Sums total{};
+  for (const Sums& sums : block_sums_)
     for (int k = 0; k < 2 * kReductionValues; ++k) total[k] += sums[k];
   if (icp) *icp = NormalEquations::fromPacked(total.data());
   if (rgb) *rgb = NormalEquations::fromPacked(total.data() + kReductionValues);

@@ -10,10 +10,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "vocal/core/errors.h"
 #include "vocal/core/lap_timer.h"
 
@@ -44,6 +40,11 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
                      std::to_string(camera_.width) + "x" + std::to_string(camera_.height) + " image");
   }
   if (!backend_) backend_ = makeOdometryBackend(camera_, config_);
+  workers_ = backend_->workers();
+  if (!workers_) {
+    own_workers_ = std::make_unique<WorkerPool>(config_.threads);
+    workers_ = own_workers_.get();
+  }
   rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout,
                                       config_.depth_time_offset);
   if (config_.local_window_keyframes > 0) window_.emplace(config_.local_window_keyframes);
@@ -99,6 +100,8 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
                                                      const Eigen::Isometry3d& start, const Eigen::Isometry3d& last,
                                                      OdometryBackend* backend) {
   if (!backend) backend = backend_.get();
+  // The window's backend runs beside tracking: its loops on its own threads (if any), never on tracking's.
+  WorkerPool* workers = backend == backend_.get() ? workers_ : backend->workers();
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   DenseSolve solve;
@@ -114,7 +117,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
     const double factor = level == 0 ? config_.finest_convergence_factor : 1.0;
     // Once per level, where the motion has improved: the pixels both frames see depend on it.
     if (use_rgb && config_.brightness_model == BrightnessModel::kAffine && config_.iterations[level] > 0) {
-      brightness = estimateBrightnessTransfer(reference, current, camera_, T, config_.rgb_max_depth_difference);
+      brightness = estimateBrightnessTransfer(reference, current, camera_, T, config_.rgb_max_depth_difference, workers);
     }
     for (int iteration = 0; iteration < config_.iterations[level]; ++iteration) {
       NormalEquations icp, rgb;
@@ -390,18 +393,13 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
     applyWindowLinks(solveWindowLinks(*job), result);
     return;
   }
-  window_job_ = std::async(std::launch::async, [this, job] {
-#ifdef _OPENMP
-    omp_set_num_threads(1);  // beside the tracking's threads, not on top of them
-#endif
-    return solveWindowLinks(*job);
-  });
+  window_job_ = std::async(std::launch::async, [this, job] { return solveWindowLinks(*job); });
 }
 
 std::vector<KeyframeLink> IcpDvoOdometry::solveWindowLinks(const WindowJob& job) {
   if (!window_backend_) {
     OdometryConfig config = config_;
-    if (config_.local_window_background) config.cpu_threads = 1;
+    if (config_.local_window_background) config.threads = 1;  // beside the tracking's threads, not on top of them
     window_backend_ = makeOdometryBackend(camera_, config);
   }
   std::vector<KeyframeLink> links;
@@ -482,7 +480,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   if (rectification_.active()) {
     // The rows turn with the last measured motion (none known yet: the lens alone).
     const Vector6d twist = velocityPerSecond();
-    rectified_ = rectification_.rectify(input, twist.tail<3>(), twist.head<3>());
+    rectified_ = rectification_.rectify(input, twist.tail<3>(), twist.head<3>(), workers_);
   }
   const RgbdFrame& frame = rectification_.active() ? rectified_ : input;
   // A keyframe made now keeps the frame as given when its rows could not be turned (no motion yet).
@@ -571,7 +569,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
     if (!keyframe.unrectified.color.empty() && velocity_seconds_ > 0.0) {
       // Rectified before any motion was known: its rows turned now, preprocessed again when next used.
       const Vector6d twist = velocityPerSecond();
-      keyframe.frame = rectification_.rectify(keyframe.unrectified, twist.tail<3>(), twist.head<3>());
+      keyframe.frame = rectification_.rectify(keyframe.unrectified, twist.tail<3>(), twist.head<3>(), workers_);
       keyframe.unrectified = RgbdFrame();
       keyframe.features.reset();
       if (backend_reference_id_ == keyframe.id) backend_reference_id_ = -1;

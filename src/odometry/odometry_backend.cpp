@@ -21,6 +21,7 @@ void OdometryBackend::trackingSystems(int level, const Eigen::Isometry3d& refere
 
 std::unique_ptr<OdometryBackend> makeOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
                                                      std::string* notice) {
+  config.validate();  // before a pool of config.threads is started
   if (config.backend == OdometryBackendKind::kReference) return std::make_unique<CpuOdometryBackend>(camera, config);
   if (config.backend == OdometryBackendKind::kCpu) return std::make_unique<FastCpuOdometryBackend>(camera, config);
 #ifdef VOCAL_HAVE_OPENCL

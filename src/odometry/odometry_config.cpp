@@ -48,7 +48,7 @@ void OdometryConfig::validate() const {
   if (!(rolling_shutter_readout >= 0.0 && rolling_shutter_readout <= 0.1))
     fail("rolling_shutter_readout must be in [0, 0.1] seconds (0 = global shutter)");
   if (!(std::fabs(depth_time_offset) <= 0.1)) fail("depth_time_offset must be in [-0.1, 0.1] seconds (0 = taken together)");
-  if (cpu_threads < 0 || cpu_threads > 256) fail("cpu_threads must be in [0, 256] (0 = every core), got " + std::to_string(cpu_threads));
+  if (threads < 0 || threads > 256) fail("threads must be in [0, 256] (0 = OMP_NUM_THREADS or the cores), got " + std::to_string(threads));
 }
 
 OdometryMode parseOdometryMode(const std::string& name) {

@@ -71,7 +71,8 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"min_rgb_inliers", [&](const YAML::Node& n) { config.min_rgb_inliers = n.as<int>(); }},
       {"max_condition", [&](const YAML::Node& n) { config.max_condition = n.as<double>(); }},
       {"backend", [&](const YAML::Node& n) { config.backend = parseOdometryBackend(n.as<std::string>()); }},
-      {"cpu_threads", [&](const YAML::Node& n) { config.cpu_threads = n.as<int>(); }},
+      {"threads", [&](const YAML::Node& n) { config.threads = n.as<int>(); }},
+      {"cpu_threads", [&](const YAML::Node& n) { config.threads = n.as<int>(); }},  // the name before 'threads'
       {"opencl_platform", [&](const YAML::Node& n) { config.opencl_platform = n.as<std::string>(); }},
       {"opencl_device", [&](const YAML::Node& n) { config.opencl_device = n.as<std::string>(); }},
   };

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "vocal/core/worker_pool.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vector_dispatch.h"
 
@@ -14,6 +15,10 @@ namespace vocal {
 
 namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// Work handed to a thread at a time: rows of an image, or pixels of a per-pixel loop. Small enough that
+// a thread the OS leaves waiting holds up little, large enough that claiming one costs nothing.
+constexpr int kRowsPerBlock = 4;
+constexpr int kPixelsPerBlock = 4096;
 
 int clampIndex(int i, int size) { return std::min(std::max(i, 0), size - 1); }
 
@@ -28,19 +33,20 @@ void resizeLevel(SoaPyramidLevel* l, const PinholeCamera& camera) {
 }
 
 // Level 0: depth outside [min, max] (and NaN) becomes missing; BT.601 intensity in [0, 1].
-void sanitizeAndConvert(const RgbdFrame& frame, float min_depth, float max_depth, int threads, SoaPyramidLevel* l) {
+void sanitizeAndConvert(const RgbdFrame& frame, float min_depth, float max_depth, WorkerPool& workers, SoaPyramidLevel* l) {
   const int n = static_cast<int>(l->depth.size());
   const float* depth_in = frame.depth.data();
   const Rgb8* color = frame.color.data();
   float* depth = l->depth.data();
   float* intensity = l->intensity.data();
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int i = 0; i < n; ++i) {
-    const float z = depth_in[i];
-    depth[i] = (z >= min_depth && z <= max_depth) ? z : 0.0f;
-    const Rgb8 p = color[i];
-    intensity[i] = (0.299f * p.r + 0.587f * p.g + 0.114f * p.b) * (1.0f / 255.0f);
-  }
+  workers.forBlocks(n, kPixelsPerBlock, [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const float z = depth_in[i];
+      depth[i] = (z >= min_depth && z <= max_depth) ? z : 0.0f;
+      const Rgb8 p = color[i];
+      intensity[i] = (0.299f * p.r + 0.587f * p.g + 0.114f * p.b) * (1.0f / 255.0f);
+    }
+  });
 }
 
 // One tap of the smoothing window over a row: where the tap's depth is valid and within the centre's
@@ -102,15 +108,16 @@ __attribute__((target("avx2"))) int smoothInteriorRowAvx2(const float* depth, co
 // within factor * z^2 of the centre. Interior rows: eight pixels at a time in AVX2 registers where the
 // CPU has it, else tap by tap over the whole row (the inner loop over x, vectorised); each pixel sums
 // in the reference's order either way.
-void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, int threads, [[maybe_unused]] bool avx2,
+void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, float factor, WorkerPool& workers, [[maybe_unused]] bool avx2,
                  std::vector<float>* inverse_scratch, std::vector<float>* out_depth) {
   std::vector<float>& inv = *inverse_scratch;
   std::vector<float>& out = *out_depth;
   inv.resize(depth.size());
   out.resize(depth.size());
   const int n = static_cast<int>(depth.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int i = 0; i < n; ++i) inv[i] = depth[i] > 0.0f ? 1.0f / depth[i] : 0.0f;
+  workers.forBlocks(n, kPixelsPerBlock, [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) inv[i] = depth[i] > 0.0f ? 1.0f / depth[i] : 0.0f;
+  });
 
   auto pixelWithShrunkWindow = [&](int x, int y) {
     const float c = depth[y * w + x];
@@ -131,11 +138,9 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
     return count / sum;
   };
 
-#pragma omp parallel num_threads(threads)
-  {
+  workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
     std::vector<float> sum(w), count(w), limit(w);
-#pragma omp for schedule(static)
-    for (int y = 0; y < h; ++y) {
+    for (int y = y_begin; y < y_end; ++y) {
       float* out_row = out.data() + static_cast<std::size_t>(y) * w;
       const float* centre = depth.data() + static_cast<std::size_t>(y) * w;
       if (y < radius || y >= h - radius || w <= 2 * radius) {
@@ -166,7 +171,7 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
       }
       for (int x = x0; x < x1; ++x) out_row[x] = centre[x] > 0.0f ? c[x] / s[x] : 0.0f;
     }
-  }
+  });
 }
 
 #ifdef VOCAL_HAND_AVX2
@@ -195,7 +200,7 @@ __attribute__((target("avx2"))) void downsampleDepthAvx2(const float* in, int w,
 #endif
 
 // downsampleDepth of frame_pyramid.cpp: 5x5 average of the neighbours within 3 sigma of the centre.
-void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, [[maybe_unused]] bool avx2, SoaPyramidLevel* out) {
+void downsampleDepth(const SoaPyramidLevel& in, float sigma, WorkerPool& workers, [[maybe_unused]] bool avx2, SoaPyramidLevel* out) {
   const float limit = 3.0f * sigma;
   const int w = in.width, h = in.height;
   auto pixel = [&](int x, int y) {
@@ -218,64 +223,67 @@ void downsampleDepth(const SoaPyramidLevel& in, float sigma, int threads, [[mayb
     }
     return sum / count;
   };
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < out->height; ++y) {
-    float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
-    int x = 0;
+  workers.forBlocks(out->height, kRowsPerBlock, [&](int, int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
+      int x = 0;
 #ifdef VOCAL_HAND_AVX2
-    if (avx2 && 2 * y - 2 >= 0 && 2 * y + 2 < h) {
-      // From x = 1 (the window's left edge inside), 8 at a time while the last load (16 floats from
-      // 2 x + 2) stays inside the row.
-      for (; x < 1 && x < out->width; ++x) out_row[x] = pixel(x, y);
-      for (; x + 8 <= out->width && 2 * x + 17 < w; x += 8) downsampleDepthAvx2(in.depth.data(), w, x, y, limit, out_row);
-    }
+      if (avx2 && 2 * y - 2 >= 0 && 2 * y + 2 < h) {
+        // From x = 1 (the window's left edge inside), 8 at a time while the last load (16 floats from
+        // 2 x + 2) stays inside the row.
+        for (; x < 1 && x < out->width; ++x) out_row[x] = pixel(x, y);
+        for (; x + 8 <= out->width && 2 * x + 17 < w; x += 8) downsampleDepthAvx2(in.depth.data(), w, x, y, limit, out_row);
+      }
 #endif
-    for (; x < out->width; ++x) out_row[x] = pixel(x, y);
-  }
+      for (; x < out->width; ++x) out_row[x] = pixel(x, y);
+    }
+  });
 }
 
 // downsampleIntensity of frame_pyramid.cpp: 5x5 binomial blur, then every second pixel.
-void downsampleIntensity(const SoaPyramidLevel& in, int threads, SoaPyramidLevel* out) {
+void downsampleIntensity(const SoaPyramidLevel& in, WorkerPool& workers, SoaPyramidLevel* out) {
   static const float kWeights[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};
   const int w = in.width, h = in.height;
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < out->height; ++y) {
-    for (int x = 0; x < out->width; ++x) {
-      float sum = 0.0f;
-      for (int dy = -2; dy <= 2; ++dy) {
-        const int sy = clampIndex(2 * y + dy, h);
-        for (int dx = -2; dx <= 2; ++dx) {
-          sum += kWeights[dy + 2] * kWeights[dx + 2] * in.intensity[sy * w + clampIndex(2 * x + dx, w)];
+  workers.forBlocks(out->height, kRowsPerBlock, [&](int, int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      for (int x = 0; x < out->width; ++x) {
+        float sum = 0.0f;
+        for (int dy = -2; dy <= 2; ++dy) {
+          const int sy = clampIndex(2 * y + dy, h);
+          for (int dx = -2; dx <= 2; ++dx) {
+            sum += kWeights[dy + 2] * kWeights[dx + 2] * in.intensity[sy * w + clampIndex(2 * x + dx, w)];
+          }
         }
+        out->intensity[y * out->width + x] = sum;
       }
-      out->intensity[y * out->width + x] = sum;
     }
-  }
+  });
 }
 
 // Sobel / 8 with clamped borders, as computeGradients of frame_pyramid.cpp.
-void gradients(int threads, SoaPyramidLevel* l) {
+void gradients(WorkerPool& workers, SoaPyramidLevel* l) {
   const int w = l->width, h = l->height;
   const float* I = l->intensity.data();
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; ++y) {
-    const float* up = I + clampIndex(y - 1, h) * w;
-    const float* row = I + y * w;
-    const float* down = I + clampIndex(y + 1, h) * w;
-    float* gx = l->gradient_x.data() + y * w;
-    float* gy = l->gradient_y.data() + y * w;
-    auto at = [&](int x) {
-      const int xm = clampIndex(x - 1, w), xp = clampIndex(x + 1, w);
-      gx[x] = ((up[xp] - up[xm]) + 2.0f * (row[xp] - row[xm]) + (down[xp] - down[xm])) * 0.125f;
-      gy[x] = ((down[xm] - up[xm]) + 2.0f * (down[x] - up[x]) + (down[xp] - up[xp])) * 0.125f;
-    };
-    at(0);
-    for (int x = 1; x + 1 < w; ++x) {
-      gx[x] = ((up[x + 1] - up[x - 1]) + 2.0f * (row[x + 1] - row[x - 1]) + (down[x + 1] - down[x - 1])) * 0.125f;
-      gy[x] = ((down[x - 1] - up[x - 1]) + 2.0f * (down[x] - up[x]) + (down[x + 1] - up[x + 1])) * 0.125f;
+  workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      const float* up = I + clampIndex(y - 1, h) * w;
+      const float* row = I + y * w;
+      const float* down = I + clampIndex(y + 1, h) * w;
+      float* gx = l->gradient_x.data() + y * w;
+      float* gy = l->gradient_y.data() + y * w;
+      auto at = [&](int x) {
+        const int xm = clampIndex(x - 1, w), xp = clampIndex(x + 1, w);
+        gx[x] = ((up[xp] - up[xm]) + 2.0f * (row[xp] - row[xm]) + (down[xp] - down[xm])) * 0.125f;
+        gy[x] = ((down[xm] - up[xm]) + 2.0f * (down[x] - up[x]) + (down[xp] - up[xp])) * 0.125f;
+      };
+      at(0);
+      for (int x = 1; x + 1 < w; ++x) {
+        gx[x] = ((up[x + 1] - up[x - 1]) + 2.0f * (row[x + 1] - row[x - 1]) + (down[x + 1] - down[x - 1])) * 0.125f;
+        gy[x] = ((down[x - 1] - up[x - 1]) + 2.0f * (down[x] - up[x]) + (down[x + 1] - up[x + 1])) * 0.125f;
+      }
+      if (w > 1) at(w - 1);
     }
-    if (w > 1) at(w - 1);
-  }
+  });
 }
 
 #ifdef VOCAL_HAND_AVX2
@@ -332,7 +340,7 @@ __attribute__((target("avx2"))) void recordsAvx2(const float* depth, const float
 
 // Vertices from `depth`, normals from `normal_depth` (the smoothed depth at level 0, else the same):
 // computeVertices and computeNormals of frame_pyramid.cpp, written into the per-pixel records.
-void records(const float* normal_depth, int threads, [[maybe_unused]] bool avx2, SoaPyramidLevel* l) {
+void records(const float* normal_depth, WorkerPool& workers, [[maybe_unused]] bool avx2, SoaPyramidLevel* l) {
   const int w = l->width, h = l->height;
   const float fx_inv = static_cast<float>(1.0 / l->camera.fx), fy_inv = static_cast<float>(1.0 / l->camera.fy);
   const float cx = static_cast<float>(l->camera.cx), cy = static_cast<float>(l->camera.cy);
@@ -340,34 +348,35 @@ void records(const float* normal_depth, int threads, [[maybe_unused]] bool avx2,
     const float z = depth[y * w + x];
     return z > 0.0f ? Eigen::Vector3f((x - cx) * fx_inv * z, (y - cy) * fy_inv * z, z) : Eigen::Vector3f::Constant(kNaN);
   };
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; ++y) {
-    int x_start = 0;
+  workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      int x_start = 0;
 #ifdef VOCAL_HAND_AVX2
-    if (avx2 && y + 1 < h) {
-      // Eight at a time while each has a right neighbour; the rest (the last column's) below.
-      for (; x_start + 8 < w; x_start += 8)
-        recordsAvx2(l->depth.data(), normal_depth, w, x_start, y, fx_inv, fy_inv, cx, cy, l);
-    }
-#endif
-    for (int x = x_start; x < w; ++x) {
-      const int i = y * w + x;
-      const Eigen::Vector3f v = vertex(l->depth.data(), x, y);
-      Eigen::Vector3f n = Eigen::Vector3f::Constant(kNaN);
-      if (x + 1 < w && y + 1 < h) {
-        const Eigen::Vector3f c = normal_depth == l->depth.data() ? v : vertex(normal_depth, x, y);
-        const Eigen::Vector3f right = vertex(normal_depth, x + 1, y), down = vertex(normal_depth, x, y + 1);
-        if (!std::isnan(c.z()) && !std::isnan(right.z()) && !std::isnan(down.z())) {
-          // (down - v) x (right - v) points towards the camera for a surface facing it.
-          const Eigen::Vector3f cross = (down - c).cross(right - c);
-          const float length = cross.norm();
-          if (length > 0.0f) n = cross / length;
-        }
+      if (avx2 && y + 1 < h) {
+        // Eight at a time while each has a right neighbour; the rest (the last column's) below.
+        for (; x_start + 8 < w; x_start += 8)
+          recordsAvx2(l->depth.data(), normal_depth, w, x_start, y, fx_inv, fy_inv, cx, cy, l);
       }
-      l->surface[i] = {v.x(), v.y(), v.z(), n.x(), n.y(), n.z()};
-      l->photometric[i] = {l->intensity[i], l->gradient_x[i], l->gradient_y[i], l->depth[i]};
+#endif
+      for (int x = x_start; x < w; ++x) {
+        const int i = y * w + x;
+        const Eigen::Vector3f v = vertex(l->depth.data(), x, y);
+        Eigen::Vector3f n = Eigen::Vector3f::Constant(kNaN);
+        if (x + 1 < w && y + 1 < h) {
+          const Eigen::Vector3f c = normal_depth == l->depth.data() ? v : vertex(normal_depth, x, y);
+          const Eigen::Vector3f right = vertex(normal_depth, x + 1, y), down = vertex(normal_depth, x, y + 1);
+          if (!std::isnan(c.z()) && !std::isnan(right.z()) && !std::isnan(down.z())) {
+            // (down - v) x (right - v) points towards the camera for a surface facing it.
+            const Eigen::Vector3f cross = (down - c).cross(right - c);
+            const float length = cross.norm();
+            if (length > 0.0f) n = cross / length;
+          }
+        }
+        l->surface[i] = {v.x(), v.y(), v.z(), n.x(), n.y(), n.z()};
+        l->photometric[i] = {l->intensity[i], l->gradient_x[i], l->gradient_y[i], l->depth[i]};
+      }
     }
-  }
+  });
 }
 }  // namespace
 
@@ -378,7 +387,7 @@ std::size_t SoaPyramidLevel::memoryBytes() const {
 }
 
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid, bool allow_avx2) {
+                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2) {
   // Each pass below takes this (its AVX2 code only compiled where the build can have it).
   const bool avx2 = allow_avx2 && handAvx2Available();
   pyramid->resize(config.levels);
@@ -386,20 +395,20 @@ void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, c
     SoaPyramidLevel& l = (*pyramid)[level];
     resizeLevel(&l, pyramidLevelCamera(camera, level));
     if (level == 0) {
-      sanitizeAndConvert(frame, static_cast<float>(config.min_depth), static_cast<float>(config.max_depth), threads, &l);
+      sanitizeAndConvert(frame, static_cast<float>(config.min_depth), static_cast<float>(config.max_depth), workers, &l);
     } else {
-      downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), threads, avx2, &l);
-      downsampleIntensity((*pyramid)[level - 1], threads, &l);
+      downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), workers, avx2, &l);
+      downsampleIntensity((*pyramid)[level - 1], workers, &l);
     }
-    gradients(threads, &l);
+    gradients(workers, &l);
     const float* normal_depth = l.depth.data();
     if (level == 0 && config.depth_smoothing_radius > 0) {
       // Normals from smoothed depth, points raw (see buildFramePyramid).
       smoothDepth(l.depth, l.width, l.height, config.depth_smoothing_radius,
-                  static_cast<float>(config.depth_smoothing_factor), threads, avx2, &l.inverse_depth, &l.smoothed_depth);
+                  static_cast<float>(config.depth_smoothing_factor), workers, avx2, &l.inverse_depth, &l.smoothed_depth);
       normal_depth = l.smoothed_depth.data();
     }
-    records(normal_depth, threads, avx2, &l);
+    records(normal_depth, workers, avx2, &l);
   }
 }
 

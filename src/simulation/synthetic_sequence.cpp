@@ -9,8 +9,10 @@
 #include "vocal/core/camera_yaml.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
+#include "vocal/core/gravity.h"
 #include "vocal/core/image_io.h"
 #include "vocal/core/se3.h"
+#include "vocal/simulation/simulated_accelerometer.h"
 
 namespace vocal {
 
@@ -117,6 +119,8 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   makeFolders(folder + "/depth");
   writeCameraYaml(folder + "/camera.yaml", sequence.camera, "vocal_synthetic_" + sceneVariantName(options.scene));
   writeTumTrajectory(folder + "/groundtruth.txt", sequence.ground_truth);
+  // A Kinect's accelerometer (0.05 m/s^2 of noise, about its resolution): what levels the odometry's frame.
+  writeAccelerometerFile(folder + "/accelerometer.txt", simulateKinectAccelerometer(sequence.ground_truth, 0.05, 7));
 
   std::ofstream rgb_list(folder + "/rgb.txt");
   std::ofstream depth_list(folder + "/depth.txt");

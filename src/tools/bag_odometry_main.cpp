@@ -39,6 +39,7 @@ const char kUsage[] =
     "  --max-difference S     colour and depth stamps paired within this (default 0.02 s)\n"
     "  --config FILE.yaml     odometry settings (keys: see config/odometry.yaml)\n"
     "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
+    "  --threads N            CPU threads (overrides the config's; 0 = OMP_NUM_THREADS, else the cores)\n"
     "  --groundtruth FILE     TUM trajectory to evaluate against (ATE / RPE)\n"
     "  --delta S              RPE interval (default 1 s)\n"
     "  --quiet                no progress bar\n";
@@ -79,6 +80,7 @@ int run(const vocal::CommandLine& args) {
   vocal::OdometryConfig config;
   if (args.has("config")) config = vocal::readOdometryConfigYaml(args.text("config", ""));
   if (args.has("backend")) config.backend = vocal::parseOdometryBackend(args.text("backend", ""));
+  config.threads = args.integer("threads", config.threads);
   const std::string rgb_topic = args.text("rgb-topic", "/camera/rgb/image_rect_color");
   const std::string depth_topic = args.text("depth-topic", "/camera/depth_registered/image_raw");
   const std::string info_topic = args.text("camera-info-topic", "/camera/rgb/camera_info");
@@ -214,6 +216,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("bag_odometry", kUsage, run, argc, argv,
                         {"output", "rgb-topic", "depth-topic", "camera-info-topic", "max-difference", "config", "backend",
-                         "groundtruth", "delta"},
+                         "threads", "groundtruth", "delta"},
                         {"quiet"}, 1);
 }

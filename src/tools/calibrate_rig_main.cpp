@@ -54,6 +54,8 @@ const char kUsage[] =
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
     "                      no still pose are let go and each pose keeps per sensor its first 2 s, thinned to about 20\n"
     "                      messages; when full, later messages are counted, not kept\n"
+    "  --threads N         messages searched for the target at once (default 0: OMP_NUM_THREADS where set, else\n"
+    "                      the cores; the result is the same with any number)\n"
     "  --quiet             no progress line\n"
     "A rig whose camera has a moving frame as its `parent` (a robot arm's tool), or whose target has, is a\n"
     "hand-eye rig: the tool's pose comes from the bag's /tf and /tf_static, the arm's still poses from its\n"
@@ -333,7 +335,7 @@ int run(const vocal::CommandLine& args) {
     if (quiet) return;
     if (terminal && n % 50 == 0) std::fprintf(stderr, "\rreading message %zu", n);
     if (!terminal && n % 1000 == 0) std::fprintf(stderr, "read %zu messages\n", n);
-  });
+  }, args.integer("threads", 0));
   if (!quiet && terminal) std::fprintf(stderr, "\r");
   std::printf("%zu messages on the rig's topics, %zu dropped\n", read.messages, read.dropped);
   for (const std::string& problem : read.problems) std::printf("  dropped: %s\n", problem.c_str());
@@ -429,5 +431,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

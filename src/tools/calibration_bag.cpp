@@ -8,7 +8,6 @@
 #include <map>
 #include <random>
 #include <sstream>
-#include <thread>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -16,6 +15,7 @@
 
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
+#include "vocal/core/worker_pool.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/simulation/simulated_sensor_data.h"
 #include "vocal/tools/bag_file.h"
@@ -319,7 +319,7 @@ bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCa
 }  // namespace
 
 BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
-                                  const std::function<void(std::size_t)>& progress) {
+                                  const std::function<void(std::size_t)>& progress, int threads) {
   rosbag::Bag bag;
   openBag(&bag, bag_path, rosbag::bagmode::Read);
   const RigDescription& rig = session->rig();
@@ -369,7 +369,11 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
       std::future<CalibrationSession::Extraction> extraction;
     };
     std::deque<Pending> pending;
-    const std::size_t ahead = std::max(2u, std::thread::hardware_concurrency());
+    if (threads < 0) throw InputError("calibration bag reading: threads must be >= 0 (0 = the cores), got " + std::to_string(threads));
+    if (threads == 0) threads = defaultThreadCount();
+    const std::size_t ahead = static_cast<std::size_t>(threads);
+    // One thread: each search runs on this thread when its result is taken.
+    const std::launch launch = threads == 1 ? std::launch::deferred : std::launch::async;
     const auto drop = [&](const std::string& topic, const ros::Time& time, const std::string& why) {
       if (summary.problems.size() < 20) {
         std::ostringstream problem;
@@ -427,7 +431,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
                 if (!compressed && !raw) throw InputError(m.getTopic() + ": not a sensor_msgs/Image or CompressedImage");
                 ColorImage converted = compressed ? fromCompressedColorImage(*compressed, m.getTopic()) : fromColorImage(*raw, m.getTopic());
                 const double stamp = (compressed ? compressed->header.stamp : raw->header.stamp).toSec();
-                extraction = std::async(std::launch::async, [session, sensor = sensor, camera, lens = lenses[sensor], converted = std::move(converted)] {
+                extraction = std::async(launch, [session, sensor = sensor, camera, lens = lenses[sensor], converted = std::move(converted)] {
                   return session->extractImage(sensor, converted, camera, lens);
                 });
                 pending.push_back({sensor, stamp, m.getTopic(), m.getTime(), std::move(extraction)});
@@ -435,7 +439,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               }
               const auto image = m.instantiate<sensor_msgs::Image>();
               if (!image) throw InputError(m.getTopic() + ": not a sensor_msgs/Image");
-              extraction = std::async(std::launch::async, [session, sensor = sensor, camera, converted = fromDepthImage(*image, m.getTopic())] {
+              extraction = std::async(launch, [session, sensor = sensor, camera, converted = fromDepthImage(*image, m.getTopic())] {
                 return session->extractDepth(sensor, converted, camera);
               });
               pending.push_back({sensor, image->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
@@ -448,7 +452,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
               std::vector<Eigen::Vector3d> points = fromPointCloud2(*cloud, m.getTopic(), &rings);
               session->prepareCloud(sensor, points, rings);
               if (!session->hasSpacing(sensor)) session->extractCloud(sensor, points);  // throws: says why
-              extraction = std::async(std::launch::async, [session, sensor = sensor, points = std::move(points)] {
+              extraction = std::async(launch, [session, sensor = sensor, points = std::move(points)] {
                 return session->extractCloud(sensor, points);
               });
               pending.push_back({sensor, cloud->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});
@@ -457,7 +461,7 @@ BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSessio
             case Kind::kScan: {
               const auto scan = m.instantiate<sensor_msgs::LaserScan>();
               if (!scan) throw InputError(m.getTopic() + ": not a sensor_msgs/LaserScan");
-              extraction = std::async(std::launch::async, [session, sensor = sensor, points = fromLaserScan(*scan, m.getTopic())] {
+              extraction = std::async(launch, [session, sensor = sensor, points = fromLaserScan(*scan, m.getTopic())] {
                 return session->extractScan(sensor, points);
               });
               pending.push_back({sensor, scan->header.stamp.toSec(), m.getTopic(), m.getTime(), std::move(extraction)});

@@ -4,6 +4,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
 #include "vocal/nodelets/message_conversions.h"
 #include "vocal/tools/bag_file.h"
 
@@ -30,20 +31,28 @@ struct LayoutSpec {
   const char* static_parent;
 };
 
+// REP-103: the optical frame looks along z with x right and y down; the camera's body frame has x
+// forward, y left, z up.
+Eigen::Isometry3d bodyFromOptical() {
+  Eigen::Isometry3d body_from_optical = Eigen::Isometry3d::Identity();
+  body_from_optical.linear() = bodyFromOpticalRotation();
+  return body_from_optical;
+}
+
 LayoutSpec layoutSpec(BagLayout layout) {
   if (layout == BagLayout::kTum) {
     using T = TumBagTopics;
+    Eigen::Isometry3d body_from_accelerometer = bodyFromOptical();
+    body_from_accelerometer.linear() *= opticalFromKinectAccelerometer();
     return {T::kRgbImage, T::kRgbInfo, T::kDepthImage, T::kDepthInfo, T::kRgbFrame, T::kDepthFrame,
             &toRgb8Image, &toDepth32FImage,
-            {{T::kRgbFrame, Eigen::Isometry3d::Identity()}, {T::kDepthFrame, Eigen::Isometry3d::Identity()}},
+            {{T::kRgbFrame, bodyFromOptical()}, {T::kDepthFrame, bodyFromOptical()},
+             {T::kAccelerometerFrame, body_from_accelerometer}},
             T::kCameraFrame};
   }
   using T = OpenNi2BagTopics;
-  // REP-103: the optical frame looks along z with x right and y down; camera_link has x forward, z up.
-  Eigen::Isometry3d link_from_optical = Eigen::Isometry3d::Identity();
-  link_from_optical.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   return {T::kRgbImage, T::kRgbInfo, T::kDepthImage, T::kDepthInfo, T::kOpticalFrame, T::kOpticalFrame,
-          &toBgr8Image, &toDepth16UImage, {{T::kOpticalFrame, link_from_optical}}, T::kCameraFrame};
+          &toBgr8Image, &toDepth16UImage, {{T::kOpticalFrame, bodyFromOptical()}}, T::kCameraFrame};
 }
 
 void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosbag::Bag* bag,
@@ -74,13 +83,15 @@ void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosb
   }
 }
 
-// The TUM layout carries the ground truth as world -> kinect transforms (a real recording has none).
+// The TUM layout carries the ground truth as world -> kinect transforms (a real recording has none):
+// the folder's poses are the optical frame's, kinect is its body frame.
 void writeGroundTruth(const TumSequence& sequence, rosbag::Bag* bag, TumBagSummary* summary) {
   using T = TumBagTopics;
+  const Eigen::Isometry3d optical_from_body = bodyFromOptical().inverse();
   for (const StampedPose& pose : sequence.groundTruth()) {
     const ros::Time stamp(pose.stamp);
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(toTransformStamped(pose.pose, T::kWorldFrame, T::kCameraFrame, stamp));
+    tf.transforms.push_back(toTransformStamped(pose.pose * optical_from_body, T::kWorldFrame, T::kCameraFrame, stamp));
     bag->write("/tf", stamp, tf);
     ++summary->ground_truth_poses;
   }
@@ -100,7 +111,13 @@ TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_pa
   TumBagSummary summary;
   try {
     writeFrames(sequence, options, &bag, progress, &summary);
-    if (options.layout == BagLayout::kTum) writeGroundTruth(sequence, &bag, &summary);
+    if (options.layout == BagLayout::kTum) {
+      writeGroundTruth(sequence, &bag, &summary);
+      for (const AccelerometerSample& sample : sequence.accelerometer()) {
+        bag.write(TumBagTopics::kImu, ros::Time(sample.stamp), toAccelerometerImu(sample, TumBagTopics::kAccelerometerFrame));
+        ++summary.accelerometer_samples;
+      }
+    }
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": write failed (" + e.what() + ")");
   }

@@ -20,6 +20,7 @@ const char kUsage[] =
     "  --config FILE.yaml          odometry settings (keys: see config/odometry.yaml)\n"
     "  --mode icp|rgb|fused        overrides the config's mode\n"
     "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
+    "  --threads N                 CPU threads (overrides the config's; 0 = OMP_NUM_THREADS, else the cores)\n"
     "  --rgb-weight W              overrides the fusion weight of the photometric term\n"
     "  --features always|fallback|off  overrides the config's feature_initialisation\n"
     "  --reference keyframe|frame  overrides the config's tracking_reference\n"
@@ -37,6 +38,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("config")) config = vocal::readOdometryConfigYaml(args.text("config", ""));
   if (args.has("mode")) config.mode = vocal::parseOdometryMode(args.text("mode", ""));
   if (args.has("backend")) config.backend = vocal::parseOdometryBackend(args.text("backend", ""));
+  config.threads = args.integer("threads", config.threads);
   config.rgb_weight = args.number("rgb-weight", config.rgb_weight);
   if (args.has("features")) config.feature_initialisation = vocal::parseFeatureInitialisation(args.text("features", ""));
   if (args.has("reference")) config.tracking_reference = vocal::parseTrackingReference(args.text("reference", ""));
@@ -107,6 +109,10 @@ int run(const vocal::CommandLine& args) {
   const double n = std::max<double>(frames, 1);
   std::printf("preprocess_ms: %.2f\nfeatures_ms: %.2f\nsolve_ms: %.2f\n", stage_sums.preprocess_ms / n,
               stage_sums.features_ms / n, stage_sums.solve_ms / n);
+  // Loops the caller ran alone because the OS kept the pool's other threads off their cores.
+  const vocal::WorkerPool& workers = odometry.workers();
+  std::printf("threads: %d\nloops_alone_percent: %.1f\n", workers.threads(),
+              workers.loops() ? 100.0 * workers.loopsAlone() / workers.loops() : 0.0);
   if (config.feature_initialisation == vocal::FeatureInitialisation::kFallback)
     std::printf("feature_fallbacks: %d\n", feature_fallbacks);
   std::printf("keyframes: %d\nrelocalisations: %d\n", keyframes, relocalisations);
@@ -125,6 +131,6 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta"},
+                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta"},
                         {"start-from-ground-truth", "quiet", "verbose"}, 1);
 }

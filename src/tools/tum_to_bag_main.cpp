@@ -26,14 +26,17 @@ int run(const vocal::CommandLine& args) {
   if (!sequence.hasGroundTruth() && bag_options.layout == vocal::BagLayout::kTum) {
     std::fprintf(stderr, "no groundtruth.txt: the bag will have no world -> kinect transforms\n");
   }
+  if (sequence.accelerometer().empty() && bag_options.layout == vocal::BagLayout::kTum) {
+    std::fprintf(stderr, "no accelerometer.txt: the bag will have no /imu, and the odometry on it cannot start level\n");
+  }
   const bool quiet = args.has("quiet");
   const vocal::TumBagSummary summary =
       vocal::writeTumBag(sequence, args.positional()[1], bag_options, [quiet](std::size_t done, std::size_t total) {
         if (!quiet) std::fprintf(stderr, "\rwriting frame %zu/%zu", done, total);
       });
   if (!quiet) std::fprintf(stderr, "\n");
-  std::printf("wrote %zu frames and %zu ground-truth poses to %s\n", summary.frames, summary.ground_truth_poses,
-              args.positional()[1].c_str());
+  std::printf("wrote %zu frames, %zu ground-truth poses and %zu accelerometer samples to %s\n", summary.frames,
+              summary.ground_truth_poses, summary.accelerometer_samples, args.positional()[1].c_str());
   return 0;
 }
 }  // namespace

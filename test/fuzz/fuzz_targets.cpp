@@ -212,7 +212,7 @@ void laserScanMessage(const std::uint8_t* data, std::size_t size) {
 // Odometry settings' names and a few of the nodelet's own: the keys parameters mostly take.
 const std::vector<std::string> kParameterNames = {
     "mode", "levels", "iterations", "icp_max_distance", "rgb_weight", "rgb_min_gradient", "tracking_reference",
-    "keyframes_kept", "backend", "cpu_threads", "max_depth", "convergence_translation", "feature_initialisation",
+    "keyframes_kept", "backend", "threads", "cpu_threads", "max_depth", "convergence_translation", "feature_initialisation",
     "frame_id", "approx_sync", "depth_noise_quadratic", "keyframe_after_unconverged"};
 
 // A nodelet's private parameters as rosparam hands them over: any nesting of XmlRpc values, keys

@@ -1,11 +1,13 @@
 #pragma once
 // A folder in the TUM RGB-D benchmark layout: rgb.txt and depth.txt list `timestamp filename`,
 // frames are associated by nearest stamp (TUM rule), groundtruth.txt (optional) holds the camera
-// trajectory, camera.yaml (optional, written by vocal's generator) the intrinsics.
+// trajectory, accelerometer.txt (optional) the Kinect's accelerometer, camera.yaml (optional, written by
+// vocal's generator) the intrinsics.
 
 #include <string>
 #include <vector>
 
+#include "vocal/core/gravity.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
@@ -56,6 +58,8 @@ class TumSequence {
 
   bool hasGroundTruth() const { return !ground_truth_.empty(); }
   const Trajectory& groundTruth() const { return ground_truth_; }
+  // accelerometer.txt, in the Kinect's accelerometer frame (opticalFromKinectAccelerometer); empty without one.
+  const std::vector<AccelerometerSample>& accelerometer() const { return accelerometer_; }
 
  private:
   std::string folder_;
@@ -64,6 +68,7 @@ class TumSequence {
   LensDistortion lens_;
   std::string camera_source_;
   Trajectory ground_truth_;
+  std::vector<AccelerometerSample> accelerometer_;
 };
 
 // The benchmark's published intrinsics for freiburg1/2/3 folders (recognised by name), else the ROS

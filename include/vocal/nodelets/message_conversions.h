@@ -8,11 +8,13 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <Eigen/Geometry>
 
 #include "vocal/core/colored_point.h"
+#include "vocal/core/gravity.h"
 #include "vocal/core/image.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
@@ -68,6 +70,11 @@ std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg
 std::vector<Eigen::Vector3d> fromLaserScan(const sensor_msgs::LaserScan& msg, const std::string& what);
 sensor_msgs::LaserScan toLaserScan(const std::vector<float>& ranges, double angle_min, double angle_increment,
                                    double range_max, const std::string& frame_id, const ros::Time& stamp);
+// An accelerometer-only sensor_msgs/Imu (REP-145: orientation and angular velocity marked absent by a
+// covariance of -1), as a Kinect's driver publishes its accelerometer.
+sensor_msgs::Imu toAccelerometerImu(const AccelerometerSample& sample, const std::string& frame_id);
+// Its linear acceleration; throws naming `what` when a value is not finite.
+AccelerometerSample fromImuAcceleration(const sensor_msgs::Imu& msg, const std::string& what);
 // One frame of registered images: depth and camera_info must match the colour image's size.
 RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,
                       const std::string& depth_what);

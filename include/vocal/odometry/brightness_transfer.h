@@ -12,6 +12,8 @@
 
 namespace vocal {
 
+class WorkerPool;
+
 struct BrightnessTransfer {
   float gain = 1.0f;
   float bias = 0.0f;  // in intensity units (0..1)
@@ -25,9 +27,11 @@ struct BrightnessTransfer {
 // sets' medians and interquartile ranges is insensitive to the motion being off by a few pixels (the
 // same surfaces are sampled, only not pixel for pixel) and to the few pixels that move on their own.
 // Returns the identity when fewer than `min_samples` pairs are found or the map is implausible (gain
-// outside [0.5, 2]).
+// outside [0.5, 2]). On `workers` where given (the same result with any number of threads), else on
+// the calling thread.
 BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const RgbdFrame& current,
                                               const PinholeCamera& camera, const Eigen::Isometry3d& reference_from_current,
-                                              double max_depth_difference, int stride = 4, int min_samples = 500);
+                                              double max_depth_difference, WorkerPool* workers = nullptr,
+                                              int stride = 4, int min_samples = 500);
 
 }  // namespace vocal

@@ -5,6 +5,10 @@
 // time with AVX2 gathers where the CPU has them, picked at run time; a portable pass elsewhere), and
 // the rows are reduced in float within an image row, summed in double.
 
+#include <array>
+#include <vector>
+
+#include "vocal/core/worker_pool.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/soa_frame_pyramid.h"
 
@@ -24,7 +28,7 @@ enum class CpuTrackingPass { kBest, kPortable };
 
 class FastCpuOdometryBackend : public OdometryBackend {
  public:
-  // config.cpu_threads threads (0: every core).
+  // config.threads threads (0: OMP_NUM_THREADS where set, else the cores this process may use).
   FastCpuOdometryBackend(const PinholeCamera& camera, const OdometryConfig& config,
                          CpuTrackingPass pass = CpuTrackingPass::kBest);
 
@@ -37,16 +41,18 @@ class FastCpuOdometryBackend : public OdometryBackend {
                        const BrightnessTransfer& brightness, NormalEquations* icp, NormalEquations* rgb) override;
   std::size_t memoryBytes() const override;
 
-  int threads() const { return threads_; }
+  int threads() const { return workers_.threads(); }
+  WorkerPool* workers() override { return &workers_; }
   const SoaFramePyramid& current() const { return frames_[current_]; }
 
  private:
   PinholeCamera camera_;
   OdometryConfig config_;
-  int threads_;
+  WorkerPool workers_;
   SoaFramePyramid frames_[2];  // the reference is the one that is not current; buffers swap roles
   int current_ = 0;
   TrackRowFunction track_row_;
+  std::vector<std::array<double, 2 * kReductionValues>> block_sums_;  // the tracking pass's, per block of rows
 };
 
 }  // namespace vocal

@@ -28,6 +28,8 @@
 
 namespace vocal {
 
+class WorkerPool;
+
 class FrameRectification {
  public:
   static constexpr int kGridStep = 8;
@@ -47,9 +49,9 @@ class FrameRectification {
   bool dependsOnMotion() const { return readout_ > 0.0 || depth_time_offset_ != 0.0; }
   // The frame as the ideal camera would have seen it; `angular_velocity` (rad/s, in the camera frame,
   // as the twist of odometry <- camera(t)) turns the rows of a rolling shutter. The frame must have
-  // the camera's size.
+  // the camera's size. On `workers` where given (the same output with any number of threads).
   RgbdFrame rectify(const RgbdFrame& frame, const Eigen::Vector3d& angular_velocity,
-                    const Eigen::Vector3d& linear_velocity = Eigen::Vector3d::Zero()) const;
+                    const Eigen::Vector3d& linear_velocity = Eigen::Vector3d::Zero(), WorkerPool* workers = nullptr) const;
   // Where the ideal camera's pixel (u, v) is found in the input image (exact; `rectify` interpolates
   // this between grid nodes). NaN when the lens model does not reach it.
   // `time_offset`: seconds added to every row's instant (the depth's capture after the colour's).

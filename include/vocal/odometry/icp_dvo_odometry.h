@@ -17,6 +17,7 @@
 #include "vocal/core/pinhole_camera.h"
 #include "vocal/core/rgbd_frame.h"
 #include "vocal/core/se3.h"
+#include "vocal/core/worker_pool.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/frame_rectification.h"
 #include "vocal/odometry/keyframe_window.h"
@@ -125,6 +126,8 @@ class IcpDvoOdometry {
   const Eigen::Isometry3d& estimatedPose() const { return pose_; }
   const Matrix6d& poseCovariance() const { return pose_covariance_; }
   const OdometryBackend& backend() const { return *backend_; }
+  // The threads of the estimator's loops (the backend's where it has them).
+  const WorkerPool& workers() const { return *workers_; }
   const PinholeCamera& camera() const { return camera_; }
   const LensDistortion& lens() const { return lens_; }
   // Whether frames are rectified before tracking (a lens to undo or a rolling shutter), and the last
@@ -223,6 +226,10 @@ class IcpDvoOdometry {
   FrameRectification rectification_;
   RgbdFrame rectified_;
   std::unique_ptr<OdometryBackend> backend_;
+  // The threads of the estimator's own loops: the backend's where it has them, else a pool of
+  // config.threads of its own (a GPU backend's host side).
+  std::unique_ptr<WorkerPool> own_workers_;
+  WorkerPool* workers_ = nullptr;
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();  // of the last frame (tracked or predicted)
   // What was published for the last frame, and published = correction * estimate: a window's correction
   // of the estimate enters the published pose a share per frame.

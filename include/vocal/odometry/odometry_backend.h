@@ -20,6 +20,8 @@ namespace vocal {
 // or a new keyframe), or it stays (tracking against a keyframe; the previous current frame is dropped).
 enum class ReferenceUpdate { kPreviousFrame, kKeep };
 
+class WorkerPool;
+
 class OdometryBackend {
  public:
   virtual ~OdometryBackend() = default;
@@ -46,6 +48,10 @@ class OdometryBackend {
 
   // Bytes of frame buffers the backend holds (both frames, all levels).
   virtual std::size_t memoryBytes() const = 0;
+
+  // The threads the backend runs its loops on, for the estimator's own (rectification, brightness
+  // transfer) to share; null where the backend has none (its work runs elsewhere, e.g. on a GPU).
+  virtual WorkerPool* workers() { return nullptr; }
 };
 
 // Camera of pyramid level `level`: samples sit at (2^level x, 2^level y) of the input, so the

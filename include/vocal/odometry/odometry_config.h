@@ -146,7 +146,10 @@ struct OdometryConfig {
   // kAuto: OpenCL on a GPU when there is one, else the fast CPU backend. kCpu: the fast CPU backend.
   // kReference: the plain CPU reference (parity tests). kOpenCl: any OpenCL device, PoCL's CPU one too.
   OdometryBackendKind backend = OdometryBackendKind::kAuto;
-  int cpu_threads = 0;  // threads of the fast CPU backend; 0 = every core
+  // Threads of the fast CPU backend and of the estimator's own loops (the calling thread included); 0 =
+  // OMP_NUM_THREADS where set, else the cores this process may run on. Idle threads sleep, so a
+  // robot's other processes get the cores back between frames.
+  int threads = 0;
   // OpenCL device choice: empty = first GPU, else first CPU device. Matched as substrings of the
   // platform and device names.
   std::string opencl_platform;

@@ -13,6 +13,8 @@
 
 namespace vocal {
 
+class WorkerPool;
+
 // Vertex and normal of one pixel in the camera frame; NaN where undefined.
 struct SurfaceRecord {
   float vx, vy, vz, nx, ny, nz;
@@ -40,10 +42,11 @@ struct SoaPyramidLevel {
 
 using SoaFramePyramid = std::vector<SoaPyramidLevel>;
 
-// Fills `pyramid` (resized and reused) with the same maps as buildFramePyramid, on `threads` threads;
+// Fills `pyramid` (resized and reused) with the same maps as buildFramePyramid, on `workers` (the same
+// maps with any number of threads);
 // `allow_avx2`: the AVX2 passes (depth smoothing, depth pyramid, vertex and normal records) where the
 // CPU has AVX2, the same maps to the bit (false: the portable loops everywhere).
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          int threads, SoaFramePyramid* pyramid, bool allow_avx2 = true);
+                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2 = true);
 
 }  // namespace vocal

@@ -115,9 +115,11 @@ struct BagReadSummary {
 // Feeds every message on the rig's topics to `session` in bag order (camera_info before its images
 // or depth is required; the latest one is used). A message that cannot be used is dropped and
 // reported, not fatal. Throws InputError naming the bag when it cannot be read or holds none of the
-// rig's topics.
+// rig's topics. The target is searched in up to `threads` messages at once (0: OMP_NUM_THREADS where
+// set, else the cores this process may use; 1: each in turn on the reading thread); the session takes
+// every result in bag order, so the outcome is the same with any number.
 BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
-                                  const std::function<void(std::size_t)>& progress = nullptr);
+                                  const std::function<void(std::size_t)>& progress = nullptr, int threads = 0);
 
 struct CameraImageRequest {
   int sensor = 0;      // a camera of the rig

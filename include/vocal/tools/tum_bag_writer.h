@@ -4,8 +4,12 @@
 //   /camera/rgb/image_color   sensor_msgs/Image rgb8          frame openni_rgb_optical_frame
 //   /camera/depth/image       sensor_msgs/Image 32FC1 metres  frame openni_depth_optical_frame (NaN = none)
 //   /camera/rgb/camera_info, /camera/depth/camera_info (depth is registered: same intrinsics)
-//   /tf        world -> kinect at every ground-truth stamp (kinect = the optical centre)
-//   /tf_static kinect -> openni_rgb_optical_frame and openni_depth_optical_frame (identity), latched
+//   /imu       sensor_msgs/Imu, the Kinect's accelerometer (when the folder has accelerometer.txt), frame
+//              openni_accelerometer_frame (x left, y up, z forward)
+//   /tf        world -> kinect at every ground-truth stamp (kinect: the camera's body frame at the optical
+//              centre, x forward, z up, REP-103)
+//   /tf_static kinect -> openni_rgb_optical_frame, openni_depth_optical_frame (optical axes: z forward,
+//              y down) and openni_accelerometer_frame, latched
 // or what openni2_launch records from a Kinect / Xtion with depth registration on:
 //   /camera/rgb/image_rect_color         bgr8                     frame camera_rgb_optical_frame
 //   /camera/depth_registered/image_raw   16UC1 millimetres (0 = none), the same frame
@@ -27,6 +31,8 @@ struct TumBagTopics {
   static constexpr const char* kDepthInfo = "/camera/depth/camera_info";
   static constexpr const char* kRgbFrame = "openni_rgb_optical_frame";
   static constexpr const char* kDepthFrame = "openni_depth_optical_frame";
+  static constexpr const char* kImu = "/imu";
+  static constexpr const char* kAccelerometerFrame = "openni_accelerometer_frame";
   static constexpr const char* kWorldFrame = "world";
   static constexpr const char* kCameraFrame = "kinect";
 };
@@ -52,6 +58,7 @@ struct TumBagOptions {
 struct TumBagSummary {
   std::size_t frames = 0;             // associated rgb + depth pairs written
   std::size_t ground_truth_poses = 0; // /tf messages
+  std::size_t accelerometer_samples = 0;  // /imu messages
 };
 
 // Throws InputError naming the bag if it cannot be written, or the image that cannot be read.
