@@ -10,6 +10,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "ros_test_support.h"
@@ -25,6 +26,7 @@ struct Received {
   std::vector<sensor_msgs::Image::ConstPtr> rgb, depth;
   std::vector<sensor_msgs::CameraInfo::ConstPtr> rgb_info, depth_info;
   std::vector<tf2_msgs::TFMessage::ConstPtr> tf, tf_static;
+  std::vector<sensor_msgs::Imu::ConstPtr> imu;
 };
 
 template <typename M>
@@ -52,7 +54,8 @@ TEST(BagPlayback, EveryTopicArrivesIntact) {
       collect<sensor_msgs::CameraInfo>(nh, T::kRgbInfo, &received, &received.rgb_info),
       collect<sensor_msgs::CameraInfo>(nh, T::kDepthInfo, &received, &received.depth_info),
       collect<tf2_msgs::TFMessage>(nh, "/tf", &received, &received.tf),
-      collect<tf2_msgs::TFMessage>(nh, "/tf_static", &received, &received.tf_static)};
+      collect<tf2_msgs::TFMessage>(nh, "/tf_static", &received, &received.tf_static),
+      collect<sensor_msgs::Imu>(nh, T::kImu, &received, &received.imu)};
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
@@ -61,7 +64,7 @@ TEST(BagPlayback, EveryTopicArrivesIntact) {
   for (int i = 0; i < 40; ++i) {
     {
       std::lock_guard<std::mutex> lock(received.mutex);
-      if (received.rgb.size() == 20 && received.depth.size() == 20 && received.tf.size() == 20) break;
+      if (received.rgb.size() == 20 && received.depth.size() == 20 && received.tf.size() == 20 && received.imu.size() == 20) break;
     }
     ros::WallDuration(0.05).sleep();
   }
@@ -73,6 +76,8 @@ TEST(BagPlayback, EveryTopicArrivesIntact) {
   EXPECT_EQ(received.depth_info.size(), 20u);
   ASSERT_EQ(received.tf.size(), 20u);
   EXPECT_EQ(received.tf_static.size(), 1u);
+  ASSERT_EQ(received.imu.size(), 20u);
+  EXPECT_EQ(received.imu[0]->linear_acceleration.z, sequence.accelerometer()[0].specific_force.z());
   for (std::size_t i = 0; i < 20; ++i) {
     const vocal::RgbdFrame frame = sequence.loadFrame(i);
     const auto& rgb = *received.rgb[i];
