@@ -94,7 +94,7 @@ TEST(WorkerPool, AWorkerHeldUpMidBlockMakesTheCallerGoOnAlone) {
       while (!other_started.load() && std::chrono::steady_clock::now() < until) std::this_thread::yield();
     } else {
       other_started = true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
   ASSERT_TRUE(other_started.load());
@@ -103,8 +103,9 @@ TEST(WorkerPool, AWorkerHeldUpMidBlockMakesTheCallerGoOnAlone) {
   std::atomic<int> items{0};
   for (int k = 0; k < 300; ++k) pool.forBlocks(50, 5, [&](int, int begin, int end) { items += end - begin; });
   EXPECT_EQ(items.load(), 300 * 50);
-  EXPECT_GE(pool.loopsAlone(), 64);        // at least the first stretch alone
-  EXPECT_LT(pool.loopsAlone(), 300);       // and the others tried again after it
+  EXPECT_GE(pool.loopsAlone(), 64);  // at least the first stretch alone
+  // and the others tried again after it (even were every try to stall: after 64, then 128 alone)
+  EXPECT_GE(pool.loops() - pool.loopsAlone(), 3);
 }
 
 // Blocks are fixed by the loop: per-block sums added in block order are the same bits for any pool.
