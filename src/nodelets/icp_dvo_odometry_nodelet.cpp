@@ -140,7 +140,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
                                             [this](const ros::WallTimerEvent&) { publishFusedCloud(); });
 
     if (!imu_topic_.empty()) {
-      // The accelerometer levels odom at the first frame: a still reading of gravity turns it z up.
+      // The accelerometer levels odom at the first frame: its mean there, gravity, turns odom z up.
       // On the multi-threaded queue: the first frame waits for these (with skip_to_newest false it is
       // tracked on this nodelet's own single-threaded queue).
       imu_sub_ = getMTNodeHandle().subscribe<sensor_msgs::Imu>(imu_topic_, 200,
@@ -196,8 +196,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     }
   }
 
-  // odom <- the base at the first frame: level (z up, the heading kept) where the accelerometer read
-  // gravity still around that frame, else the identity (odom is then the base's first pose), with why.
+  // odom <- the base at the first frame: level (z up, the heading kept) where the accelerometer's mean
+  // around that frame is gravity, else the identity (odom is then the base's first pose), with why.
   Eigen::Isometry3d levelledStart(const std::string& base_frame, const ros::Time& stamp, std::string* how) {
     if (imu_topic_.empty()) {
       *how = "not levelled: no imu_topic (odom is the first pose of " + base_frame + ")";
