@@ -10,18 +10,25 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <ros/ros.h>
 
 namespace vocal_test {
 
-// Plays `bag` with rosbag play once the graph subscribes to it; fails the test when rosbag play fails or
-// takes longer than `seconds` (killed then). Call with ASSERT_NO_FATAL_FAILURE.
-inline void playBag(const std::string& bag, double seconds = 60.0) {
+// Plays `bag` with rosbag play once the graph subscribes to it (`options`: more of rosbag play's, e.g.
+// --rate or --topics; rosbag waits for a subscriber of every topic it plays); fails the test when rosbag
+// play fails or takes longer than `seconds` (killed then). Call with ASSERT_NO_FATAL_FAILURE.
+inline void playBag(const std::string& bag, double seconds = 60.0, const std::vector<std::string>& options = {}) {
+  std::vector<std::string> arguments = {"rosbag", "play", "--quiet", "--wait-for-subscribers", bag};
+  arguments.insert(arguments.end(), options.begin(), options.end());
+  std::vector<char*> argv;
+  for (std::string& argument : arguments) argv.push_back(argument.data());
+  argv.push_back(nullptr);
   const pid_t player = ::fork();
   ASSERT_GE(player, 0);
   if (player == 0) {
-    ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", bag.c_str(), static_cast<char*>(nullptr));
+    ::execvp("rosbag", argv.data());
     std::perror("exec rosbag");
     ::_exit(127);
   }

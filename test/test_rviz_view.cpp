@@ -6,10 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <mutex>
 #include <random>
@@ -21,6 +17,7 @@
 #include <std_srvs/Empty.h>
 #include <yaml-cpp/yaml.h>
 
+#include "ros_test_support.h"
 #include "test_support.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/stamp_association.h"
@@ -129,20 +126,11 @@ class RvizView : public ::testing::Test {
   }
 
   // Plays the bag as play_tum_bag.launch does, without its motion capture, once the nodelet listens.
-  void playBag(const std::string& bag, double rate) {
-    const pid_t player = ::fork();
-    ASSERT_GE(player, 0);
-    if (player == 0) {
-      const std::string rate_text = std::to_string(rate);
-      using T = vocal::TumBagTopics;
-      ::execlp("rosbag", "rosbag", "play", "--quiet", "--wait-for-subscribers", "--delay", "0.5", "--rate", rate_text.c_str(), bag.c_str(),
-               "--topics", T::kRgbImage, T::kDepthImage, T::kRgbInfo, T::kImu, "/tf_static", static_cast<char*>(nullptr));
-      std::perror("exec rosbag");
-      ::_exit(127);
-    }
-    int status = 0;
-    ASSERT_EQ(::waitpid(player, &status, 0), player);
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
+  static void playBag(const std::string& bag, double rate) {
+    using T = vocal::TumBagTopics;
+    vocal_test::playBag(bag, 120.0,
+                        {"--delay", "0.5", "--rate", std::to_string(rate), "--topics", T::kRgbImage, T::kDepthImage, T::kRgbInfo,
+                         T::kImu, "/tf_static"});
   }
 
   // The odometry's first pose and its fused cloud once the bag has played (at least `frames` tracked:
@@ -181,8 +169,7 @@ TEST_F(RvizView, DemoRoomStandsUprightInTheDefaultView) {
   const vocal::TumSequence sequence = vocal::TumSequence::open(folder + "/seq");
   ASSERT_EQ(sequence.accelerometer().size(), sequence.groundTruth().size());
   vocal::writeTumBag(sequence, folder + "/seq.bag");
-  playBag(folder + "/seq.bag", 0.5);
-  if (HasFatalFailure()) return;
+  ASSERT_NO_FATAL_FAILURE(playBag(folder + "/seq.bag", 0.5));
   Eigen::Isometry3d first_pose;
   std::vector<Eigen::Vector3d> cloud;
   collect(frames * 2 / 3, &first_pose, &cloud);
@@ -223,8 +210,7 @@ TEST_F(RvizView, RealKinectAccelerometerLevelsOdom) {
   ASSERT_FALSE(sequence.accelerometer().empty());
   const std::string bag = vocal_test::makeTempFolder("rviz_view_real") + "/fr1_xyz.bag";
   vocal::writeTumBag(sequence, bag);
-  playBag(bag, 1.0);
-  if (HasFatalFailure()) return;
+  ASSERT_NO_FATAL_FAILURE(playBag(bag, 1.0));
   Eigen::Isometry3d first_pose;
   std::vector<Eigen::Vector3d> cloud;
   collect(sequence.size() / 3, &first_pose, &cloud);

@@ -61,10 +61,16 @@ int defaultThreadCount(std::string* source) {
   return cores > 0 ? static_cast<int>(cores) : 1;
 }
 
-WorkerPool::WorkerPool(int threads) : threads_(threads), thread_source_("set") {
-  if (threads_ <= 0) threads_ = defaultThreadCount(&thread_source_);
-  workers_.reserve(threads_ - 1);
-  for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { workerLoop(); });
+WorkerPool::WorkerPool(int threads) : thread_source_("set") {
+  if (threads <= 0) threads = defaultThreadCount(&thread_source_);
+  workers_.reserve(threads - 1);
+  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { workerLoop(); });
+}
+
+WorkerPool& WorkerPool::callerOnly() {
+  // No worker: run() never touches the pool's state, so any number of threads may share it.
+  static WorkerPool pool(1);
+  return pool;
 }
 
 WorkerPool::~WorkerPool() {

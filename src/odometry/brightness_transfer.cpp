@@ -43,7 +43,8 @@ BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const 
   const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
   const int w = current.depth.width(), h = current.depth.height();
   const int sampled_rows = (h + stride - 1) / stride;
-  // Pairs found per block of sampled rows, joined in block order: the same sets with any thread count.
+  // Pairs found per block of sampled rows (no two threads fill one vector); the quantiles do not
+  // depend on the order the blocks are joined in.
   struct Pairs {
     std::vector<float> current, reference;
   };
@@ -67,8 +68,7 @@ BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const 
       }
     }
   };
-  WorkerPool caller_only(1);
-  WorkerPool& pool = workers ? *workers : caller_only;
+  WorkerPool& pool = workers ? *workers : WorkerPool::callerOnly();
   pool.forBlocks(sampled_rows, kSampleRowsPerBlock, sampleRows);
   std::vector<float> seen_current, seen_reference;
   for (const Pairs& pairs : found) {
@@ -79,7 +79,7 @@ BrightnessTransfer estimateBrightnessTransfer(const RgbdFrame& reference, const 
   if (static_cast<int>(seen_current.size()) < min_samples) return transfer;
   Quartiles seen[2]{};
   std::vector<float>* sets[2] = {&seen_current, &seen_reference};
-  pool.forBlocks(2, 1, [&](int set, int, int) { seen[set] = quartilesOf(sets[set]); });
+  pool.forEach(2, 1, [&](int set) { seen[set] = quartilesOf(sets[set]); });
   const Quartiles& seen_in_current = seen[0];
   const Quartiles& seen_in_reference = seen[1];
   const float current_spread = seen_in_current.upper - seen_in_current.lower;

@@ -169,14 +169,13 @@ Eigen::Vector2d FrameRectification::sourcePixel(double u, double v, const Eigen:
 
 RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vector3d& angular_velocity,
                                       const Eigen::Vector3d& linear_velocity, WorkerPool* workers) const {
-  WorkerPool caller_only(1);
-  WorkerPool& pool = workers ? *workers : caller_only;
+  WorkerPool& pool = workers ? *workers : WorkerPool::callerOnly();
   const int w = camera_.width, h = camera_.height;
   // The lookup at grid nodes every kGridStep pixels (one node past the last row and column).
   const int nodes_x = (w - 1) / kGridStep + 2, nodes_y = (h - 1) / kGridStep + 2;
   auto lookupGrid = [&](double time_offset) {
     std::vector<Eigen::Vector2f> grid(static_cast<std::size_t>(nodes_x) * nodes_y);
-    pool.forBlocks(nodes_y, 1, [&](int, int j, int) {
+    pool.forEach(nodes_y, 1, [&](int j) {
       for (int i = 0; i < nodes_x; ++i)
         grid[static_cast<std::size_t>(j) * nodes_x + i] =
             sourcePixel(i * kGridStep, j * kGridStep, angular_velocity, time_offset).cast<float>();
@@ -205,91 +204,89 @@ RgbdFrame FrameRectification::rectify(const RgbdFrame& frame, const Eigen::Vecto
   const Rgb8* colour_in = frame.color.data();
   const float* depth_in = frame.depth.data();
   const float max_x = w - 1.0f, max_y = h - 1.0f;
-  pool.forBlocks(h, kRowsPerBlock, [&](int, int v_begin, int v_end) {
-    for (int v = v_begin; v < v_end; ++v) {
-      // The row's lookups at the grid's columns (between its node rows), then linear along the row.
-      const int j = v / kGridStep;
-      const float b = static_cast<float>(v - j * kGridStep) / kGridStep;
-      const Eigen::Vector2f* top = &nodes[static_cast<std::size_t>(j) * nodes_x];
-      const Eigen::Vector2f* bottom = top + nodes_x;
-      const Eigen::Vector2f* depth_top = depth_apart ? &depth_nodes[static_cast<std::size_t>(j) * nodes_x] : nullptr;
-      Rgb8* colour_out = &out.color(0, v);
-      float* depth_out = &out.depth(0, v);
-      const float y_ideal = (v - cy) / fy;
+  pool.forEach(h, kRowsPerBlock, [&](int v) {
+    // The row's lookups at the grid's columns (between its node rows), then linear along the row.
+    const int j = v / kGridStep;
+    const float b = static_cast<float>(v - j * kGridStep) / kGridStep;
+    const Eigen::Vector2f* top = &nodes[static_cast<std::size_t>(j) * nodes_x];
+    const Eigen::Vector2f* bottom = top + nodes_x;
+    const Eigen::Vector2f* depth_top = depth_apart ? &depth_nodes[static_cast<std::size_t>(j) * nodes_x] : nullptr;
+    Rgb8* colour_out = &out.color(0, v);
+    float* depth_out = &out.depth(0, v);
+    const float y_ideal = (v - cy) / fy;
 #ifdef VOCAL_HAND_AVX2
-      const RowConstants row{colour_in, depth_in, w, h, v, max_x, max_y, fx, fy, cx, cy, y_ideal, depth_offset, readout,
-                             moving, velocity, colour_translating, translating, depth_apart};
+    const RowConstants row{colour_in, depth_in, w, h, v, max_x, max_y, fx, fy, cx, cy, y_ideal, depth_offset, readout,
+                           moving, velocity, colour_translating, translating, depth_apart};
 #endif
-      for (int i = 0; i + 1 < nodes_x && i * kGridStep < w; ++i) {
-        const Eigen::Vector2f left = top[i] + b * (bottom[i] - top[i]);
-        const Eigen::Vector2f step = (top[i + 1] + b * (bottom[i + 1] - top[i + 1]) - left) / static_cast<float>(kGridStep);
-        Eigen::Vector2f depth_left = Eigen::Vector2f::Zero(), depth_step = Eigen::Vector2f::Zero();
-        if (depth_apart) {
-          const Eigen::Vector2f* depth_bottom = depth_top + nodes_x;
-          depth_left = depth_top[i] + b * (depth_bottom[i] - depth_top[i]);
-          depth_step = (depth_top[i + 1] + b * (depth_bottom[i + 1] - depth_top[i + 1]) - depth_left) / static_cast<float>(kGridStep);
-        }
-        const int u_end = std::min(w, (i + 1) * kGridStep);
+    for (int i = 0; i + 1 < nodes_x && i * kGridStep < w; ++i) {
+      const Eigen::Vector2f left = top[i] + b * (bottom[i] - top[i]);
+      const Eigen::Vector2f step = (top[i + 1] + b * (bottom[i + 1] - top[i + 1]) - left) / static_cast<float>(kGridStep);
+      Eigen::Vector2f depth_left = Eigen::Vector2f::Zero(), depth_step = Eigen::Vector2f::Zero();
+      if (depth_apart) {
+        const Eigen::Vector2f* depth_bottom = depth_top + nodes_x;
+        depth_left = depth_top[i] + b * (depth_bottom[i] - depth_top[i]);
+        depth_step = (depth_top[i + 1] + b * (depth_bottom[i + 1] - depth_top[i + 1]) - depth_left) / static_cast<float>(kGridStep);
+      }
+      const int u_end = std::min(w, (i + 1) * kGridStep);
 #ifdef VOCAL_HAND_AVX2
-        static_assert(kGridStep == 8, "a cell is one AVX2 register of pixels");
-        if (avx2_ && u_end - i * kGridStep == kGridStep) {
-          rectifyCellAvx2(row, i * kGridStep, left, step, depth_left, depth_step, colour_out, depth_out);
+      static_assert(kGridStep == 8, "a cell is one AVX2 register of pixels");
+      if (avx2_ && u_end - i * kGridStep == kGridStep) {
+        rectifyCellAvx2(row, i * kGridStep, left, step, depth_left, depth_step, colour_out, depth_out);
+        continue;
+      }
+#endif
+      for (int u = i * kGridStep; u < u_end; ++u) {
+        float sx = left.x() + (u - i * kGridStep) * step.x(), sy = left.y() + (u - i * kGridStep) * step.y();
+        // NaN (no lookup) fails these tests too.
+        bool seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
+        if (seen && colour_translating) {
+          const float z = depth_in[static_cast<std::size_t>(sy + 0.5f) * w + static_cast<std::size_t>(sx + 0.5f)];
+          if (isValidDepth(z)) {
+            const float share = sy / h - 0.5f;  // of the readout, after the middle row
+            const float x_ideal = (u - cx) / fx;
+            sx -= fx * share * (moving.x() - x_ideal * moving.z()) / z;
+            sy -= fy * share * (moving.y() - y_ideal * moving.z()) / z;
+            seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
+          }
+        }
+        if (!seen) {
+          // Outside the input: no depth, and the colour of the nearest border pixel. Black there made an
+          // edge that moves with the estimated motion, not with the scene, and the photometric term
+          // tracked it (in an untextured room it outweighed the scene's creases: DVO then turned
+          // against the true rotation).
+          sx = std::clamp(std::isnan(sx) ? static_cast<float>(u) : sx, 0.0f, max_x);
+          sy = std::clamp(std::isnan(sy) ? static_cast<float>(v) : sy, 0.0f, max_y);
+        }
+        const int x = std::min(static_cast<int>(sx), w - 2), y = std::min(static_cast<int>(sy), h - 2);
+        const float fa = sx - x, fb = sy - y;
+        // Bilinear in 8-bit fixed point: weights summing to 65536.
+        const int wa = static_cast<int>(fa * 256.0f + 0.5f), wb = static_cast<int>(fb * 256.0f + 0.5f);
+        const int w00 = (256 - wa) * (256 - wb), w10 = wa * (256 - wb), w01 = (256 - wa) * wb, w11 = wa * wb;
+        const Rgb8* p = colour_in + static_cast<std::size_t>(y) * w + x;
+        const Rgb8 &p00 = p[0], &p10 = p[1], &p01 = p[w], &p11 = p[w + 1];
+        colour_out[u] = {static_cast<std::uint8_t>((w00 * p00.r + w10 * p10.r + w01 * p01.r + w11 * p11.r + 32768) >> 16),
+                         static_cast<std::uint8_t>((w00 * p00.g + w10 * p10.g + w01 * p01.g + w11 * p11.g + 32768) >> 16),
+                         static_cast<std::uint8_t>((w00 * p00.b + w10 * p10.b + w01 * p01.b + w11 * p11.b + 32768) >> 16)};
+        if (!seen) continue;
+        if (!depth_apart) {
+          depth_out[u] = depth_in[static_cast<std::size_t>(y + (fb >= 0.5f)) * w + x + (fa >= 0.5f)];
           continue;
         }
-#endif
-        for (int u = i * kGridStep; u < u_end; ++u) {
-          float sx = left.x() + (u - i * kGridStep) * step.x(), sy = left.y() + (u - i * kGridStep) * step.y();
-          // NaN (no lookup) fails these tests too.
-          bool seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
-          if (seen && colour_translating) {
-            const float z = depth_in[static_cast<std::size_t>(sy + 0.5f) * w + static_cast<std::size_t>(sx + 0.5f)];
-            if (isValidDepth(z)) {
-              const float share = sy / h - 0.5f;  // of the readout, after the middle row
-              const float x_ideal = (u - cx) / fx;
-              sx -= fx * share * (moving.x() - x_ideal * moving.z()) / z;
-              sy -= fy * share * (moving.y() - y_ideal * moving.z()) / z;
-              seen = sx >= 0.0f && sy >= 0.0f && sx <= max_x && sy <= max_y;
-            }
+        // The depth's own lookup: its row's instant is depth_offset later, shifted by the camera's move
+        // over that time as the colour's is over the readout.
+        float dx = depth_left.x() + (u - i * kGridStep) * depth_step.x(), dy = depth_left.y() + (u - i * kGridStep) * depth_step.y();
+        if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
+        if (translating) {
+          const float z = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
+          if (isValidDepth(z)) {
+            const float seconds = depth_offset + readout * (dy / h - 0.5f);
+            const float x_ideal = (u - cx) / fx;
+            dx -= fx * seconds * (velocity.x() - x_ideal * velocity.z()) / z;
+            dy -= fy * seconds * (velocity.y() - y_ideal * velocity.z()) / z;
+            if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
           }
-          if (!seen) {
-            // Outside the input: no depth, and the colour of the nearest border pixel. Black there made an
-            // edge that moves with the estimated motion, not with the scene, and the photometric term
-            // tracked it (in an untextured room it outweighed the scene's creases: DVO then turned
-            // against the true rotation).
-            sx = std::clamp(std::isnan(sx) ? static_cast<float>(u) : sx, 0.0f, max_x);
-            sy = std::clamp(std::isnan(sy) ? static_cast<float>(v) : sy, 0.0f, max_y);
-          }
-          const int x = std::min(static_cast<int>(sx), w - 2), y = std::min(static_cast<int>(sy), h - 2);
-          const float fa = sx - x, fb = sy - y;
-          // Bilinear in 8-bit fixed point: weights summing to 65536.
-          const int wa = static_cast<int>(fa * 256.0f + 0.5f), wb = static_cast<int>(fb * 256.0f + 0.5f);
-          const int w00 = (256 - wa) * (256 - wb), w10 = wa * (256 - wb), w01 = (256 - wa) * wb, w11 = wa * wb;
-          const Rgb8* p = colour_in + static_cast<std::size_t>(y) * w + x;
-          const Rgb8 &p00 = p[0], &p10 = p[1], &p01 = p[w], &p11 = p[w + 1];
-          colour_out[u] = {static_cast<std::uint8_t>((w00 * p00.r + w10 * p10.r + w01 * p01.r + w11 * p11.r + 32768) >> 16),
-                           static_cast<std::uint8_t>((w00 * p00.g + w10 * p10.g + w01 * p01.g + w11 * p11.g + 32768) >> 16),
-                           static_cast<std::uint8_t>((w00 * p00.b + w10 * p10.b + w01 * p01.b + w11 * p11.b + 32768) >> 16)};
-          if (!seen) continue;
-          if (!depth_apart) {
-            depth_out[u] = depth_in[static_cast<std::size_t>(y + (fb >= 0.5f)) * w + x + (fa >= 0.5f)];
-            continue;
-          }
-          // The depth's own lookup: its row's instant is depth_offset later, shifted by the camera's move
-          // over that time as the colour's is over the readout.
-          float dx = depth_left.x() + (u - i * kGridStep) * depth_step.x(), dy = depth_left.y() + (u - i * kGridStep) * depth_step.y();
-          if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
-          if (translating) {
-            const float z = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
-            if (isValidDepth(z)) {
-              const float seconds = depth_offset + readout * (dy / h - 0.5f);
-              const float x_ideal = (u - cx) / fx;
-              dx -= fx * seconds * (velocity.x() - x_ideal * velocity.z()) / z;
-              dy -= fy * seconds * (velocity.y() - y_ideal * velocity.z()) / z;
-              if (!(dx >= 0.0f && dy >= 0.0f && dx <= max_x && dy <= max_y)) continue;
-            }
-          }
-          depth_out[u] = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
         }
+        depth_out[u] = depth_in[static_cast<std::size_t>(dy + 0.5f) * w + static_cast<std::size_t>(dx + 0.5f)];
       }
     }
   });

@@ -39,13 +39,11 @@ void sanitizeAndConvert(const RgbdFrame& frame, float min_depth, float max_depth
   const Rgb8* color = frame.color.data();
   float* depth = l->depth.data();
   float* intensity = l->intensity.data();
-  workers.forBlocks(n, kPixelsPerBlock, [&](int, int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      const float z = depth_in[i];
-      depth[i] = (z >= min_depth && z <= max_depth) ? z : 0.0f;
-      const Rgb8 p = color[i];
-      intensity[i] = (0.299f * p.r + 0.587f * p.g + 0.114f * p.b) * (1.0f / 255.0f);
-    }
+  workers.forEach(n, kPixelsPerBlock, [&](int i) {
+    const float z = depth_in[i];
+    depth[i] = (z >= min_depth && z <= max_depth) ? z : 0.0f;
+    const Rgb8 p = color[i];
+    intensity[i] = (0.299f * p.r + 0.587f * p.g + 0.114f * p.b) * (1.0f / 255.0f);
   });
 }
 
@@ -115,9 +113,7 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
   inv.resize(depth.size());
   out.resize(depth.size());
   const int n = static_cast<int>(depth.size());
-  workers.forBlocks(n, kPixelsPerBlock, [&](int, int begin, int end) {
-    for (int i = begin; i < end; ++i) inv[i] = depth[i] > 0.0f ? 1.0f / depth[i] : 0.0f;
-  });
+  workers.forEach(n, kPixelsPerBlock, [&](int i) { inv[i] = depth[i] > 0.0f ? 1.0f / depth[i] : 0.0f; });
 
   auto pixelWithShrunkWindow = [&](int x, int y) {
     const float c = depth[y * w + x];
@@ -139,7 +135,9 @@ void smoothDepth(const std::vector<float>& depth, int w, int h, int radius, floa
   };
 
   workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
-    std::vector<float> sum(w), count(w), limit(w);
+    // Each thread's row sums, kept: a block allocates nothing.
+    thread_local std::vector<float> sum, count, limit;
+    for (std::vector<float>* row : {&sum, &count, &limit}) row->resize(w);
     for (int y = y_begin; y < y_end; ++y) {
       float* out_row = out.data() + static_cast<std::size_t>(y) * w;
       const float* centre = depth.data() + static_cast<std::size_t>(y) * w;
@@ -223,20 +221,18 @@ void downsampleDepth(const SoaPyramidLevel& in, float sigma, WorkerPool& workers
     }
     return sum / count;
   };
-  workers.forBlocks(out->height, kRowsPerBlock, [&](int, int y_begin, int y_end) {
-    for (int y = y_begin; y < y_end; ++y) {
-      float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
-      int x = 0;
+  workers.forEach(out->height, kRowsPerBlock, [&](int y) {
+    float* out_row = out->depth.data() + static_cast<std::size_t>(y) * out->width;
+    int x = 0;
 #ifdef VOCAL_HAND_AVX2
-      if (avx2 && 2 * y - 2 >= 0 && 2 * y + 2 < h) {
-        // From x = 1 (the window's left edge inside), 8 at a time while the last load (16 floats from
-        // 2 x + 2) stays inside the row.
-        for (; x < 1 && x < out->width; ++x) out_row[x] = pixel(x, y);
-        for (; x + 8 <= out->width && 2 * x + 17 < w; x += 8) downsampleDepthAvx2(in.depth.data(), w, x, y, limit, out_row);
-      }
-#endif
-      for (; x < out->width; ++x) out_row[x] = pixel(x, y);
+    if (avx2 && 2 * y - 2 >= 0 && 2 * y + 2 < h) {
+      // From x = 1 (the window's left edge inside), 8 at a time while the last load (16 floats from
+      // 2 x + 2) stays inside the row.
+      for (; x < 1 && x < out->width; ++x) out_row[x] = pixel(x, y);
+      for (; x + 8 <= out->width && 2 * x + 17 < w; x += 8) downsampleDepthAvx2(in.depth.data(), w, x, y, limit, out_row);
     }
+#endif
+    for (; x < out->width; ++x) out_row[x] = pixel(x, y);
   });
 }
 
@@ -244,18 +240,16 @@ void downsampleDepth(const SoaPyramidLevel& in, float sigma, WorkerPool& workers
 void downsampleIntensity(const SoaPyramidLevel& in, WorkerPool& workers, SoaPyramidLevel* out) {
   static const float kWeights[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};
   const int w = in.width, h = in.height;
-  workers.forBlocks(out->height, kRowsPerBlock, [&](int, int y_begin, int y_end) {
-    for (int y = y_begin; y < y_end; ++y) {
-      for (int x = 0; x < out->width; ++x) {
-        float sum = 0.0f;
-        for (int dy = -2; dy <= 2; ++dy) {
-          const int sy = clampIndex(2 * y + dy, h);
-          for (int dx = -2; dx <= 2; ++dx) {
-            sum += kWeights[dy + 2] * kWeights[dx + 2] * in.intensity[sy * w + clampIndex(2 * x + dx, w)];
-          }
+  workers.forEach(out->height, kRowsPerBlock, [&](int y) {
+    for (int x = 0; x < out->width; ++x) {
+      float sum = 0.0f;
+      for (int dy = -2; dy <= 2; ++dy) {
+        const int sy = clampIndex(2 * y + dy, h);
+        for (int dx = -2; dx <= 2; ++dx) {
+          sum += kWeights[dy + 2] * kWeights[dx + 2] * in.intensity[sy * w + clampIndex(2 * x + dx, w)];
         }
-        out->intensity[y * out->width + x] = sum;
       }
+      out->intensity[y * out->width + x] = sum;
     }
   });
 }
@@ -264,25 +258,23 @@ void downsampleIntensity(const SoaPyramidLevel& in, WorkerPool& workers, SoaPyra
 void gradients(WorkerPool& workers, SoaPyramidLevel* l) {
   const int w = l->width, h = l->height;
   const float* I = l->intensity.data();
-  workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
-    for (int y = y_begin; y < y_end; ++y) {
-      const float* up = I + clampIndex(y - 1, h) * w;
-      const float* row = I + y * w;
-      const float* down = I + clampIndex(y + 1, h) * w;
-      float* gx = l->gradient_x.data() + y * w;
-      float* gy = l->gradient_y.data() + y * w;
-      auto at = [&](int x) {
-        const int xm = clampIndex(x - 1, w), xp = clampIndex(x + 1, w);
-        gx[x] = ((up[xp] - up[xm]) + 2.0f * (row[xp] - row[xm]) + (down[xp] - down[xm])) * 0.125f;
-        gy[x] = ((down[xm] - up[xm]) + 2.0f * (down[x] - up[x]) + (down[xp] - up[xp])) * 0.125f;
-      };
-      at(0);
-      for (int x = 1; x + 1 < w; ++x) {
-        gx[x] = ((up[x + 1] - up[x - 1]) + 2.0f * (row[x + 1] - row[x - 1]) + (down[x + 1] - down[x - 1])) * 0.125f;
-        gy[x] = ((down[x - 1] - up[x - 1]) + 2.0f * (down[x] - up[x]) + (down[x + 1] - up[x + 1])) * 0.125f;
-      }
-      if (w > 1) at(w - 1);
+  workers.forEach(h, kRowsPerBlock, [&](int y) {
+    const float* up = I + clampIndex(y - 1, h) * w;
+    const float* row = I + y * w;
+    const float* down = I + clampIndex(y + 1, h) * w;
+    float* gx = l->gradient_x.data() + y * w;
+    float* gy = l->gradient_y.data() + y * w;
+    auto at = [&](int x) {
+      const int xm = clampIndex(x - 1, w), xp = clampIndex(x + 1, w);
+      gx[x] = ((up[xp] - up[xm]) + 2.0f * (row[xp] - row[xm]) + (down[xp] - down[xm])) * 0.125f;
+      gy[x] = ((down[xm] - up[xm]) + 2.0f * (down[x] - up[x]) + (down[xp] - up[xp])) * 0.125f;
+    };
+    at(0);
+    for (int x = 1; x + 1 < w; ++x) {
+      gx[x] = ((up[x + 1] - up[x - 1]) + 2.0f * (row[x + 1] - row[x - 1]) + (down[x + 1] - down[x - 1])) * 0.125f;
+      gy[x] = ((down[x - 1] - up[x - 1]) + 2.0f * (down[x] - up[x]) + (down[x + 1] - up[x + 1])) * 0.125f;
     }
+    if (w > 1) at(w - 1);
   });
 }
 
@@ -348,33 +340,31 @@ void records(const float* normal_depth, WorkerPool& workers, [[maybe_unused]] bo
     const float z = depth[y * w + x];
     return z > 0.0f ? Eigen::Vector3f((x - cx) * fx_inv * z, (y - cy) * fy_inv * z, z) : Eigen::Vector3f::Constant(kNaN);
   };
-  workers.forBlocks(h, kRowsPerBlock, [&](int, int y_begin, int y_end) {
-    for (int y = y_begin; y < y_end; ++y) {
-      int x_start = 0;
+  workers.forEach(h, kRowsPerBlock, [&](int y) {
+    int x_start = 0;
 #ifdef VOCAL_HAND_AVX2
-      if (avx2 && y + 1 < h) {
-        // Eight at a time while each has a right neighbour; the rest (the last column's) below.
-        for (; x_start + 8 < w; x_start += 8)
-          recordsAvx2(l->depth.data(), normal_depth, w, x_start, y, fx_inv, fy_inv, cx, cy, l);
-      }
+    if (avx2 && y + 1 < h) {
+      // Eight at a time while each has a right neighbour; the rest (the last column's) below.
+      for (; x_start + 8 < w; x_start += 8)
+        recordsAvx2(l->depth.data(), normal_depth, w, x_start, y, fx_inv, fy_inv, cx, cy, l);
+    }
 #endif
-      for (int x = x_start; x < w; ++x) {
-        const int i = y * w + x;
-        const Eigen::Vector3f v = vertex(l->depth.data(), x, y);
-        Eigen::Vector3f n = Eigen::Vector3f::Constant(kNaN);
-        if (x + 1 < w && y + 1 < h) {
-          const Eigen::Vector3f c = normal_depth == l->depth.data() ? v : vertex(normal_depth, x, y);
-          const Eigen::Vector3f right = vertex(normal_depth, x + 1, y), down = vertex(normal_depth, x, y + 1);
-          if (!std::isnan(c.z()) && !std::isnan(right.z()) && !std::isnan(down.z())) {
-            // (down - v) x (right - v) points towards the camera for a surface facing it.
-            const Eigen::Vector3f cross = (down - c).cross(right - c);
-            const float length = cross.norm();
-            if (length > 0.0f) n = cross / length;
-          }
+    for (int x = x_start; x < w; ++x) {
+      const int i = y * w + x;
+      const Eigen::Vector3f v = vertex(l->depth.data(), x, y);
+      Eigen::Vector3f n = Eigen::Vector3f::Constant(kNaN);
+      if (x + 1 < w && y + 1 < h) {
+        const Eigen::Vector3f c = normal_depth == l->depth.data() ? v : vertex(normal_depth, x, y);
+        const Eigen::Vector3f right = vertex(normal_depth, x + 1, y), down = vertex(normal_depth, x, y + 1);
+        if (!std::isnan(c.z()) && !std::isnan(right.z()) && !std::isnan(down.z())) {
+          // (down - v) x (right - v) points towards the camera for a surface facing it.
+          const Eigen::Vector3f cross = (down - c).cross(right - c);
+          const float length = cross.norm();
+          if (length > 0.0f) n = cross / length;
         }
-        l->surface[i] = {v.x(), v.y(), v.z(), n.x(), n.y(), n.z()};
-        l->photometric[i] = {l->intensity[i], l->gradient_x[i], l->gradient_y[i], l->depth[i]};
       }
+      l->surface[i] = {v.x(), v.y(), v.z(), n.x(), n.y(), n.z()};
+      l->photometric[i] = {l->intensity[i], l->gradient_x[i], l->gradient_y[i], l->depth[i]};
     }
   });
 }

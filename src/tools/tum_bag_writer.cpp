@@ -96,6 +96,14 @@ void writeGroundTruth(const TumSequence& sequence, rosbag::Bag* bag, TumBagSumma
     ++summary->ground_truth_poses;
   }
 }
+
+// The TUM layout carries the folder's accelerometer on /imu (no gyro: orientation and rates marked absent).
+void writeAccelerometer(const TumSequence& sequence, rosbag::Bag* bag, TumBagSummary* summary) {
+  for (const AccelerometerSample& sample : sequence.accelerometer()) {
+    bag->write(TumBagTopics::kImu, ros::Time(sample.stamp), toAccelerometerImu(sample, TumBagTopics::kAccelerometerFrame));
+    ++summary->accelerometer_samples;
+  }
+}
 }  // namespace
 
 BagLayout parseBagLayout(const std::string& name) {
@@ -113,10 +121,7 @@ TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_pa
     writeFrames(sequence, options, &bag, progress, &summary);
     if (options.layout == BagLayout::kTum) {
       writeGroundTruth(sequence, &bag, &summary);
-      for (const AccelerometerSample& sample : sequence.accelerometer()) {
-        bag.write(TumBagTopics::kImu, ros::Time(sample.stamp), toAccelerometerImu(sample, TumBagTopics::kAccelerometerFrame));
-        ++summary.accelerometer_samples;
-      }
+      writeAccelerometer(sequence, &bag, &summary);
     }
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": write failed (" + e.what() + ")");

@@ -34,8 +34,9 @@ Eigen::Matrix3d levelFromUp(const Eigen::Vector3d& up);
 
 // The mean specific force of the samples within `window` seconds of `stamp` (either side): gravity, where
 // its length is within 10 % of g (a hand's accelerations average out: a real Kinect's samples scatter
-// by up to 2.7 m/s^2 on TUM's hand-held freiburg1 sequences, the mean of 0.2 s lies 3.8-4.1 deg from
-// the motion capture's up, the sensor's own error). Otherwise nothing, and `why` says what was wrong.
+// by up to 2.7 m/s^2 on TUM's hand-held freiburg1_xyz and 5.2 on freiburg1_rpy within 0.5 s of the first
+// frame, yet the mean of 0.2 s lies 3.7-4.2 deg from the motion capture's up, the sensor's own error).
+// Otherwise nothing, and `why` says what was wrong.
 std::optional<Eigen::Vector3d> stillSpecificForce(const std::vector<AccelerometerSample>& samples, double stamp, double window,
                                                   std::string* why = nullptr);
 

@@ -2,7 +2,8 @@
 // A small pool of threads for the odometry's data-parallel loops, made for a robot's shared CPU.
 // OpenMP's threads spin at every barrier (libgomp's default wait policy, fixed when the library loads):
 // with another process on the other core the spinning thread keeps its core from the thread that has
-// the work, and 57 fps fell to 17. Here idle workers spin only briefly (a frame's loops follow each
+// the work (freiburg1_desk on a 2-vCPU VM with one busy process beside it: 26 fps fell to 7). Here idle
+// workers spin only briefly (a frame's loops follow each
 // other within microseconds), then sleep; the blocks of a loop are handed out one at a time, so a thread
 // the OS does not schedule takes fewer of them instead of holding up the others; and where a thread is
 // kept off its core mid-block (a scheduler slice, milliseconds) the caller runs the next loops alone
@@ -36,7 +37,7 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  int threads() const { return threads_; }
+  int threads() const { return static_cast<int>(workers_.size()) + 1; }
   // How `threads` was chosen: "set", "OMP_NUM_THREADS" or "the cores".
   const std::string& threadSource() const { return thread_source_; }
 
@@ -49,18 +50,29 @@ class WorkerPool {
   void forBlocks(int count, int block_size, Body&& body) {
     if (count <= 0) return;
     if (block_size < 1) block_size = 1;
-    const int blocks = (count + block_size - 1) / block_size;
     struct Context {
       std::remove_reference_t<Body>* body;
       int count, block_size;
     } context{&body, count, block_size};
-    run(blocks, [](void* c, int block) noexcept {
+    run(blockCount(count, block_size), [](void* c, int block) noexcept {
       const Context& ctx = *static_cast<Context*>(c);
       const int begin = block * ctx.block_size;
       const int end = begin + ctx.block_size < ctx.count ? begin + ctx.block_size : ctx.count;
       (*ctx.body)(block, begin, end);
     }, &context);
   }
+
+  // body(i) for every i in [0, count), handed out `block_size` at a time as forBlocks does: a loop
+  // whose iterations need nothing of their block (a row of an image each).
+  template <class Body>
+  void forEach(int count, int block_size, Body&& body) {
+    forBlocks(count, block_size, [&body](int, int begin, int end) {
+      for (int i = begin; i < end; ++i) body(i);
+    });
+  }
+
+  // A pool of one, shared: for callers given no pool (its loops run on whoever calls; safe from any thread).
+  static WorkerPool& callerOnly();
 
   // Loops run on more than one block since the pool was made, and how many of them the caller ran
   // alone because the OS kept another thread of the pool off its core (the CPU is shared).
@@ -75,10 +87,9 @@ class WorkerPool {
   void run(int blocks, BlockFunction call, void* context);
   void noteStragglers(std::chrono::steady_clock::duration own, std::chrono::steady_clock::duration waited);
   void workerLoop();
-  // Claims and runs blocks of the job of `generation` until none is left; false once another job is up.
+  // Claims and runs blocks of the job of `generation` until none is left or another job is up.
   void runBlocks(std::uint32_t generation, int blocks, BlockFunction call, void* context);
 
-  int threads_;
   std::string thread_source_;
   std::vector<std::thread> workers_;
 
