@@ -36,6 +36,8 @@ FAULTS = [
     ("rig YAML: board and squares 5 % too large", "", 1.05, ["lidar0", "laser0", "camera0", "camera1"]),
     ("lidar0: dark squares return nothing", "--dark-absorbs", None, ["lidar0"]),
     ("lidar0: +5 cm range offset on every ring", "--range-offset 0.05", None, ["lidar0"]),
+    ("lidar0: +8 cm range offset on every ring", "--range-offset 0.08", None, ["lidar0"]),
+    ("lidar0: per-ring range biases +-5 cm", "--ring-bias 0.05", None, ["lidar0"]),
     ("the board on a stand (two posts, feet), no one holding it", "--stand", None, []),
     ("lidar0 scan cropped to 1 m around the board", "--crop-lidar 1.0", None, ["lidar0"]),
     ("stand, dark squares return nothing, lidar0 cropped", "--stand --dark-absorbs --crop-lidar 1.0", None, ["lidar0"]),

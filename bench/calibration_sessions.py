@@ -5,8 +5,9 @@ mean estimate (real), the ring offsets' verdict, what was withheld, and the run 
 
 usage: /usr/bin/python3 bench/calibration_sessions.py [--work DIR] [--only NAME[,NAME...]] [--quick]
 
-Real recordings come from ../shared/data/real_rigs (a loud note when they are not there); simulated
-ones are generated into --work (default /tmp/vocal_calibration_sessions) once and reused.
+Real recordings (the VLP-16 office, the OS1-64 stereo lab) come from ../shared/data/real_rigs (a loud
+note when they are not there); simulated ones are generated into --work (default
+/tmp/vocal_calibration_sessions) once and reused.
 """
 import argparse
 import csv
@@ -100,15 +101,24 @@ def simulated(work, name, args, flags, rows):
         rows.append((name, label, ", ".join(cells), offsets, withheld, f"{seconds:.0f} s, exit {code}"))
 
 
-def real_office(work, rows):
-    data = os.path.join(REAL, "vlp16_fisheye_office")
+def real_bag(work, recording, name, flags=""):
+    """The real recording's folder and its bag (written by still_poses_to_bag once), or None (loudly) when
+    the recording is not there."""
+    data = os.path.join(REAL, recording)
     if not os.path.isdir(data):
         print(f"\n*** real rig recording not found at {data}: its rows are SKIPPED ***\n", file=sys.stderr)
-        return
-    bag = os.path.join(work, "office", "session.bag")
+        return None, None
+    bag = os.path.join(work, name, "session.bag")
     if not os.path.exists(bag):
         os.makedirs(os.path.dirname(bag), exist_ok=True)
-        run(f"{TOOLS}/still_poses_to_bag {data} {bag}")
+        run(f"{TOOLS}/still_poses_to_bag {data} {bag} {flags}")
+    return data, bag
+
+
+def real_office(work, rows):
+    data, bag = real_bag(work, "vlp16_fisheye_office", "office")
+    if not data:
+        return
     estimates = list(csv.DictReader(open(os.path.join(data, "reference_estimates.csv"))))
     mean_t = np.mean([[float(r[k]) for k in "xyz"] for r in estimates], axis=0)
     rotations = []
@@ -134,6 +144,41 @@ def real_office(work, rows):
                      offsets, withheld, f"{seconds:.0f} s, exit {code}"))
 
 
+def pose_matrix(translation, quaternion):
+    pose = np.eye(4)
+    pose[:3, :3] = rotation(quaternion)
+    pose[:3, 3] = translation
+    return pose
+
+
+def real_lab(work, rows):
+    """The OS1-64 + stereo pair lab, both cameras in one rig: each camera against the author's result, the
+    pair against the factory's stereo calibration."""
+    data, bag = real_bag(work, "os1_64_stereo_lab", "lab", "--cloud-topic /os_cloud_node/points --lidar-frame os_sensor")
+    if not data:
+        return
+    reference = yaml.safe_load(open(os.path.join(data, "reference.yaml")))
+    rig = os.path.join(ROOT, "config", "os1_64_stereo_lab_rig.yaml")
+    name = "real: OS1-64 + stereo pair, lab (11 poses)"
+    for label, flags in ALTERNATIVES + [("--edges", "--edges")]:
+        result, output, seconds, code = calibrate(rig, bag, flags, os.path.join(work, "lab", label.strip("-")))
+        if result is None:
+            rows.append((name, label, output.strip().splitlines()[-1][:100], "", "", ""))
+            continue
+        found = {s["name"]: pose_matrix(s["translation"], s["rotation"]) for s in result["sensors"]}
+        cells = []
+        for camera in ("left_camera", "right_camera"):
+            author = pose_matrix(reference[camera]["translation"], reference[camera]["rotation"])
+            cells.append(f"{camera} {1000 * np.linalg.norm(found[camera][:3, 3] - author[:3, 3]):.1f} / "
+                         f"{1000 * angle(author[:3, :3], found[camera][:3, :3]):.1f}")
+        pair = np.linalg.inv(found["left_camera"]) @ found["right_camera"]
+        factory = pose_matrix(reference["stereo"]["translation"], reference["stereo"]["rotation"])
+        cells.append(f"pair vs factory {1000 * np.linalg.norm(pair[:3, 3] - factory[:3, 3]):.1f} / "
+                     f"{1000 * angle(factory[:3, :3], pair[:3, :3]):.1f}")
+        offsets, withheld = verdicts(result)
+        rows.append((name, label, ", ".join(cells), offsets, withheld, f"{seconds:.0f} s, exit {code}"))
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--work", default="/tmp/vocal_calibration_sessions")
@@ -144,6 +189,7 @@ def main():
     rows = []
     if not only or "real" in only:
         real_office(args.work, rows)
+        real_lab(args.work, rows)
     for name, simulate_args, flags in SIMULATED:
         if only and not any(o in name for o in only):
             continue

@@ -428,6 +428,8 @@ struct SessionFault {
   const char* name;
   std::function<void(vocal::SimulatedSessionOptions*, vocal::RigDescription*)> apply;
   std::vector<std::string> touched;
+  // What else the session must say of the fault (its ring offsets' verdict), given them.
+  std::function<void(const std::vector<std::optional<vocal::RingOffsets>>&)> check = nullptr;
 };
 
 class CalibrationSessionFault : public ::testing::TestWithParam<SessionFault> {};
@@ -450,7 +452,8 @@ TEST_P(CalibrationSessionFault, EverySensorIsRightOrFlagged) {
   vocal::CalibrationSession session(told);
   vocal::readCalibrationBag(folder + "/session.bag", &session);
   vocal::CalibrationOptions calibration;
-  session.chooseRingOffsets(calibration);
+  const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.chooseRingOffsets(calibration);
+  if (fault.check) fault.check(ring_offsets);
   const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
   const vocal::CalibrationResult result = session.calibrate(associated, calibration);
   std::optional<vocal::PoseJackknife> spread;
@@ -488,5 +491,20 @@ INSTANTIATE_TEST_SUITE_P(
         SessionFault{"dark_squares_absorb", [](auto* o, auto*) { o->dark_absorbs = true; }, {"lidar0"}},
         SessionFault{"board_on_a_stand", [](auto* o, auto*) { o->board_on_stand = true; }, {}},
         SessionFault{"lidar_cropped", [](auto* o, auto*) { o->lidar_crop = 1.0; }, {"lidar0"}},
-        SessionFault{"lidar_range_offset", [](auto* o, auto*) { o->lidar_range_offset = 0.05; }, {"lidar0"}}),
+        // A driver's range calibration 5 cm off: the room's planes and the board's held-out poses agree,
+        // so the offsets are applied however far beyond the lidar's specification, with a warning naming
+        // the driver's calibration, and the lidar comes out as right as the sensors the fault leaves alone.
+        SessionFault{"lidar_range_offset", [](auto* o, auto*) { o->lidar_range_offset = 0.05; }, {},
+                     [](const std::vector<std::optional<vocal::RingOffsets>>& offsets) {
+                       ASSERT_TRUE(offsets[1]);
+                       EXPECT_TRUE(offsets[1]->applied) << offsets[1]->verdict;
+                       EXPECT_TRUE(offsets[1]->beyond_specification);
+                       for (int r = 0; r < offsets[1]->offsets.size(); ++r) EXPECT_NEAR(offsets[1]->offsets[r], 0.05, 0.01) << "ring " << r;
+                       EXPECT_EQ(offsets[1]->verdict.rfind("applied: the board's held-out poses are predicted better with them", 0), 0u)
+                           << offsets[1]->verdict;
+                       EXPECT_EQ(offsets[1]->warning.rfind("the room's planes (", 0), 0u) << offsets[1]->warning;
+                       EXPECT_NE(offsets[1]->warning.find(") and the board agree its ranges read +"), std::string::npos) << offsets[1]->warning;
+                       EXPECT_GT(offsets[1]->planes_agreeing, 0.5);
+                       EXPECT_NE(offsets[1]->warning.find("check the driver's calibration"), std::string::npos) << offsets[1]->warning;
+                     }}),
     [](const ::testing::TestParamInfo<SessionFault>& info) { return std::string(info.param.name); });

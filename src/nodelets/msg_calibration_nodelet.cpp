@@ -373,6 +373,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
                         1000 * rings.offsets.maxCoeff(), rings.planes);
         }
         summary << "; " << specs[s].name << " ring offsets " << line << rings.verdict;
+        if (!rings.warning.empty()) summary << "; warning: " << specs[s].name << ": " << rings.warning;
       }
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       // Sensors behind joints: each joint's offset, or why it was held, and which joint needs more motion.

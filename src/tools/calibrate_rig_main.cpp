@@ -46,7 +46,9 @@ const char kUsage[] =
     "  --tolerance-mrad R  pose is left out is called uncertain, with the axis and the likely cause\n"
     "  --no-ring-offsets   take a 3D lidar's ranges as they are (by default each ring's range offset is\n"
     "                      estimated from the room's planes, floor and walls, and its board returns corrected\n"
-    "                      when the offsets are within +-3 cm and predict held-out still poses better than none)\n"
+    "                      when they predict held-out still poses better than none; beyond +-3 cm only when the\n"
+    "                      room's planes also agree on them one by one, and then with a warning naming the\n"
+    "                      driver's calibration)\n"
     "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
     "                      graph and the others solved without it, so that it moves none of them)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
@@ -187,14 +189,18 @@ void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::o
       std::printf("%s: ring offsets %s\n", rig.sensors[s].spec.name.c_str(), rings->verdict.c_str());
       continue;
     }
-    std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected; "
-                "%d planes seen only at grazing incidence left out):\n",
-                rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms, rings->grazing_planes);
+    std::printf("%s: range offset per ring (mm, by elevation; from %d room planes, %zu returns, %.1f mm rms off them once corrected, "
+                "%.1f mm as measured; %d planes seen only at grazing incidence left out):\n",
+                rig.sensors[s].spec.name.c_str(), rings->planes, rings->returns, 1000 * rings->rms, 1000 * rings->rms_as_measured,
+                rings->grazing_planes);
     for (std::size_t r = 0; r < rings->elevations.size(); ++r) {
       std::printf("  %+6.1f deg %+6.1f +- %.1f%s", rings->elevations[r] * 180.0 / M_PI, 1000 * rings->offsets[r], 1000 * rings->sigmas[r],
                   r % 4 == 3 || r + 1 == rings->elevations.size() ? "\n" : "");
     }
+    std::printf("  one offset for all rings, plane by plane: %+.1f mm (median), %.0f %% of the planes' say within +-%.0f mm of it\n",
+                1000 * rings->common_offset, 100 * rings->planes_agreeing, 1000 * rings->agreement);
     std::printf("  ring offsets %s\n", rings->verdict.c_str());
+    if (!rings->warning.empty()) std::printf("warning: %s: %s\n", rig.sensors[s].spec.name.c_str(), rings->warning.c_str());
   }
 }
 

@@ -100,11 +100,11 @@ sensor_msgs::PointCloud2 readPcd(const std::string& path) {
   return cloud;
 }
 
-sensor_msgs::Image readMono8(const std::string& path, const sensor_msgs::CameraInfo& info) {
+sensor_msgs::Image readMono8(const std::string& path, const sensor_msgs::CameraInfo& info, const std::string& info_name) {
   const cv::Mat grey = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (grey.empty()) throw InputError(path + ": not a readable image");
   if (grey.cols != static_cast<int>(info.width) || grey.rows != static_cast<int>(info.height)) {
-    throw InputError(path + ": the image is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) + " but camera_info.yaml says " +
+    throw InputError(path + ": the image is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) + " but " + info_name + " says " +
                      std::to_string(info.width) + "x" + std::to_string(info.height));
   }
   sensor_msgs::Image image;
@@ -136,8 +136,24 @@ StillPoseBagSummary writeStillPoseBag(const std::string& folder, const std::stri
   if (first >= end) {
     throw InputError(folder + ": no pose in the range asked for (" + std::to_string(names.size()) + " poses, from " + std::to_string(first) + ")");
   }
+  // A stereo pair's second camera, checked whole before anything is written.
+  const bool stereo = fs::is_directory(root / "images_right");
+  std::map<std::string, std::string> right_images;
+  if (stereo) {
+    right_images = filesByStem(root / "images_right", {".jpg", ".jpeg", ".png"});
+    for (int k = first; k < end; ++k)
+      if (!right_images.count(names[k]))
+        throw InputError(images.at(names[k]) + ": no right image of the same pose in " + (root / "images_right").string());
+  }
   sensor_msgs::CameraInfo info = readCameraInfoYaml((root / "camera_info.yaml").string());
   info.header.frame_id = options.camera_frame;
+  sensor_msgs::CameraInfo right_info;
+  if (stereo) {
+    if (!fs::exists(root / "camera_info_right.yaml"))
+      throw InputError((root / "images_right").string() + ": the right camera's images, but no " + (root / "camera_info_right.yaml").string());
+    right_info = readCameraInfoYaml((root / "camera_info_right.yaml").string());
+    right_info.header.frame_id = options.right_camera_frame;
+  }
 
   rosbag::Bag bag;
   openBag(&bag, bag_path, rosbag::bagmode::Write);
@@ -146,9 +162,14 @@ StillPoseBagSummary writeStillPoseBag(const std::string& folder, const std::stri
   try {
     for (int k = first; k < end; ++k) {
       const std::string& name = names[k];
-      sensor_msgs::Image image = readMono8(images.at(name), info);
+      sensor_msgs::Image image = readMono8(images.at(name), info, "camera_info.yaml");
       sensor_msgs::PointCloud2 cloud = readPcd(clouds.at(name));
       image.header.frame_id = options.camera_frame;
+      sensor_msgs::Image right_image;
+      if (stereo) {
+        right_image = readMono8(right_images.at(name), right_info, "camera_info_right.yaml");
+        right_image.header.frame_id = options.right_camera_frame;
+      }
       cloud.header.frame_id = options.lidar_frame;
       // The sensors unsynchronised, as on a robot: the lidar 13 ms after the camera.
       const double start = 1000.0 + (k - first) * pose_seconds;
@@ -157,6 +178,12 @@ StillPoseBagSummary writeStillPoseBag(const std::string& folder, const std::stri
         bag.write(options.camera_info_topic, info.header.stamp, info);
         bag.write(options.image_topic, image.header.stamp, image);
         ++summary.images;
+        if (stereo) {  // a stereo pair's cameras are triggered together
+          right_info.header.stamp = right_image.header.stamp = image.header.stamp;
+          bag.write(options.right_camera_info_topic, right_info.header.stamp, right_info);
+          bag.write(options.right_image_topic, right_image.header.stamp, right_image);
+          ++summary.right_images;
+        }
       }
       for (int i = 0; i / options.lidar_rate < options.still_seconds - 0.013 - 1e-9; ++i) {
         cloud.header.stamp = ros::Time(start + 0.013 + i / options.lidar_rate);

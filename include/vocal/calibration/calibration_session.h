@@ -67,6 +67,7 @@ struct RangeMessage {
 struct RingOffsetChoice {
   bool applied = false;
   std::string verdict;
+  std::string warning;  // applied beyond the lidar's specification: what to check
 };
 
 class CalibrationSession {
@@ -144,19 +145,21 @@ class CalibrationSession {
   int sensorIndex(const std::string& name) const;  // -1 when the rig has no such sensor
   // Per sensor, a 3D lidar's ring offsets estimated from the room planes of its clouds so far, with
   // whether its board points are corrected by them (RingOffsets::applied, verdict): those within the
-  // lidar's specification are, until chooseRingOffsets has decided otherwise; none for other sensors,
+  // lidar's specification are, until chooseRingOffsets has decided otherwise (those beyond it are not
+  // until it has decided they are); none for other sensors,
   // with ring offsets off, or before a cloud; a lidar without rings (a solid-state, non-repeating pattern)
   // gets no offsets and a verdict saying so.
   std::vector<std::optional<RingOffsets>> ringOffsets() const;
-  // Per 3D lidar whose offsets are within its specification: the rig solved with and without them,
-  // each leaving out one still pose at a time, and the offsets kept only when they predict the lidar's
-  // held-out board views better (heldOutBoardFit, pose_jackknife.h); the verdict says which and by how
-  // much. Holds until the next cloud. Returns ringOffsets(). In three steps for a caller that holds a
+  // Per 3D lidar whose offsets the room's planes estimated (within its specification or not): the rig
+  // solved with and without them, each leaving out one still pose at a time, and the offsets kept only
+  // when they predict the lidar's held-out board views better (heldOutBoardFit, pose_jackknife.h); the
+  // verdict says which and by how much, and offsets kept beyond the specification carry a warning. Holds until the next cloud. Returns ringOffsets(). In three steps for a caller that holds a
   // lock over the session (the re-solves take seconds): ringOffsetTrials (cheap), judgeRingOffsets (the
   // re-solves, no session state), recordRingOffsetChoice.
   std::vector<std::optional<RingOffsets>> chooseRingOffsets(const CalibrationOptions& options);
   struct RingOffsetTrial {
     int sensor = -1;
+    RingOffsets offsets;                           // as the room's planes gave them
     std::vector<TargetObservation> without, with;  // the still poses associated without and with its offsets
   };
   std::vector<RingOffsetTrial> ringOffsetTrials() const;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -15,6 +16,14 @@ namespace vocal {
 
 namespace {
 double elevationOf(const Eigen::Vector3d& p) { return std::atan2(p.z(), p.head<2>().norm()); }
+
+// RingOffsetEstimator::plane_offset_information_'s bins.
+constexpr double kOffsetBin = 0.001;
+constexpr int kOffsetBins = 2001;  // -1 m ... +1 m
+double offsetOfBin(int bin) { return (bin - kOffsetBins / 2) * kOffsetBin; }
+int binOfOffset(double offset) {
+  return std::clamp(static_cast<int>(std::lround(offset / kOffsetBin)) + kOffsetBins / 2, 0, kOffsetBins - 1);
+}
 }  // namespace
 
 std::vector<LidarRing> lidarRingsOf(const std::vector<Eigen::Vector3d>& cloud) {
@@ -41,6 +50,13 @@ int RingOffsets::ringOf(const Eigen::Vector3d& point) const {
   return std::abs(elevation - elevations[ring]) < 0.5 * spacing ? ring : -1;
 }
 
+std::string RingOffsets::range() const {
+  if (offsets.size() == 0) return "none";
+  char text[64];
+  std::snprintf(text, sizeof(text), "%+.1f to %+.1f mm", 1000 * offsets.minCoeff(), 1000 * offsets.maxCoeff());
+  return text;
+}
+
 Eigen::Vector3d RingOffsets::corrected(const Eigen::Vector3d& point) const {
   const int ring = ringOf(point);
   const double range = point.norm();
@@ -60,6 +76,7 @@ RingOffsetEstimator::RingOffsetEstimator(std::vector<double> elevations, RingOff
   const Eigen::Index n = static_cast<Eigen::Index>(rings_.elevations.size());
   normal_ = Eigen::MatrixXd::Zero(n, n);
   gradient_ = Eigen::VectorXd::Zero(n);
+  plane_offset_information_.assign(kOffsetBins, 0.0);
 }
 
 void RingOffsetEstimator::addPlanes(const std::vector<std::vector<Eigen::Vector3d>>& planes) {
@@ -114,6 +131,13 @@ void RingOffsetEstimator::addPlane(const std::vector<Eigen::Vector3d>& points) {
   }
   if (used < options_.min_plane_points) return;
   const Eigen::Matrix3d plane_inverse = plane_block.inverse();
+  // One offset for every ring, this plane's pose eliminated: its own say on a common offset.
+  const Eigen::Vector3d cross_sum = cross.rowwise().sum();
+  const double common_information = ring_diagonal.sum() - cross_sum.dot(plane_inverse * cross_sum);
+  if (common_information > 1e-9 * ring_diagonal.sum()) {
+    const double common_gradient = ring_gradient.sum() - cross_sum.dot(plane_inverse * plane_gradient);
+    plane_offset_information_[binOfOffset(common_gradient / common_information)] += common_information;
+  }
   normal_ += Eigen::MatrixXd(ring_diagonal.asDiagonal()) - cross.transpose() * plane_inverse * cross;
   gradient_ += ring_gradient - cross.transpose() * (plane_inverse * plane_gradient);
   residual_squares_ += squares - plane_gradient.dot(plane_inverse * plane_gradient);
@@ -149,15 +173,30 @@ RingOffsets RingOffsetEstimator::solve() const {
   }
   result.sigmas = information.inverse().diagonal().cwiseSqrt();
   result.rms = std::sqrt(std::max(squares, 0.0) / static_cast<double>(returns_));
+  result.rms_as_measured = std::sqrt(std::max(residual_squares_, 0.0) / static_cast<double>(returns_));
+  result.agreement = options_.plane_agreement;
+  const double total = std::accumulate(plane_offset_information_.begin(), plane_offset_information_.end(), 0.0);
+  if (total > 0.0) {
+    int median = 0;
+    for (double running = plane_offset_information_[0]; running < 0.5 * total;) running += plane_offset_information_[++median];
+    result.common_offset = offsetOfBin(median);
+    const int reach = static_cast<int>(std::lround(options_.plane_agreement / kOffsetBin));
+    double agreeing = 0.0;
+    for (int bin = std::max(0, median - reach); bin <= std::min(kOffsetBins - 1, median + reach); ++bin) agreeing += plane_offset_information_[bin];
+    result.planes_agreeing = agreeing / total;
+  }
+  result.estimated = true;
+  result.specification = options_.max_offset;
   Eigen::Index worst = 0;
   result.offsets.cwiseAbs().maxCoeff(&worst);
-  char line[320];
+  char line[480];
   if (std::abs(result.offsets[worst]) > options_.max_offset) {
+    result.beyond_specification = true;
     std::snprintf(line, sizeof(line),
-                  "refused: the ring at %+.1f deg would read %+.0f mm too long, beyond the +-%.0f mm a lidar's ranges are "
-                  "specified to; the room's planes do not fit a range offset per ring (bent or cluttered walls, %.1f mm rms off "
-                  "their planes): the board's returns are taken as measured",
-                  result.elevations[worst] * 180.0 / M_PI, 1000 * result.offsets[worst], 1000 * options_.max_offset, 1000 * result.rms);
+                  "not applied yet: %s (the ring at %+.1f deg the most), beyond the +-%.0f mm a lidar's ranges are specified to: "
+                  "either the room's planes do not fit a range offset per ring (bent or cluttered walls, %.1f mm rms off their "
+                  "planes) or the driver's calibration is off; whether the room's planes agree on it and the board's held-out poses decide",
+                  result.range().c_str(), result.elevations[worst] * 180.0 / M_PI, 1000 * options_.max_offset, 1000 * result.rms);
   } else {
     result.applied = true;
     std::snprintf(line, sizeof(line), "applied: every ring within +-%.0f mm", 1000 * options_.max_offset);

@@ -119,6 +119,9 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       file << "    ring_offsets:  # from " << rings.planes << " room planes; applied: the board's returns were moved back along their rays by them\n"
            << "      applied: " << (rings.applied ? "true" : "false") << "\n"
            << "      verdict: " << quoted(rings.verdict) << "\n";
+      if (!rings.warning.empty()) file << "      warning: " << quoted(rings.warning) << "\n";
+      file << "      common_offset_m: " << rings.common_offset << "  # one offset for all rings, the room's planes one by one (median)\n"
+           << "      planes_agreeing: " << rings.planes_agreeing << "  # their share within " << rings.agreement << " m of it\n";
       list("elevation_deg", [&](std::size_t r) { return rings.elevations[r] * 180.0 / M_PI; }, "");
       list("offset_m", [&](std::size_t r) { return rings.offsets[r]; }, "  # how much too long each ring's ranges read");
       list("offset_stddev_m", [&](std::size_t r) { return rings.sigmas[r]; }, "");

@@ -41,9 +41,12 @@ struct RingOffsetOptions {
   // flat that RANSAC takes it for a plane through the lidar (on the office VLP-16 such "planes" alone
   // asked for +1.5 to +5.9 m).
   double min_incidence = 0.2;
-  // Metres: offsets beyond this are refused, not applied (a VLP-16's range accuracy is +-3 cm; larger
-  // ones say the room's planes do not fit the model - bent or cluttered walls - not the lidar).
+  // Metres: a lidar's range specification (a VLP-16's range accuracy is +-3 cm). Offsets beyond it are
+  // not applied on the room's word alone: either the room's planes do not fit the model (bent or
+  // cluttered walls) or the driver's calibration is off; only the board can tell (CalibrationSession::
+  // chooseRingOffsets), and when it agrees they are applied with a warning naming the driver's calibration.
   double max_offset = 0.03;
+  double plane_agreement = 0.015;  // metres: a plane's own offset this close to the median agrees
 };
 
 struct RingOffsets {
@@ -54,12 +57,29 @@ struct RingOffsets {
   int planes = 0;                  // room planes they were estimated from
   std::size_t returns = 0;         // ... holding this many returns
   double rms = 0.0;                // metres: the returns' distance to their planes once corrected
+  double rms_as_measured = 0.0;    // ... and with no offsets (each plane refitted): what the offsets explain
+  // The planes one by one: each plane's own estimate of one offset all rings share (where its returns'
+  // incidence varies enough to tell it from the plane's shift), their median weighted by that
+  // information, and the share of the information within RingOffsetOptions::plane_agreement of it. A
+  // lidar whose ranges all read long bends every flat surface alike; bent or cluttered walls each
+  // ask for their own.
+  double common_offset = 0.0;
+  double planes_agreeing = 0.0;  // 0..1
+  double agreement = 0.0;        // RingOffsetOptions::plane_agreement
   int grazing_planes = 0;          // planes left out as seen only at grazing incidence
-  // Whether the board's returns are corrected by them, and why (or why not), in words for the user:
-  // refused when an offset is beyond RingOffsetOptions::max_offset, or (CalibrationSession::
-  // chooseRingOffsets) when they predict held-out board poses worse than none.
+  // Whether the board's returns are corrected by them, and why (or why not), in words for the user.
+  // Within RingOffsetOptions::max_offset they are applied until CalibrationSession::chooseRingOffsets
+  // has tried them on held-out board poses; beyond it they wait for that trial (applied = false,
+  // beyond_specification = true) and, applied then, come with `warning`.
   bool applied = false;
+  bool estimated = false;             // from room planes (false: zeros, and the verdict says why)
+  bool beyond_specification = false;  // an offset beyond RingOffsetOptions::max_offset
+  double specification = 0.0;         // that bound, metres
   std::string verdict;
+  std::string warning;  // applied beyond the specification: the driver's calibration named
+
+  // The offsets in a few words: "+50.0 to +50.4 mm".
+  std::string range() const;
 
   // The ring whose elevation is nearest the point's, -1 when none lies within half the rings' spacing.
   int ringOf(const Eigen::Vector3d& point) const;
@@ -87,6 +107,9 @@ class RingOffsetEstimator {
   Eigen::MatrixXd normal_;
   Eigen::VectorXd gradient_;
   double residual_squares_ = 0.0;
+  // Each plane's own common offset, its information summed in 1 mm bins over +-1 m (the ends take what
+  // lies beyond): RingOffsets::common_offset, bounded however long a live session runs.
+  std::vector<double> plane_offset_information_;
   int planes_ = 0;
   int grazing_planes_ = 0;
   std::size_t returns_ = 0;
