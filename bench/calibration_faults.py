@@ -32,6 +32,8 @@ FAULTS = [
     ("camera1 bumped half way (3 cm, 30 mrad)", "--faults bumped:camera1:0.03", None, ["camera1"]),
     ("lidar0 bumped half way (3 cm, 30 mrad)", "--faults bumped:lidar0:0.03", None, ["lidar0"]),
     ("laser0 stamps 0.2 s late", "--faults time-offset:laser0:0.2", None, ["laser0"]),
+    ("lidar0 clock 0.5 s late", "--faults time-offset:lidar0:0.5", None, ["lidar0"]),
+    ("lidar0 clock 1.5 s late", "--faults time-offset:lidar0:1.5", None, ["lidar0"]),
     ("camera1 camera_info focal length +5 %", "--faults focal:camera1:1.05", None, ["camera1"]),
     ("rig YAML: board and squares 5 % too large", "", 1.05, ["lidar0", "laser0", "camera0", "camera1"]),
     ("lidar0: dark squares return nothing", "--dark-absorbs", None, ["lidar0"]),

@@ -428,8 +428,8 @@ struct SessionFault {
   const char* name;
   std::function<void(vocal::SimulatedSessionOptions*, vocal::RigDescription*)> apply;
   std::vector<std::string> touched;
-  // What else the session must say of the fault (its ring offsets' verdict), given them.
-  std::function<void(const std::vector<std::optional<vocal::RingOffsets>>&)> check = nullptr;
+  // What else the session must say of the fault (its ring offsets' verdict, a clock's offset).
+  std::function<void(const vocal::CalibrationSession&)> check = nullptr;
 };
 
 class CalibrationSessionFault : public ::testing::TestWithParam<SessionFault> {};
@@ -452,8 +452,8 @@ TEST_P(CalibrationSessionFault, EverySensorIsRightOrFlagged) {
   vocal::CalibrationSession session(told);
   vocal::readCalibrationBag(folder + "/session.bag", &session);
   vocal::CalibrationOptions calibration;
-  const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.chooseRingOffsets(calibration);
-  if (fault.check) fault.check(ring_offsets);
+  session.chooseRingOffsets(calibration);
+  if (fault.check) fault.check(session);
   const std::vector<vocal::TargetObservation> associated = session.associatedObservations();
   const vocal::CalibrationResult result = session.calibrate(associated, calibration);
   std::optional<vocal::PoseJackknife> spread;
@@ -478,9 +478,33 @@ TEST_P(CalibrationSessionFault, EverySensorIsRightOrFlagged) {
   }
 }
 
+namespace {
+// A lidar whose clock runs `late` seconds behind the others': the offset found within 20 ms from the
+// still runs, named, and taken off its stamps, so it lands as right as the sensors it leaves alone.
+SessionFault lidarClockLate(const char* name, double late) {
+  return SessionFault{name, [late](auto* o, auto*) { o->faults.push_back({vocal::SimulatedSensorFault::Kind::kTimeOffset, 1, late}); },
+                      {}, [late](const vocal::CalibrationSession& session) {
+                        const std::vector<vocal::ClockOffset> clocks = session.clockOffsets();
+                        for (const vocal::ClockOffset& clock : clocks) {
+                          std::printf("clock: %s\n", vocal::describeClockOffset(clock, session.rig().specs()).c_str());
+                          EXPECT_EQ(clock.reference, 0);
+                          if (clock.sensor != 1) {
+                            EXPECT_FALSE(clock.applied) << clock.sensor;
+                            continue;
+                          }
+                          EXPECT_TRUE(clock.applied);
+                          EXPECT_NEAR(clock.late, late, 0.02);
+                          EXPECT_EQ(vocal::describeClockOffset(clock, session.rig().specs()).rfind("sensor 'lidar0' stamps ", 0), 0u);
+                        }
+                        EXPECT_EQ(clocks.size(), 3u);
+                      }};
+}
+}  // namespace
+
 INSTANTIATE_TEST_SUITE_P(
     Faults, CalibrationSessionFault,
     ::testing::Values(
+        lidarClockLate("lidar_clock_half_a_second_late", 0.5), lidarClockLate("lidar_clock_one_and_a_half_seconds_late", 1.5),
         SessionFault{"laser_stamps_late", [](auto* o, auto*) { o->faults.push_back({vocal::SimulatedSensorFault::Kind::kTimeOffset, 2, 0.2}); },
                      {"laser0"}},
         SessionFault{"board_size_wrong",
@@ -495,7 +519,8 @@ INSTANTIATE_TEST_SUITE_P(
         // so the offsets are applied however far beyond the lidar's specification, with a warning naming
         // the driver's calibration, and the lidar comes out as right as the sensors the fault leaves alone.
         SessionFault{"lidar_range_offset", [](auto* o, auto*) { o->lidar_range_offset = 0.05; }, {},
-                     [](const std::vector<std::optional<vocal::RingOffsets>>& offsets) {
+                     [](const vocal::CalibrationSession& session) {
+                       const std::vector<std::optional<vocal::RingOffsets>> offsets = session.ringOffsets();
                        ASSERT_TRUE(offsets[1]);
                        EXPECT_TRUE(offsets[1]->applied) << offsets[1]->verdict;
                        EXPECT_TRUE(offsets[1]->beyond_specification);

@@ -182,6 +182,29 @@ TEST(SensorTrust, TheReferenceCannotBeKeptOutOfTheGraph) {
             "calibration: isolated sensor index 7 is not one of the 5 sensors");
 }
 
+// A sensor that shares only two still poses with the others (a clock far off theirs, a camera that saw
+// the board twice): it cannot be placed (three planes fix a pose), so it is named and left out, the
+// others calibrated without it - the whole rig is not refused - and the jackknife re-solves them all.
+TEST(SensorTrust, ASensorWithTooFewSharedPosesIsNamedAndTheRestCalibrated) {
+  Rig rig = healthyRig();
+  std::vector<vocal::TargetObservation> kept;
+  int camera_views = 0;
+  for (const vocal::TargetObservation& o : rig.simulated.observations)
+    if (o.sensor != kCamera1 || camera_views++ < 2) kept.push_back(o);
+  rig.simulated.observations = kept;
+  const vocal::CalibrationResult result = calibrate(rig);
+  ASSERT_TRUE(result.trusted) << result.failure;
+  EXPECT_TRUE(result.sensors[kCamera1].isolated);
+  EXPECT_EQ(result.sensors[kCamera1].distrust.rfind("it shares 2 still poses at most with another sensor, and 3 are needed to place it, "
+                                                    "so it is not calibrated",
+                                                    0),
+            0u)
+      << result.sensors[kCamera1].distrust;
+  expectOthersWithin1cm(rig, result, kCamera1);
+  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
+  EXPECT_EQ(spread.solved, spread.poses);
+}
+
 // A sensor that never saw the target (a wrong topic, a crop box beside the board): the others are
 // calibrated without it, and it is named rather than the whole calibration refused.
 TEST(SensorTrust, ASensorThatNeverSawTheTargetIsNamedAndTheRestCalibrated) {

@@ -225,6 +225,7 @@ JointPositionCounts CalibrationSession::jointPositionCounts() const {
 }
 
 std::vector<TargetObservation> CalibrationSession::associate(std::vector<TimedObservation> timed, JointPositionCounts* counts) const {
+  applyClockOffsets(estimateClockOffsets(rig_.specs(), timed, rig_.reference_sensor, stillness_, clock_offset_options_), &timed);
   std::vector<TargetObservation> associated = associateStillTarget(rig_.specs(), std::move(timed), stillness_);
   if (mounts_.chains.empty()) return associated;
   return attachJointPositions(std::move(associated), mounts_, joint_readings_, rig_.specs(), joint_stillness_, counts);
@@ -674,6 +675,10 @@ std::vector<SensorDataCounts> CalibrationSession::counts() const {
 }
 
 std::vector<TargetObservation> CalibrationSession::associatedObservations() const { return associate(timedObservations()); }
+
+std::vector<ClockOffset> CalibrationSession::clockOffsets() const {
+  return estimateClockOffsets(rig_.specs(), timedObservations(), rig_.reference_sensor, stillness_, clock_offset_options_);
+}
 
 CalibrationResult CalibrationSession::calibrate(CalibrationOptions options) const {
   return calibrate(associatedObservations(), options);

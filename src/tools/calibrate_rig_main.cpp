@@ -37,7 +37,8 @@ const char kUsage[] =
     "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
     "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
     "                      refused the most board-like segment), and per still pose when it was held still\n"
-    "                      (bag stamps) and each sensor's residual\n"
+    "                      (bag stamps) and each sensor's residual, and each sensor's clock against the\n"
+    "                      reference's (an offset beyond 0.1 s and its noise is always printed, and corrected)\n"
     "  --overlays          with --output-dir: per still pose and camera, DIR/overlay_poseNN_CAMERA.png, the\n"
     "                      camera's image with every other sensor's board points drawn where the result puts\n"
     "                      them beside the board the camera found, and how many land on it; all of them as\n"
@@ -363,6 +364,9 @@ int run(const vocal::CommandLine& args) {
   int poses = 0;
   for (const auto& o : associated) poses = std::max(poses, o.target_pose + 1);
   std::printf("%d still target poses\n", poses);
+  // Applied offsets always; with --report the others' too (how far each sensor's runs lie from the reference's).
+  for (const vocal::ClockOffset& clock : session.clockOffsets())
+    if (clock.applied || args.has("report")) std::printf("clock: %s\n", vocal::describeClockOffset(clock, rig.specs()).c_str());
   const std::vector<vocal::SensorDataCounts> counts = session.counts();
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorDataCounts& c = counts[s];

@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "vocal/calibration/association/clock_offsets.h"
 #include "vocal/calibration/association/hand_eye_association.h"
 #include "vocal/calibration/association/joint_positions.h"
 #include "vocal/calibration/association/still_target_association.h"
@@ -164,6 +165,10 @@ class CalibrationSession {
   };
   std::vector<RingOffsetTrial> ringOffsetTrials() const;
   void recordRingOffsetChoice(int sensor, RingOffsetChoice choice);
+  // Each sensor's clock against the reference sensor's, from its still runs (clock_offsets.h): those
+  // applied are taken off its stamps before every association.
+  std::vector<ClockOffset> clockOffsets() const;
+  void setClockOffsetOptions(const ClockOffsetOptions& options) { clock_offset_options_ = options; }
 
  private:
   const RigSensorDescription& checkSensor(int sensor, SensorType expected, const char* data) const;
@@ -190,6 +195,7 @@ class CalibrationSession {
   RigDescription rig_;
   TargetExtractionOptions extraction_;
   StillnessOptions stillness_;
+  ClockOffsetOptions clock_offset_options_;
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
   std::optional<HandEyeRig> arm_;                // rig_.handEye(), once

@@ -291,6 +291,25 @@ std::vector<int> stillPoseOfEachObservation(const std::vector<SensorSpec>& senso
   return pose_of;
 }
 
+std::vector<StillSpan> stillSpans(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
+                                  const StillnessOptions& options) {
+  checkSensorIndices(sensors, observations);
+  sortBySensorAndTime(&observations);
+  std::vector<StillSpan> spans;
+  for (const StillRun& run : cutRuns(sensors, observations, runInputsOf(sensors, observations, options), options))
+    if (run.end - run.begin >= options.min_duration) spans.push_back({run.sensor, run.begin, run.end});
+  return spans;
+}
+
+std::vector<double> messagePeriods(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations) {
+  checkSensorIndices(sensors, observations);
+  std::vector<TimedObservation> stamps;
+  stamps.reserve(observations.size());
+  for (const TimedObservation& o : observations) stamps.push_back({o.sensor, o.stamp, {}, {}, {}, 0});
+  sortBySensorAndTime(&stamps);
+  return medianPeriods(sensors.size(), stamps);
+}
+
 std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
                                         const std::vector<TimedObservation>& observations,
                                         const std::vector<TargetObservation>& associated,

@@ -586,6 +586,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       }
     }
     if (best_child < 0) {
+      // Left: isolated sensors sharing no pose with the placed ones (too few to place: they stay unplaced).
+      bool only_isolated = true;
+      for (int s = 0; s < sensor_count; ++s) only_isolated = only_isolated && (placed[s] || isLaser(s) || isolated[s]);
+      if (only_isolated) break;
       std::string unplaced;
       for (int s = 0; s < sensor_count; ++s)
         if (!placed[s] && !isLaser(s)) unplaced += (unplaced.empty() ? "'" : ", '") + sensors[s].name + "'";
@@ -606,6 +610,12 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
         centres.in_a.push_back(link_from_parent * boardCentreSeen(*observation_of.at({best_parent, k})));
         centres.in_b.push_back(boardCentreSeen(*observation_of.at({best_child, k})));
       }
+    }
+    // An isolated sensor with too few poses to place (calibrateRigWithTrust leaves such a one out): it
+    // stays where it is, named by its distrust, and places nothing.
+    if (isolated[best_child] && best_shared < kLeastSharedPoses) {
+      placed[best_child] = true;
+      continue;
     }
     if (const std::optional<Eigen::Isometry3d>& known = mounts.knownMount(best_child)) {
       initial[best_child] = *known;
@@ -720,7 +730,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     std::vector<const TargetObservation*> its;
     for (const TargetObservation& o : observations)
       if (o.sensor == s && !rejected.count({o.sensor, o.target_pose})) its.push_back(&o);
-    // None: it shares no pose the others fixed, and its closed form stays.
+    // None: it shares no pose the others fixed, and its closed form stays. Too few: it stays unplaced.
+    if (static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) continue;
     isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state);
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <set>
 
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
@@ -171,9 +172,25 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
   std::vector<bool> unseen(sensor_count, true);
   for (const TargetObservation& o : observations)
     if (o.sensor >= 0 && o.sensor < sensor_count) unseen[o.sensor] = false;
+  // So is a plane-seeing sensor that shares fewer still poses than place it with every other (a clock
+  // off the others', a sensor that saw the board rarely): named, never the whole rig refused.
+  std::vector<std::set<int>> poses(sensor_count);
+  for (const TargetObservation& o : observations)
+    if (o.sensor >= 0 && o.sensor < sensor_count) poses[o.sensor].insert(o.target_pose);
+  std::vector<int> most_shared(sensor_count, 0);
+  for (int s = 0; s < sensor_count; ++s)
+    for (int other = 0; other < sensor_count; ++other) {
+      if (other == s || sensors[other].type == SensorType::kLaser2d) continue;
+      int shared = 0;
+      for (const int k : poses[s]) shared += poses[other].count(k);
+      most_shared[s] = std::max(most_shared[s], shared);
+    }
+  std::vector<bool> too_few(sensor_count, false);
+  for (int s = 0; s < sensor_count; ++s)
+    too_few[s] = !unseen[s] && s != options.reference_sensor && sensors[s].type != SensorType::kLaser2d && most_shared[s] < kLeastSharedPoses;
   CalibrationOptions seen_options = options;
   for (int s = 0; s < sensor_count; ++s)
-    if (unseen[s] && s != options.reference_sensor) seen_options.isolated_sensors.push_back(s);
+    if ((unseen[s] || too_few[s]) && s != options.reference_sensor) seen_options.isolated_sensors.push_back(s);
   const CalibrationResult full = calibrateRig(sensors, observations, seen_options);
   CalibrationResult result = full;
   std::vector<std::string> kept_in(sensor_count);  // per sensor: why it could not be taken out
@@ -222,6 +239,14 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     if (unseen[s]) {
       sensor.distrust = "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a placeholder); "
                         "the others were solved without it";
+      continue;
+    }
+    if (too_few[s]) {
+      sensor.distrust = "it shares " + std::to_string(most_shared[s]) + " still pose" + (most_shared[s] == 1 ? "" : "s") +
+                        " at most with another sensor, and " + std::to_string(kLeastSharedPoses) +
+                        " are needed to place it, so it is not calibrated (its pose in the result is a placeholder); the others were "
+                        "solved without it (is its clock off the others'? calibrate_rig --report prints each sensor's; or it saw the "
+                        "board rarely: hold it in its view at more poses)";
       continue;
     }
     const std::string placement = !trust.isolate     ? std::string("; kept in the graph (isolation is off)")

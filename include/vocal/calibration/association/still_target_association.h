@@ -58,6 +58,18 @@ std::vector<TargetObservation> associateStillTarget(const std::vector<SensorSpec
 std::vector<int> stillPoseOfEachObservation(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
                                             const StillnessOptions& options = {});
 
+// One sensor's still run that lasted (StillnessOptions::min_duration): the stamps of its first and last message.
+struct StillSpan {
+  int sensor = 0;
+  double begin = 0.0, end = 0.0;
+};
+// Every sensor's still runs, by sensor then time, each message's stamp as given (clock_offsets.h reads
+// them before any stamp is corrected). Throws InputError for a sensor index out of range.
+std::vector<StillSpan> stillSpans(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
+                                  const StillnessOptions& options = {});
+// The median spacing of each sensor's messages (0 with fewer than two).
+std::vector<double> messagePeriods(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations);
+
 // Why a sensor that saw the target has no associated observation, for the first such sensor: its
 // observations' spacing, the gap and duration a still run needs, the longest run it had, or that its
 // runs overlap no other sensor's still period. Empty when every sensor with observations is associated.

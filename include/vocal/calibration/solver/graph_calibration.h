@@ -81,6 +81,9 @@ struct CalibrationOptions {
   JointedMounts mounts;
 };
 
+// Still poses a plane-seeing sensor must share with the others to be placed (three planes fix a pose).
+constexpr int kLeastSharedPoses = 3;
+
 struct SensorCalibration {
   // In the rig frame; a sensor behind joints (JointedMounts): its mount in its chain's last link.
   Eigen::Isometry3d reference_from_sensor = Eigen::Isometry3d::Identity();
