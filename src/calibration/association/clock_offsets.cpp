@@ -171,22 +171,30 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
       RunMatch match = matchRuns(runs[s], over, shift);
       if (match.count > best.count || (match.count == best.count && match.misfit < best.misfit)) best = std::move(match), best_shift = shift;
     }
+    bool runs_shifted = false;
     if (best.count > 0) {
       best_shift = refinedShift(best);
       RunMatch refined = matchRuns(runs[s], over, best_shift);
       if (refined.count >= best.count) best = std::move(refined), best_shift = refinedShift(best);
       offset.sigma = shiftSigma(best);
+      // Only where the runs themselves are shifted: a sensor that moves between poses (on a head the rig
+      // does not describe) sees the board's centre travel with its own motion, not the board's.
+      runs_shifted = std::abs(best_shift) >= std::max(options.least_offset, 3.0 * offset.sigma);
       // The runs' starts and ends lag by how still each sensor's noise lets a run be: the moves between
-      // poses time the board alike for every sensor.
+      // poses time the board alike for every sensor. Taken where they agree with the runs.
       double moved = 0.0, sigma = 0.0;
-      if (refineByMoves(runs[s], over, tracks[s], tracks[reference], best_shift, options.least_runs, &moved, &sigma)) {
+      if (refineByMoves(runs[s], over, tracks[s], tracks[reference], best_shift, options.least_runs, &moved, &sigma) &&
+          std::abs(moved - best_shift) <= std::max(options.least_offset, 3.0 * offset.sigma)) {
         best_shift = moved;
         offset.sigma = sigma;
       }
     }
     offset.late = -best_shift;
     offset.runs = best.count;
-    offset.applied = best.count >= options.least_runs && best.count >= unshifted.count &&
+    // Applied only where the stamps as given lose still poses: an offset association tolerates is left
+    // alone, and a sensor moving on its own (on a head the rig does not describe), whose runs start and end
+    // out of step with the board's - its own moves timed alike - is not taken for a clock.
+    offset.applied = runs_shifted && best.count >= options.least_runs && best.count > unshifted.count &&
                      std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
     offsets.push_back(offset);
   }

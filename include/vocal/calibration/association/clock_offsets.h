@@ -27,7 +27,7 @@ struct ClockOffset {
   double sigma = 0.0;      // standard error, seconds
   int runs = 0;            // its still runs laid over the reference's at that offset ...
   int runs_unshifted = 0;  // ... and as stamped
-  bool applied = false;    // beyond least_offset and three sigmas, and laying at least as many runs over
+  bool applied = false;    // beyond least_offset and three sigmas, and laying more runs over than as stamped
 };
 
 // One entry per sensor with still runs other than the reference (the rig's reference sensor where it has
