@@ -177,8 +177,7 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
       RunMatch refined = matchRuns(runs[s], over, best_shift);
       if (refined.count >= best.count) best = std::move(refined), best_shift = refinedShift(best);
       offset.sigma = shiftSigma(best);
-      // Only where the runs themselves are shifted: a sensor that moves between poses (on a head the rig
-      // does not describe) sees the board's centre travel with its own motion, not the board's.
+      // The runs themselves shifted, beyond the least offset and their own noise.
       runs_shifted = std::abs(best_shift) >= std::max(options.least_offset, 3.0 * offset.sigma);
       // The runs' starts and ends lag by how still each sensor's noise lets a run be: the moves between
       // poses time the board alike for every sensor. Taken where they agree with the runs.
