@@ -16,11 +16,14 @@ struct RunMatch {
   int count = 0;
   double misfit = 0.0;  // seconds: how far the matched starts and ends lie from the shift, summed
   std::vector<double> begins, ends;
+  std::vector<int> matched;  // per shifted run, the index of the run of `over` it lies over, -1 for none
 };
 
 RunMatch matchRuns(const std::vector<StillSpan>& shifted, const std::vector<StillSpan>& over, double shift) {
   RunMatch match;
-  for (const StillSpan& a : shifted) {
+  match.matched.assign(shifted.size(), -1);
+  for (std::size_t i = 0; i < shifted.size(); ++i) {
+    const StillSpan& a = shifted[i];
     const double begin = a.begin + shift, end = a.end + shift;
     const StillSpan* best = nullptr;
     double best_overlap = 0.0;
@@ -31,6 +34,7 @@ RunMatch matchRuns(const std::vector<StillSpan>& shifted, const std::vector<Stil
     // Half the shorter run: a run cut in two by a hand over the board still lies over its pose.
     if (!best || best_overlap < 0.5 * std::min(end - begin, best->end - best->begin)) continue;
     ++match.count;
+    match.matched[i] = static_cast<int>(best - over.data());
     match.begins.push_back(best->begin - a.begin);
     match.ends.push_back(best->end - a.end);
     match.misfit += std::abs(best->begin - begin) + std::abs(best->end - end);
@@ -97,21 +101,12 @@ std::vector<CentreTrack> centreTracks(std::size_t sensors, const std::vector<Tim
   return tracks;
 }
 
-// The shift refined by the moves between consecutive still poses both sensors held (runs matched at
-// `shift`): the moment each saw the board half way from one to the next, differenced; the median over
+// The shift refined by the moves between consecutive still poses both sensors held (`runs`: the runs
+// matched): the moment each saw the board half way from one to the next, differenced; the median over
 // the moves, with its standard error. False with fewer than `least` moves of at least 5 cm.
-bool refineByMoves(const std::vector<StillSpan>& shifted, const std::vector<StillSpan>& over, const CentreTrack& shifted_track,
-                   const CentreTrack& over_track, double shift, int least, double* refined, double* sigma) {
-  // Each shifted run's matched reference run, by overlap as matchRuns takes it.
-  std::vector<int> matched(shifted.size(), -1);
-  for (std::size_t i = 0; i < shifted.size(); ++i) {
-    double best = 0.0;
-    for (std::size_t j = 0; j < over.size(); ++j) {
-      const double overlap = std::min(shifted[i].end + shift, over[j].end) - std::max(shifted[i].begin + shift, over[j].begin);
-      if (overlap > best && overlap >= 0.5 * std::min(shifted[i].end - shifted[i].begin, over[j].end - over[j].begin))
-        best = overlap, matched[i] = static_cast<int>(j);
-    }
-  }
+bool refineByMoves(const std::vector<StillSpan>& shifted, const std::vector<StillSpan>& over, const RunMatch& runs,
+                   const CentreTrack& shifted_track, const CentreTrack& over_track, int least, double* refined, double* sigma) {
+  const std::vector<int>& matched = runs.matched;
   std::vector<double> differences;
   constexpr double kLeastMove = 0.05;  // metres: a smaller move's half way is lost in the sensors' noise
   for (std::size_t i = 0; i + 1 < shifted.size(); ++i) {
@@ -182,7 +177,8 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
       // The runs' starts and ends lag by how still each sensor's noise lets a run be: the moves between
       // poses time the board alike for every sensor. Taken where they agree with the runs.
       double moved = 0.0, sigma = 0.0;
-      if (refineByMoves(runs[s], over, tracks[s], tracks[reference], best_shift, options.least_runs, &moved, &sigma) &&
+      if (refineByMoves(runs[s], over, matchRuns(runs[s], over, best_shift), tracks[s], tracks[reference], options.least_runs, &moved,
+                        &sigma) &&
           std::abs(moved - best_shift) <= std::max(options.least_offset, 3.0 * offset.sigma)) {
         best_shift = moved;
         offset.sigma = sigma;

@@ -301,15 +301,6 @@ std::vector<StillSpan> stillSpans(const std::vector<SensorSpec>& sensors, std::v
   return spans;
 }
 
-std::vector<double> messagePeriods(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations) {
-  checkSensorIndices(sensors, observations);
-  std::vector<TimedObservation> stamps;
-  stamps.reserve(observations.size());
-  for (const TimedObservation& o : observations) stamps.push_back({o.sensor, o.stamp, {}, {}, {}, 0});
-  sortBySensorAndTime(&stamps);
-  return medianPeriods(sensors.size(), stamps);
-}
-
 std::string missingStillnessExplanation(const std::vector<SensorSpec>& sensors,
                                         const std::vector<TimedObservation>& observations,
                                         const std::vector<TargetObservation>& associated,

@@ -67,8 +67,6 @@ struct StillSpan {
 // them before any stamp is corrected). Throws InputError for a sensor index out of range.
 std::vector<StillSpan> stillSpans(const std::vector<SensorSpec>& sensors, std::vector<TimedObservation> observations,
                                   const StillnessOptions& options = {});
-// The median spacing of each sensor's messages (0 with fewer than two).
-std::vector<double> messagePeriods(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations);
 
 // Why a sensor that saw the target has no associated observation, for the first such sensor: its
 // observations' spacing, the gap and duration a still run needs, the longest run it had, or that its
