@@ -4,7 +4,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <map>
+#include <optional>
 #include <memory>
 
 #include "vocal/core/errors.h"
@@ -14,7 +16,9 @@
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/frame_rectification.h"
+#include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
+#include "vocal/simulation/simulated_imu.h"
 #include "vocal/simulation/synthetic_sequence.h"
 #ifdef VOCAL_HAVE_OPENCL
 #include "vocal/odometry/opencl_backend.h"
@@ -189,8 +193,33 @@ void pairArguments(benchmark::internal::Benchmark* b) {
   b->Args({kFastCpu, 640, static_cast<int>(vocal::OdometryMode::kRgb), always, 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
+// The IMU's own cost per frame: a 200 Hz gyro's rotation between two 30 Hz frames (preintegration, the
+// camera frame) and the bias update of a keyframe (three more preintegrations over its span), the
+// samples of a whole 10 s run held.
+void BM_GyroPriorPerFrame(benchmark::State& state) {
+  vocal::Trajectory path;
+  for (int i = 0; i < 301; ++i) {
+    vocal::StampedPose p;
+    p.stamp = i / 30.0;
+    p.pose.linear() = vocal::rotationFromRollPitchYaw(0.3 * std::sin(1.1 * p.stamp), 0.2 * std::sin(0.7 * p.stamp), 0.5 * std::sin(0.4 * p.stamp));
+    path.push_back(p);
+  }
+  vocal::SimulatedImuOptions options;
+  options.extrinsics = vocal::simulatedImuExtrinsics();
+  vocal::GyroRotationPrior prior(options.extrinsics);
+  prior.add(vocal::simulateImu(path, options));
+  int k = 1;
+  for (auto _ : state) {
+    const std::optional<vocal::RotationPrior> between = prior.between(path[k - 1].stamp, path[k].stamp);
+    benchmark::DoNotOptimize(between);
+    const int keyframe = k - k % 6;  // a keyframe every 6 frames: one bias update per 6 frames
+    prior.observe(path[keyframe].stamp, path[k].stamp, path[keyframe].pose.linear().transpose() * path[k].pose.linear());
+    k = k % 299 + 1;
+  }
+}
 }  // namespace
 
+BENCHMARK(BM_GyroPriorPerFrame)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Preprocess)->Apply(stageArguments);
 BENCHMARK(BM_IcpSystem)->Apply(levelArguments);
 BENCHMARK(BM_RgbSystem)->Apply(levelArguments);

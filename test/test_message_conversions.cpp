@@ -262,3 +262,21 @@ TEST(NodeletParameters, OdometrySettingsFromRosParameters) {
             }).rfind("parameters of /odometry: setting 'rgb_weight' is malformed", 0),
             0u);
 }
+
+TEST(MessageConversions, AGyrosImuMessageReadsBackAndANonFiniteRateIsNamed) {
+  const vocal::ImuSample sample{12.25, Eigen::Vector3d(0.1, -0.2, 0.3), Eigen::Vector3d(0.0, 0.5, 9.8)};
+  sensor_msgs::Imu msg = vocal::toImuMessage(sample, "camera_imu_frame");
+  EXPECT_EQ(msg.orientation_covariance[0], -1.0);
+  EXPECT_NE(msg.angular_velocity_covariance[0], -1.0);  // the rates are there
+  const vocal::ImuSample back = vocal::fromImuMessage(msg, "/camera/imu");
+  EXPECT_DOUBLE_EQ(back.stamp, 12.25);
+  EXPECT_TRUE(back.angular_velocity.isApprox(sample.angular_velocity));
+  EXPECT_TRUE(back.linear_acceleration.isApprox(sample.linear_acceleration));
+  msg.angular_velocity.y = std::numeric_limits<double>::quiet_NaN();
+  try {
+    vocal::fromImuMessage(msg, "/camera/imu");
+    FAIL() << "a NaN rate was taken";
+  } catch (const vocal::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "/camera/imu: angular_velocity (0.1, nan, 0.3) or linear_acceleration is not finite");
+  }
+}

@@ -108,6 +108,12 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     skip_to_newest_ = pnh.param("skip_to_newest", true);
     const int queue_size = std::max(1, pnh.param("queue_size", 10));
     imu_topic_ = pnh.param<std::string>("imu_topic", "");
+    imu_noise_.gyro_noise_density = pnh.param("gyro_noise_density", imu_noise_.gyro_noise_density);
+    imu_noise_.gyro_bias_random_walk = pnh.param("gyro_bias_random_walk", imu_noise_.gyro_bias_random_walk);
+    imu_noise_.accel_noise_density = pnh.param("accel_noise_density", imu_noise_.accel_noise_density);
+    imu_noise_.accel_bias_random_walk = pnh.param("accel_bias_random_walk", imu_noise_.accel_bias_random_walk);
+    imu_time_offset_ = pnh.param("imu_time_offset", 0.0);
+    imu_wait_ = std::max(0.0, pnh.param("imu_wait", 0.03));
     try {
       XmlRpc::XmlRpcValue parameters;
       YAML::Node settings;
@@ -190,10 +196,72 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       accelerometer_.push_back(sample);
       // Only the samples around the first frame are read: two seconds are kept.
       while (!accelerometer_.empty() && accelerometer_.front().stamp < sample.stamp - 2.0) accelerometer_.pop_front();
+      // A gyro (REP-145: angular_velocity_covariance[0] -1 says there is none, as a Kinect's driver sends):
+      // its rates for the rotation prior, the last few seconds.
+      if (msg.angular_velocity_covariance[0] != -1.0) {
+        const ImuSample rates = fromImuMessage(msg, imu_topic_);
+        if (!gyro_samples_.empty() && !(rates.stamp > gyro_samples_.back().stamp)) {
+          std::ostringstream message;
+          message << imu_topic_ << ": stamp " << msg.header.stamp << " is not after the previous message's (out of order): dropped";
+          throw InputError(message.str());
+        }
+        gyro_samples_.push_back(rates);
+        while (!gyro_samples_.empty() && gyro_samples_.front().stamp < rates.stamp - 5.0) gyro_samples_.pop_front();
+      }
     } catch (const InputError& e) {
       ++imu_dropped_;
       NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: " << e.what());
     }
+  }
+
+  // With mutex_ held. The gyro's rotation from the last frame to this one: waits up to imu_wait for
+  // the samples past it; none (and `gyro_problem_` says why) without a gyro, its tf or its samples.
+  std::optional<RotationPrior> gyroPrior(const std::string& camera_frame, const ros::Time& stamp) {
+    if (imu_topic_.empty() || last_stamp_.isZero()) return std::nullopt;
+    const double needed = stamp.toSec() + imu_time_offset_;
+    std::vector<ImuSample> fresh;
+    std::string imu_frame;
+    const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(imu_wait_);
+    while (true) {
+      {
+        std::lock_guard<std::mutex> lock(imu_mutex_);
+        // An accelerometer alone (no rates ever came) is not waited for.
+        const bool covered = !gyro_samples_.empty() && gyro_samples_.back().stamp >= needed;
+        if (covered || gyro_samples_.empty() || ros::WallTime::now() >= give_up || !ros::ok()) {
+          const double after = gyro_ && !gyro_->samples().empty() ? gyro_->samples().back().stamp : -1.0;
+          for (const ImuSample& sample : gyro_samples_)
+            if (sample.stamp > after) fresh.push_back(sample);
+          imu_frame = imu_frame_;
+          break;
+        }
+      }
+      ros::WallDuration(0.002).sleep();
+    }
+    if (!gyro_) {
+      if (fresh.empty()) {
+        gyro_problem_ = imu_topic_ + ": no angular velocity yet (an accelerometer alone levels odom only)";
+        return std::nullopt;
+      }
+      ImuExtrinsics extrinsics;
+      extrinsics.imu_frame = imu_frame, extrinsics.camera_frame = camera_frame;
+      extrinsics.time_offset = imu_time_offset_;
+      extrinsics.noise = imu_noise_;
+      try {
+        extrinsics.camera_in_imu = tf2::transformToEigen(tf_buffer_->lookupTransform(imu_frame, camera_frame, ros::Time(0)));
+      } catch (const tf2::TransformException& e) {
+        gyro_problem_ = "tf " + imu_frame + " <- " + camera_frame + " unavailable (the gyro's pose in the camera): " + e.what();
+        return std::nullopt;
+      }
+      gyro_ = std::make_unique<GyroRotationPrior>(extrinsics);
+      NODELET_INFO_STREAM("IcpDvoOdometry: gyro on " << imu_topic_ << " (" << imu_frame << ") as a rotation prior, time offset "
+                                                     << imu_time_offset_ << " s, bias estimated online");
+    }
+    gyro_->add(fresh);
+    gyro_->forgetBefore(last_stamp_.toSec());
+    std::string why;
+    std::optional<RotationPrior> prior = gyro_->between(last_stamp_.toSec(), stamp.toSec(), &why);
+    if (!prior) gyro_problem_ = imu_topic_ + ": " + why + " (waited " + std::to_string(imu_wait_) + " s)";
+    return prior;
   }
 
   // odom <- the base at the first frame: level (z up, the heading kept) where the accelerometer's mean
@@ -343,7 +411,16 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       }
     }
 
-    const OdometryResult result = odometry_->track(frame);
+    const std::optional<RotationPrior> gyro = gyroPrior(camera_frame, rgb.header.stamp);
+    if (!imu_topic_.empty() && !last_stamp_.isZero()) ++(gyro ? gyro_priors_ : gyro_missing_);
+    const OdometryResult result = odometry_->track(frame, gyro ? &*gyro : nullptr);
+    if (gyro_) {
+      if (result.state == TrackingState::kTracking && result.quality.trusted) {
+        gyro_->observe(result.keyframe_stamp, rgb.header.stamp.toSec(), result.vision_rotation);
+      } else {
+        gyro_->breakWindow();
+      }
+    }
     if (result.first_frame) {
       odom_from_start_ = levelledStart(base_frame, rgb.header.stamp, &odom_levelling_);
       NODELET_INFO_STREAM("IcpDvoOdometry: odom " << odom_levelling_);
@@ -544,6 +621,16 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     if (!imu_topic_.empty()) {
       status.add(imu_topic_ + " messages", imu_count_.load());
       status.add(imu_topic_ + " messages dropped", imu_dropped_.load());
+      status.add("frames with the gyro's rotation prior", gyro_priors_);
+      status.add("frames without it", gyro_missing_);
+      if (gyro_missing_ > 0) status.add("why not (last)", gyro_problem_);
+      if (gyro_) {
+        const Eigen::Vector3d bias = gyro_->bias() * 180.0 / M_PI;
+        std::ostringstream text;
+        text << std::fixed << std::setprecision(3) << bias.x() << " " << bias.y() << " " << bias.z() << " (+- "
+             << gyro_->biasSigma().maxCoeff() * 180.0 / M_PI << ")";
+        status.add("gyro bias (deg/s)", text.str());
+      }
     }
     status.add("frames received", received);
     status.add("frames skipped", frames_skipped_.load());
@@ -647,6 +734,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::deque<AccelerometerSample> accelerometer_;
   std::string imu_frame_;
   std::atomic<std::size_t> imu_count_{0}, imu_dropped_{0};
+  // Its gyro (messages with angular velocity), under imu_mutex_; the prior built from it under mutex_.
+  std::deque<ImuSample> gyro_samples_;
+  ImuNoise imu_noise_;
+  double imu_time_offset_ = 0.0;  // IMU stamp = camera stamp + this
+  double imu_wait_ = 0.03;        // seconds a frame waits for the gyro samples past it
+  std::unique_ptr<GyroRotationPrior> gyro_;
+  std::size_t gyro_priors_ = 0, gyro_missing_ = 0;
+  std::string gyro_problem_;
 
   // The newest synchronised frame and the worker that tracks it (under pending_mutex_; arrival counts
   // are atomic: they change outside both locks).

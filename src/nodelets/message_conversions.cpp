@@ -471,6 +471,20 @@ sensor_msgs::Imu toAccelerometerImu(const AccelerometerSample& sample, const std
   return msg;
 }
 
+sensor_msgs::Imu toImuMessage(const ImuSample& sample, const std::string& frame_id) {
+  sensor_msgs::Imu msg;
+  msg.header.stamp = ros::Time(sample.stamp);
+  msg.header.frame_id = frame_id;
+  msg.orientation_covariance[0] = -1.0;
+  msg.angular_velocity.x = sample.angular_velocity.x();
+  msg.angular_velocity.y = sample.angular_velocity.y();
+  msg.angular_velocity.z = sample.angular_velocity.z();
+  msg.linear_acceleration.x = sample.linear_acceleration.x();
+  msg.linear_acceleration.y = sample.linear_acceleration.y();
+  msg.linear_acceleration.z = sample.linear_acceleration.z();
+  return msg;
+}
+
 AccelerometerSample fromImuAcceleration(const sensor_msgs::Imu& msg, const std::string& what) {
   AccelerometerSample sample;
   sample.stamp = msg.header.stamp.toSec();
@@ -479,6 +493,20 @@ AccelerometerSample fromImuAcceleration(const sensor_msgs::Imu& msg, const std::
     std::ostringstream message;
     message << what << ": linear_acceleration (" << msg.linear_acceleration.x << ", " << msg.linear_acceleration.y << ", "
             << msg.linear_acceleration.z << ") is not finite";
+    throw InputError(message.str());
+  }
+  return sample;
+}
+
+ImuSample fromImuMessage(const sensor_msgs::Imu& msg, const std::string& what) {
+  ImuSample sample;
+  sample.stamp = msg.header.stamp.toSec();
+  sample.angular_velocity = Eigen::Vector3d(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z);
+  sample.linear_acceleration = Eigen::Vector3d(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
+  if (!sample.angular_velocity.allFinite() || !sample.linear_acceleration.allFinite()) {
+    std::ostringstream message;
+    message << what << ": angular_velocity (" << msg.angular_velocity.x << ", " << msg.angular_velocity.y << ", " << msg.angular_velocity.z
+            << ") or linear_acceleration is not finite";
     throw InputError(message.str());
   }
   return sample;

@@ -96,9 +96,22 @@ double IcpDvoOdometry::residualLevelOf(const OdometryQuality& quality) const {
   return config_.mode == OdometryMode::kIcp ? quality.icp_rmse : quality.rgb_rmse;
 }
 
+namespace {
+// The gyro's rotation as a prior on the solve's: r = Log(R_prior^T R) with R moved by the step's left
+// perturbation Exp(w) R, so dr/dw = R^T (r small); its information (the prior's covariance is of a
+// right perturbation of the current frame) added to the rotation block, as the other terms' are.
+void addRotationPrior(const RotationPrior& prior, const Eigen::Matrix3d& rotation, Matrix6d* A, Vector6d* b) {
+  const Eigen::AngleAxisd error(prior.rotation.transpose() * rotation);
+  const Eigen::Vector3d r = error.angle() * error.axis();
+  const Eigen::Matrix3d information = prior.covariance.inverse();
+  A->bottomRightCorner<3, 3>() += rotation * information * rotation.transpose();
+  b->tail<3>() -= rotation * information * r;
+}
+}  // namespace
+
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference, const RgbdFrame& current,
                                                      const Eigen::Isometry3d& start, const Eigen::Isometry3d& last,
-                                                     OdometryBackend* backend) {
+                                                     OdometryBackend* backend, const RotationPrior* prior) {
   if (!backend) backend = backend_.get();
   // The window's backend runs beside tracking: its loops on its own threads (if any), never on tracking's.
   WorkerPool* workers = backend == backend_.get() ? workers_ : backend->workers();
@@ -130,8 +143,14 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
       const double rgb_scale = use_rgb && rgb.count > 0
                                    ? (use_icp ? config_.rgb_weight : 1.0) / std::max(rgb.squared_residual_sum / rgb.count, kMinRgbVariance)
                                    : 0.0;
-      const Matrix6d A = icp_scale * icp.A + rgb_scale * rgb.A;
-      const Vector6d b = icp_scale * icp.b + rgb_scale * rgb.b;
+      Matrix6d A = icp_scale * icp.A + rgb_scale * rgb.A;
+      Vector6d b = icp_scale * icp.b + rgb_scale * rgb.b;
+      if (prior) {
+        // Where vision alone would step from here: the motion a gyro's bias is measured against.
+        const Vector6d vision_step = A.ldlt().solve(b);
+        if (vision_step.allFinite()) solve.vision_only = se3Exp(vision_step) * T;
+        addRotationPrior(*prior, T.linear(), &A, &b);
+      }
       last_icp = icp;
       last_rgb = rgb;
       solve.information = A;
@@ -150,6 +169,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
     }
   }
 
+  if (!prior) solve.vision_only = T;
   OdometryQuality& q = solve.quality;
   if (config_.iterations[0] == 0) q.converged = true;  // nothing asked of the finest level
   q.icp_inliers = static_cast<int>(last_icp.count);
@@ -247,7 +267,7 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
 }
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
-                                                              std::shared_ptr<const FrameFeatures>* features,
+                                                              const RotationPrior* prior, std::shared_ptr<const FrameFeatures>* features,
                                                               OdometryResult* result) {
   auto clock = std::chrono::steady_clock::now();
   // The motion the features agree on (extracting those not extracted yet), asked for at most once.
@@ -270,19 +290,19 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& f
   DenseSolve solve;
   switch (config_.feature_initialisation) {
     case FeatureInitialisation::kAlways:
-      solve = solveFrom(active_->frame, frame, featureMotion().value_or(predicted), active_from_last_);
+      solve = solveFrom(active_->frame, frame, featureMotion().value_or(predicted), active_from_last_, nullptr, prior);
       break;
     case FeatureInitialisation::kOff:
-      solve = solveFrom(active_->frame, frame, active_from_last_, active_from_last_);  // no motion since the last frame
+      solve = solveFrom(active_->frame, frame, prior ? predicted : active_from_last_, active_from_last_, nullptr, prior);  // no motion since the last frame but the gyro's
       break;
     case FeatureInitialisation::kFallback: {
-      solve = solveFrom(active_->frame, frame, predicted, active_from_last_);
+      solve = solveFrom(active_->frame, frame, predicted, active_from_last_, nullptr, prior);
       if (!suspicious(solve)) break;
       result->quality.feature_fallback = true;
       result->timings.solve_ms += lapMilliseconds(&clock);
       bool retry_won = false;
       if (const std::optional<Eigen::Isometry3d> start = featureMotion()) {
-        DenseSolve retry = solveFrom(active_->frame, frame, *start, active_from_last_);
+        DenseSolve retry = solveFrom(active_->frame, frame, *start, active_from_last_, nullptr, prior);
         // The retry wins when it passes and the first did not, or both pass and it fits better.
         retry_won = retry.failure.empty() &&
                     (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality));
@@ -466,7 +486,7 @@ void IcpDvoOdometry::publish(OdometryResult* result) {
   result->pose = published_pose_ = published;
 }
 
-OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
+OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior* gyro) {
   input.validate("odometry frame");
   if (!input.color.sameSize(camera_.width, camera_.height)) {
     std::ostringstream message;
@@ -523,9 +543,15 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   // starts from the last frame's pose: a velocity taken from two keyframe-relative estimates doubles
   // their error along weakly constrained directions, which the next solve keeps rather than removes
   // (measured on noisy synthetic frames: ATE 30 mm with it, 0.1 mm without; docs/benchmarks.md).
-  const Eigen::Isometry3d predicted =
+  Eigen::Isometry3d predicted =
       config_.tracking_reference == TrackingReference::kFrame ? active_from_last_ * velocity_ : active_from_last_;
-  DenseSolve solve = trackAgainstActive(frame, predicted, &features, &result);
+  // With a gyro the rotation is predicted from it, and held to it with its information.
+  std::optional<RotationPrior> prior;
+  if (gyro && config_.imu_weight > 0.0) {
+    prior = RotationPrior{active_from_last_.linear() * gyro->rotation, gyro->covariance / config_.imu_weight};
+    predicted.linear() = prior->rotation;
+  }
+  DenseSolve solve = trackAgainstActive(frame, predicted, prior ? &*prior : nullptr, &features, &result);
   const bool relocalised = !solve.failure.empty() && config_.relocalisation && relocalise(frame, &features, &solve, &result);
   clock = std::chrono::steady_clock::now();
 
@@ -546,8 +572,10 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
       sigma.tail<3>().setConstant(std::max(rotationAngle(velocity_), 0.01));
       const Matrix6d to_odometry = adjoint(pose_);
       pose_covariance_ += to_odometry * sigma.cwiseAbs2().asDiagonal() * to_odometry.transpose();
-      pose_ = pose_ * velocity_;
-      active_from_last_ = active_from_last_ * velocity_;
+      Eigen::Isometry3d step = velocity_;
+      if (prior) step.linear() = gyro->rotation;  // the gyro's turn, the last translation
+      pose_ = pose_ * step;
+      active_from_last_ = active_from_last_ * step;
       result.pose_covariance = pose_covariance_;
     } else {
       result.state = TrackingState::kLost;
@@ -588,6 +616,8 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input) {
   pose_covariance_ = keyframe.pose_covariance + to_odometry * result.covariance * to_odometry.transpose();
   pose_ = keyframe.pose * T;
   active_from_last_ = T;
+  result.keyframe_stamp = keyframe.frame.stamp;
+  result.vision_rotation = solve.vision_only.linear();
   result.pose_covariance = pose_covariance_;
   if (keyframe.first_inliers == 0) {
     keyframe.first_inliers = inliersOf(solve.quality);

@@ -3,12 +3,18 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/imu_samples.h"
 #include "vocal/core/stamp_association.h"
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/core/tum_sequence.h"
+#include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_config_yaml.h"
 #include "vocal/tools/command_line.h"
@@ -28,9 +34,37 @@ const char kUsage[] =
     "  --frames N                  only the first N associated frames (after --skip)\n"
     "  --skip N                    start at the N-th associated frame (0 = the first)\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
+    "  --imu FILE                  an IMU's imu.txt (`timestamp wx wy wz ax ay az`; default: the folder's imu.txt\n"
+    "                              when there is one): its gyro's rotation between frames as a prior\n"
+    "  --imu-extrinsics FILE       its imu_extrinsics.yaml (default: the folder's; required with an IMU)\n"
+    "  --imu-weight W              overrides the config's imu_weight (0: ignore the gyro)\n"
+    "  --no-imu                    ignore the folder's imu.txt\n"
     "  --delta S                   RPE interval (default 1 s)\n"
     "  --quiet                     no progress line\n"
     "  --verbose                   one line of quality figures per frame\n";
+
+bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+
+// The IMU the flags or the folder give, and a line saying what it is; none without one.
+std::unique_ptr<vocal::GyroRotationPrior> openImu(const vocal::CommandLine& args, const std::string& folder, std::string* line) {
+  if (args.has("no-imu")) return nullptr;
+  const std::string imu_path = args.text("imu", fileExists(folder + "/imu.txt") ? folder + "/imu.txt" : "");
+  if (imu_path.empty()) return nullptr;
+  const std::string extrinsics_path =
+      args.text("imu-extrinsics", fileExists(folder + "/imu_extrinsics.yaml") ? folder + "/imu_extrinsics.yaml" : "");
+  if (extrinsics_path.empty()) {
+    throw vocal::InputError(imu_path + ": the IMU's pose in the camera is needed: --imu-extrinsics FILE (imu_extrinsics.yaml, README)");
+  }
+  const std::vector<vocal::ImuSample> samples = vocal::readImuFile(imu_path);
+  if (samples.size() < 2) throw vocal::InputError(imu_path + ": fewer than 2 IMU samples");
+  auto imu = std::make_unique<vocal::GyroRotationPrior>(vocal::readImuExtrinsics(extrinsics_path));
+  imu->add(samples);
+  char text[1024];
+  std::snprintf(text, sizeof(text), "imu: %zu samples from %s at %.0f Hz, camera in the IMU frame from %s (time offset %.4f s): the gyro's rotation as a prior, its bias estimated online",
+                samples.size(), imu_path.c_str(), vocal::imuRate(samples), extrinsics_path.c_str(), imu->extrinsics().time_offset);
+  *line = text;
+  return imu;
+}
 
 int run(const vocal::CommandLine& args) {
   if (!args.has("output")) throw vocal::InputError("--output TRAJ.txt is required");
@@ -43,8 +77,11 @@ int run(const vocal::CommandLine& args) {
   if (args.has("features")) config.feature_initialisation = vocal::parseFeatureInitialisation(args.text("features", ""));
   if (args.has("reference")) config.tracking_reference = vocal::parseTrackingReference(args.text("reference", ""));
   if (args.has("brightness")) config.brightness_model = vocal::parseBrightnessModel(args.text("brightness", ""));
+  config.imu_weight = args.number("imu-weight", config.imu_weight);
 
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0]);
+  std::string imu_line;
+  const std::unique_ptr<vocal::GyroRotationPrior> imu = openImu(args, args.positional()[0], &imu_line);
   const int skip_arg = args.integer("skip", 0);
   if (skip_arg < 0 || static_cast<std::size_t>(skip_arg) >= sequence.size()) {
     throw vocal::InputError("--skip " + std::to_string(skip_arg) + ": the sequence has " + std::to_string(sequence.size()) +
@@ -60,6 +97,7 @@ int run(const vocal::CommandLine& args) {
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s; %s\n", frames, sequence.cameraSource().c_str(),
                vocal::odometryModeName(config.mode).c_str(), odometry.backend().name().c_str(),
                odometry.cameraModelText().c_str());
+  std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "imu: none (no imu.txt in the folder, no --imu)");
 
   if (args.has("start-from-ground-truth")) {
     if (!sequence.hasGroundTruth()) throw vocal::InputError(sequence.folder() + ": --start-from-ground-truth needs groundtruth.txt");
@@ -71,11 +109,25 @@ int run(const vocal::CommandLine& args) {
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
   int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0, window_links = 0, window_refined = 0;
+  int imu_priors = 0, imu_gaps = 0;
+  std::string imu_gap;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
     const vocal::RgbdFrame frame = sequence.loadFrame(skip + i);
     const auto start = std::chrono::steady_clock::now();
-    const vocal::OdometryResult result = odometry.track(frame);
+    std::optional<vocal::RotationPrior> gyro;
+    if (imu && i > 0) {
+      gyro = imu->between(trajectory.back().stamp, frame.stamp, &imu_gap);
+      ++(gyro ? imu_priors : imu_gaps);
+    }
+    const vocal::OdometryResult result = odometry.track(frame, gyro ? &*gyro : nullptr);
+    if (imu) {
+      if (result.state == vocal::TrackingState::kTracking && result.quality.trusted) {
+        imu->observe(result.keyframe_stamp, frame.stamp, result.vision_rotation);
+      } else {
+        imu->breakWindow();
+      }
+    }
     tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     trajectory.push_back({frame.stamp, result.pose});
     stage_sums.preprocess_ms += result.timings.preprocess_ms;
@@ -116,6 +168,12 @@ int run(const vocal::CommandLine& args) {
   if (config.feature_initialisation == vocal::FeatureInitialisation::kFallback)
     std::printf("feature_fallbacks: %d\n", feature_fallbacks);
   std::printf("keyframes: %d\nrelocalisations: %d\n", keyframes, relocalisations);
+  if (imu) {
+    const Eigen::Vector3d bias = imu->bias() * 180.0 / M_PI, sigma = imu->biasSigma() * 180.0 / M_PI;
+    std::printf("imu_priors: %d\nimu_gaps: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n", imu_priors, imu_gaps,
+                bias.x(), bias.y(), bias.z(), sigma.maxCoeff(), imu->biasUpdates());
+    if (imu_gaps > 0) std::fprintf(stderr, "imu: %d frames tracked without the gyro; the last because %s\n", imu_gaps, imu_gap.c_str());
+  }
   if (config.local_window_keyframes > 0) {
     std::printf("window_ms: %.2f\nwindow_links: %d\nwindow_refined_keyframes: %d\n", stage_sums.window_ms / n, window_links,
                 window_refined);
@@ -131,6 +189,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta"},
-                        {"start-from-ground-truth", "quiet", "verbose"}, 1);
+                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta",
+                         "imu", "imu-extrinsics", "imu-weight"},
+                        {"start-from-ground-truth", "quiet", "verbose", "no-imu"}, 1);
 }

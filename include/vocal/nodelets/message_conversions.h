@@ -15,6 +15,7 @@
 
 #include "vocal/core/colored_point.h"
 #include "vocal/core/gravity.h"
+#include "vocal/core/imu_samples.h"
 #include "vocal/core/image.h"
 #include "vocal/core/lens_distortion.h"
 #include "vocal/core/pinhole_camera.h"
@@ -75,6 +76,10 @@ sensor_msgs::LaserScan toLaserScan(const std::vector<float>& ranges, double angl
 sensor_msgs::Imu toAccelerometerImu(const AccelerometerSample& sample, const std::string& frame_id);
 // Its linear acceleration; throws naming `what` when a value is not finite.
 AccelerometerSample fromImuAcceleration(const sensor_msgs::Imu& msg, const std::string& what);
+// Its angular velocity and linear acceleration (a gyro's message); throws naming `what` when a value is not finite.
+ImuSample fromImuMessage(const sensor_msgs::Imu& msg, const std::string& what);
+// A gyro + accelerometer sensor_msgs/Imu (orientation marked absent), as a RealSense driver publishes one.
+sensor_msgs::Imu toImuMessage(const ImuSample& sample, const std::string& frame_id);
 // One frame of registered images: depth and camera_info must match the colour image's size.
 RgbdFrame toRgbdFrame(const sensor_msgs::Image& color, const sensor_msgs::Image& depth, const std::string& color_what,
                       const std::string& depth_what);

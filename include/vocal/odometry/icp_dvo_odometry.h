@@ -20,6 +20,7 @@
 #include "vocal/core/worker_pool.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/frame_rectification.h"
+#include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/keyframe_window.h"
 #include "vocal/odometry/odometry_backend.h"
 #include "vocal/odometry/odometry_config.h"
@@ -91,6 +92,10 @@ struct OdometryResult {
   bool window_links_skipped = false;
   std::string window_error;  // why the window stopped (its background solve failed); empty while it works
   int lost_frames = 0;       // consecutive frames not tracked, this one included (relocalised: before it)
+  // Tracked: the keyframe's stamp and the rotation keyframe <- current as vision alone measured it (a
+  // gyro prior's pull taken out), what the gyro's bias is estimated from (GyroRotationPrior::observe).
+  double keyframe_stamp = 0.0;
+  Eigen::Matrix3d vision_rotation = Eigen::Matrix3d::Identity();
 };
 
 // One line for a log about a frame that was not tracked ("not tracked (predicted, frame 2 of the
@@ -111,7 +116,9 @@ class IcpDvoOdometry {
   // Estimates the frame's pose (against the keyframe, or the previous frame). Throws InputError when
   // the frame does not fit the camera (size, colour vs depth); bad content (no valid depth, no texture
   // or structure, a jump, a wrong minimum) is reported in the result with its state (predicted or lost).
-  OdometryResult track(const RgbdFrame& frame);
+  // `gyro`: the camera's rotation since the last frame as an IMU measured it (gyro_rotation_prior.h):
+  // the solve starts from it and holds the rotation to it with its information (times imu_weight).
+  OdometryResult track(const RgbdFrame& frame, const RotationPrior* gyro = nullptr);
 
   // Forgets the reference frame; the next frame starts again at `pose`.
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
@@ -159,14 +166,17 @@ class IcpDvoOdometry {
   struct DenseSolve {
     Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
     Matrix6d information = Matrix6d::Zero();  // the final fused system's A
+    // With a gyro prior: where the last step would have gone on vision alone (else the increment).
+    Eigen::Isometry3d vision_only = Eigen::Isometry3d::Identity();
     OdometryQuality quality;
     std::string failure;  // empty when every check passed
   };
   // The coarse-to-fine ICP + DVO solve of `current` against `reference` (the frames the backend holds)
   // from `start` (keyframe <- current), and its checks; a jump is measured from `last` (the last
   // frame's pose in the keyframe).
+  // `prior`: the rotation reference <- current a gyro predicts, added to every level's system.
   DenseSolve solveFrom(const RgbdFrame& reference, const RgbdFrame& current, const Eigen::Isometry3d& start,
-                       const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr);
+                       const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr, const RotationPrior* prior = nullptr);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
@@ -176,7 +186,7 @@ class IcpDvoOdometry {
   void pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame);
   // The dense solve against the active keyframe from `predicted` (keyframe <- current), with the
   // feature fallback the config asks for, and the wrong-minimum test.
-  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
+  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted, const RotationPrior* prior,
                                 std::shared_ptr<const FrameFeatures>* features, OdometryResult* result);
   // Marks a passing solve as failed when its residual is far above the running level, or its motion
   // far from the one the features agree on (when they were asked).
