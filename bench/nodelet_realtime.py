@@ -3,6 +3,7 @@
 compares what it published with bag_odometry's offline run of the same recording.
 
   bench/nodelet_realtime.py TUM_FOLDER [--rate R] [--workdir DIR] [--no-clouds] [--port P] [--config FILE] [--busy N]
+                               [--imu DIR [--imu-time-offset S]]
 
 1. tum_to_bag --layout openni2: the frames as openni2_launch records them (bgr8 on
    /camera/rgb/image_rect_color, 16UC1 millimetres on /camera/depth_registered/image_raw, camera_info).
@@ -11,6 +12,9 @@ compares what it published with bag_odometry's offline run of the same recording
    unless --no-clouds, the current and fused clouds (subscribers make the nodelet build them), then
    rosbag play at --rate (1 = real time); with --busy N, N CPU-bound processes run beside the live part (a
    robot's other work: the CPU is shared with them, the player and the recorder).
+   With --imu DIR (simulate_imu's imu.txt and imu_extrinsics.yaml), the bag also carries the IMU on
+   /camera/imu (gyro and accelerometer, its frame on tf) and the nodelet takes it (imu:=/camera/imu);
+   bag_odometry has no IMU input yet: its run is without.
 4. Prints the share of frames with odometry, RPE / ATE of both trajectories against the ground truth and
    the nodelet's last diagnostics (skipped frames, per-stage means).
 """
@@ -96,13 +100,16 @@ def main():
     parser.add_argument("--port", type=int, default=11417, help="port of the ROS master this run starts")
     parser.add_argument("--config", help="odometry settings for both runs (default: config/odometry.yaml)")
     parser.add_argument("--busy", type=int, default=0, help="CPU-bound processes running beside the live run")
+    parser.add_argument("--imu", help="a folder with imu.txt and imu_extrinsics.yaml to play on /camera/imu")
+    parser.add_argument("--imu-time-offset", type=float, default=0.0, help="IMU stamp = camera stamp + this (s)")
     args = parser.parse_args()
     ground_truth = os.path.join(args.folder, "groundtruth.txt")
     if not os.path.exists(ground_truth):
         sys.exit(f"nodelet_realtime: {ground_truth} is missing: accuracy needs ground truth")
     os.makedirs(args.workdir, exist_ok=True)
     bag = os.path.join(args.workdir, "openni2.bag")
-    run([os.path.join(TOOLS, "tum_to_bag"), args.folder, bag, "--layout", "openni2", "--quiet"], "tum_to_bag")
+    imu = ["--imu", os.path.abspath(args.imu)] if args.imu else []
+    run([os.path.join(TOOLS, "tum_to_bag"), args.folder, bag, "--layout", "openni2", "--quiet"] + imu, "tum_to_bag")
     offline_trajectory = os.path.join(args.workdir, "bag_odometry.txt")
     config = ["--config", os.path.abspath(args.config)] if args.config else []
     offline = metrics(run([os.path.join(TOOLS, "bag_odometry"), bag, "--output", offline_trajectory, "--groundtruth",
@@ -113,6 +120,8 @@ def main():
     topics = ["/odom", "/diagnostics"] + ([] if args.no_clouds else ["/cloud", "/fused_cloud"])
     launch_log = open(os.path.join(args.workdir, "roslaunch.log"), "w")
     launch_config = ["config:=" + os.path.abspath(args.config)] if args.config else []
+    if args.imu:
+        launch_config += ["imu:=/camera/imu", f"imu_time_offset:={args.imu_time_offset}"]
     launch = subprocess.Popen(["roslaunch", "-p", str(args.port), "vocal", "odometry.launch"] + launch_config, env=env,
                               stdout=launch_log, stderr=subprocess.STDOUT)
     recorder = None

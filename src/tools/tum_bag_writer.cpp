@@ -1,5 +1,7 @@
 #include "vocal/tools/tum_bag_writer.h"
 
+#include "vocal/core/imu_samples.h"
+
 #include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -66,6 +68,10 @@ void writeFrames(const TumSequence& sequence, const TumBagOptions& options, rosb
   tf2_msgs::TFMessage static_transforms;
   for (const auto& [child, parent_from_child] : spec.static_transforms)
     static_transforms.transforms.push_back(toTransformStamped(parent_from_child, spec.static_parent, child, first_stamp));
+  if (!options.imu_folder.empty()) {
+    const ImuExtrinsics imu = readImuExtrinsics(options.imu_folder + "/imu_extrinsics.yaml");
+    static_transforms.transforms.push_back(toTransformStamped(imu.camera_in_imu.inverse(), spec.rgb_frame, imu.imu_frame, first_stamp));
+  }
   writeStaticTransforms(bag, static_transforms, first_stamp);
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const TumFrameEntry& entry = sequence.entry(i);
@@ -104,6 +110,14 @@ void writeAccelerometer(const TumSequence& sequence, rosbag::Bag* bag, TumBagSum
     ++summary->accelerometer_samples;
   }
 }
+// A simulated (or recorded) IMU's samples as a RealSense driver publishes them: gyro and accelerometer.
+void writeImu(const std::string& folder, rosbag::Bag* bag, TumBagSummary* summary) {
+  const ImuExtrinsics imu = readImuExtrinsics(folder + "/imu_extrinsics.yaml");
+  for (const ImuSample& sample : readImuFile(folder + "/imu.txt")) {
+    bag->write(kImuTopic, ros::Time(sample.stamp), toImuMessage(sample, imu.imu_frame));
+    ++summary->imu_samples;
+  }
+}
 }  // namespace
 
 BagLayout parseBagLayout(const std::string& name) {
@@ -119,6 +133,7 @@ TumBagSummary writeTumBag(const TumSequence& sequence, const std::string& bag_pa
   TumBagSummary summary;
   try {
     writeFrames(sequence, options, &bag, progress, &summary);
+    if (!options.imu_folder.empty()) writeImu(options.imu_folder, &bag, &summary);
     if (options.layout == BagLayout::kTum) {
       writeGroundTruth(sequence, &bag, &summary);
       writeAccelerometer(sequence, &bag, &summary);

@@ -46,6 +46,9 @@ struct OpenNi2BagTopics {
   static constexpr const char* kCameraFrame = "camera_link";
 };
 
+// An IMU with gyro (TumBagOptions::imu_folder), in either layout: where a RealSense driver publishes it.
+constexpr const char* kImuTopic = "/camera/imu";
+
 enum class BagLayout { kTum, kOpenNi2 };
 
 struct TumBagOptions {
@@ -53,12 +56,16 @@ struct TumBagOptions {
   // Streams to leave out (recordings with a stream missing, for tests of the readers' errors).
   bool without_depth = false;
   bool without_camera_info = false;
+  // A folder with imu.txt and imu_extrinsics.yaml (simulate_imu): its samples on kImuTopic (gyro and
+  // accelerometer, the IMU's frame) and the IMU's pose as a static transform from the colour optical frame.
+  std::string imu_folder;
 };
 
 struct TumBagSummary {
   std::size_t frames = 0;             // associated rgb + depth pairs written
   std::size_t ground_truth_poses = 0; // /tf messages
   std::size_t accelerometer_samples = 0;  // /imu messages
+  std::size_t imu_samples = 0;            // kImuTopic messages
 };
 
 // Throws InputError naming the bag if it cannot be written, or the image that cannot be read.
