@@ -18,10 +18,13 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
 #include "test_support.h"
 #include "vocal/core/image_io.h"
+#include "vocal/core/imu_samples.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/core/tum_sequence.h"
@@ -559,4 +562,51 @@ TEST(ToolsCli, CalibrateRigNamesASensorThatMovesAndPublishesOnlyTheRest) {
   r = runTool("simulate_calibration_session " + folder + " --faults wobbles:camera0:0.3");
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --faults: 'wobbles:camera0:0.3': expected KIND:SENSOR:AMOUNT, KIND one "
                       "of moves, bumped, time-offset, focal\n");
+}
+
+// A folder with an IMU (simulate_imu): tum_odometry says what it uses and takes the gyro for every frame;
+// without the extrinsics it names what is missing; tum_to_bag carries it on /camera/imu with its tf.
+TEST(ToolsCli, TumOdometryAndTumToBagTakeTheFoldersImu) {
+  const std::string folder = vocal_test::makeTempFolder("cli_imu");
+  RunResult r = runTool("generate_synthetic_sequence " + folder + "/seq --frames 12 --width 160 --height 120 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("simulate_imu " + folder + "/seq/groundtruth.txt " + folder + "/imu --seed 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("samples (200 Hz, gyro bias"), std::string::npos) << r.output;
+  r = runTool("tum_odometry " + folder + "/seq --output " + folder + "/with.txt --imu " + folder + "/imu/imu.txt --imu-extrinsics " +
+              folder + "/imu/imu_extrinsics.yaml --delta 0.1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("at 200 Hz, camera in the IMU frame from " + folder + "/imu/imu_extrinsics.yaml"), std::string::npos) << r.output;
+  const std::map<std::string, double> metrics = parseMetrics(r.output);
+  EXPECT_EQ(metrics.at("imu_priors"), 11.0);
+  EXPECT_EQ(metrics.at("imu_gaps"), 0.0);
+
+  r = runTool("tum_odometry " + folder + "/seq --output " + folder + "/with.txt --imu " + folder + "/imu/imu.txt");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "tum_odometry: error: " + folder +
+                          "/imu/imu.txt: the IMU's pose in the camera is needed: --imu-extrinsics FILE (imu_extrinsics.yaml, README)\n");
+  r = runTool("tum_odometry " + folder + "/seq --output " + folder + "/without.txt --quiet");
+  EXPECT_NE(r.output.find("imu: none (no imu.txt in the folder, no --imu)"), std::string::npos) << r.output;
+
+  r = runTool("tum_to_bag " + folder + "/seq " + folder + "/imu.bag --layout openni2 --imu " + folder + "/imu --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  rosbag::Bag bag(folder + "/imu.bag", rosbag::bagmode::Read);
+  std::size_t imu_messages = 0;
+  bool imu_on_tf = false;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == vocal::kImuTopic) {
+      const auto imu = m.instantiate<sensor_msgs::Imu>();
+      ASSERT_TRUE(imu);
+      EXPECT_EQ(imu->header.frame_id, "camera_imu_frame");
+      EXPECT_NE(imu->angular_velocity_covariance[0], -1.0);
+      ++imu_messages;
+    } else if (m.getTopic() == "/tf_static") {
+      const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+      ASSERT_TRUE(tf);
+      for (const auto& t : tf->transforms)
+        imu_on_tf = imu_on_tf || (t.header.frame_id == "camera_rgb_optical_frame" && t.child_frame_id == "camera_imu_frame");
+    }
+  }
+  EXPECT_EQ(imu_messages, vocal::readImuFile(folder + "/imu/imu.txt").size());
+  EXPECT_TRUE(imu_on_tf);
 }
