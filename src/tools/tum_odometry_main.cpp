@@ -97,7 +97,7 @@ int run(const vocal::CommandLine& args) {
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s; %s\n", frames, sequence.cameraSource().c_str(),
                vocal::odometryModeName(config.mode).c_str(), odometry.backend().name().c_str(),
                odometry.cameraModelText().c_str());
-  std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "imu: none (no imu.txt in the folder, no --imu)");
+  std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "no IMU (no imu.txt in the folder, no --imu)");
 
   if (args.has("start-from-ground-truth")) {
     if (!sequence.hasGroundTruth()) throw vocal::InputError(sequence.folder() + ": --start-from-ground-truth needs groundtruth.txt");

@@ -2,6 +2,7 @@
 // as openni2_launch would have recorded it.
 
 #include <cstdio>
+#include <string>
 
 #include "vocal/tools/command_line.h"
 #include "vocal/tools/tum_bag_writer.h"
@@ -38,8 +39,9 @@ int run(const vocal::CommandLine& args) {
         if (!quiet) std::fprintf(stderr, "\rwriting frame %zu/%zu", done, total);
       });
   if (!quiet) std::fprintf(stderr, "\n");
-  std::printf("wrote %zu frames, %zu ground-truth poses, %zu accelerometer samples and %zu IMU samples to %s\n", summary.frames,
-              summary.ground_truth_poses, summary.accelerometer_samples, summary.imu_samples, args.positional()[1].c_str());
+  const std::string imu = summary.imu_samples ? " (and " + std::to_string(summary.imu_samples) + " IMU samples on /camera/imu)" : "";
+  std::printf("wrote %zu frames, %zu ground-truth poses and %zu accelerometer samples%s to %s\n", summary.frames,
+              summary.ground_truth_poses, summary.accelerometer_samples, imu.c_str(), args.positional()[1].c_str());
   return 0;
 }
 }  // namespace
