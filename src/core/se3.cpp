@@ -29,24 +29,28 @@ Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& w) {
 }
 }  // namespace
 
-Eigen::Isometry3d se3Exp(const Vector6d& twist) {
-  const Eigen::Vector3d v = twist.head<3>();
-  const Eigen::Vector3d w = twist.tail<3>();
+Eigen::Matrix3d so3Exp(const Eigen::Vector3d& w) {
   const double theta = w.norm();
+  // First-order quaternion near zero; AngleAxis cannot normalise a zero axis.
+  if (theta < 1e-12) return Eigen::Quaterniond(1.0, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z()).normalized().toRotationMatrix();
+  return Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
+}
+
+Eigen::Vector3d so3Log(const Eigen::Matrix3d& rotation) {
+  const Eigen::AngleAxisd aa(rotation);
+  return aa.axis() * aa.angle();
+}
+
+Eigen::Isometry3d se3Exp(const Vector6d& twist) {
+  const Eigen::Vector3d w = twist.tail<3>();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  if (theta < 1e-12) {
-    // First-order quaternion; AngleAxis cannot normalise a zero axis.
-    pose.linear() = Eigen::Quaterniond(1.0, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z()).normalized().toRotationMatrix();
-  } else {
-    pose.linear() = Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
-  }
-  pose.translation() = leftJacobian(w) * v;
+  pose.linear() = so3Exp(w);
+  pose.translation() = leftJacobian(w) * twist.head<3>();
   return pose;
 }
 
 Vector6d se3Log(const Eigen::Isometry3d& pose) {
-  const Eigen::AngleAxisd aa(pose.rotation());
-  const Eigen::Vector3d w = aa.axis() * aa.angle();
+  const Eigen::Vector3d w = so3Log(pose.rotation());
   Vector6d twist;
   twist.head<3>() = leftJacobian(w).inverse() * pose.translation();
   twist.tail<3>() = w;

@@ -2,17 +2,11 @@
 
 #include <algorithm>
 
-#include <Eigen/Geometry>
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
 namespace {
-Eigen::Matrix3d so3Exp(const Eigen::Vector3d& w) {
-  const double angle = w.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-}
-
 // The rate at `t` between the samples around it (the nearest at the ends).
 Eigen::Vector3d rateAt(const std::vector<ImuSample>& samples, double t) {
   const auto after = std::lower_bound(samples.begin(), samples.end(), t, [](const ImuSample& s, double stamp) { return s.stamp < stamp; });

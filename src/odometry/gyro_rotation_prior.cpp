@@ -4,18 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-#include <Eigen/Geometry>
-
+#include "vocal/core/se3.h"
 #include "vocal/odometry/gyro_preintegration.h"
 
 namespace vocal {
-
-namespace {
-Eigen::Vector3d so3Log(const Eigen::Matrix3d& rotation) {
-  const Eigen::AngleAxisd aa(rotation);
-  return aa.angle() * aa.axis();
-}
-}  // namespace
 
 GyroRotationPrior::GyroRotationPrior(const ImuExtrinsics& extrinsics, const GyroBiasOptions& options)
     : extrinsics_(extrinsics), options_(options) {
@@ -47,10 +39,6 @@ void GyroRotationPrior::forgetBefore(double camera_stamp) {
   const auto end = std::lower_bound(samples_.begin(), samples_.end(), keep_from,
                                     [](const ImuSample& s, double stamp) { return s.stamp < stamp; });
   if (end - samples_.begin() > 1) samples_.erase(samples_.begin(), end - 1);
-}
-
-bool GyroRotationPrior::covers(double camera_stamp) const {
-  return !samples_.empty() && samples_.back().stamp >= camera_stamp + extrinsics_.time_offset;
 }
 
 std::optional<RotationPrior> GyroRotationPrior::between(double t0, double t1, std::string* why) const {

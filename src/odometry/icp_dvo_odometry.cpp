@@ -101,8 +101,7 @@ namespace {
 // perturbation Exp(w) R, so dr/dw = R^T (r small); its information (the prior's covariance is of a
 // right perturbation of the current frame) added to the rotation block, as the other terms' are.
 void addRotationPrior(const RotationPrior& prior, const Eigen::Matrix3d& rotation, Matrix6d* A, Vector6d* b) {
-  const Eigen::AngleAxisd error(prior.rotation.transpose() * rotation);
-  const Eigen::Vector3d r = error.angle() * error.axis();
+  const Eigen::Vector3d r = so3Log(prior.rotation.transpose() * rotation);
   const Eigen::Matrix3d information = prior.covariance.inverse();
   A->bottomRightCorner<3, 3>() += rotation * information * rotation.transpose();
   b->tail<3>() -= rotation * information * r;

@@ -13,11 +13,6 @@
 namespace vocal {
 
 namespace {
-Eigen::Vector3d so3Log(const Eigen::Matrix3d& rotation) {
-  const Eigen::AngleAxisd aa(rotation);
-  return aa.angle() * aa.axis();
-}
-
 struct PathDerivatives {
   Eigen::Matrix3d rotation;       // world <- imu at t
   Eigen::Vector3d rate;           // rad/s, imu frame
@@ -61,8 +56,7 @@ PathDerivatives derivativesAt(const Trajectory& poses, double t, double half_win
     d.acceleration = 2.0 * (rhs_position * inverse).col(2);
     return d;
   }
-  d.rotation = centre * Eigen::AngleAxisd(rotation_fit.col(0).norm(), rotation_fit.col(0).norm() > 0 ? rotation_fit.col(0).normalized()
-                                                                                                    : Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  d.rotation = centre * so3Exp(rotation_fit.col(0));
   d.rate = rotation_fit.col(1);
   d.acceleration = 2.0 * position_fit.col(2);
   return d;

@@ -11,6 +11,10 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v);
 
+// Exponential and logarithm maps of SO(3): a rotation vector (axis times angle, radians) and back.
+Eigen::Matrix3d so3Exp(const Eigen::Vector3d& w);
+Eigen::Vector3d so3Log(const Eigen::Matrix3d& rotation);
+
 // Exponential and logarithm maps of SE(3) (closed form, stable near zero rotation).
 Eigen::Isometry3d se3Exp(const Vector6d& twist);
 Vector6d se3Log(const Eigen::Isometry3d& pose);

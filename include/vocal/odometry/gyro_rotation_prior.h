@@ -44,8 +44,6 @@ class GyroRotationPrior {
   // The camera's rotation from camera stamp t0 to t1 (each moved onto the IMU's clock by the time
   // offset); none when the samples do not cover the span (`why` says so).
   std::optional<RotationPrior> between(double t0, double t1, std::string* why = nullptr) const;
-  // Whether samples reach camera stamp t (a live frame waits for them).
-  bool covers(double camera_stamp) const;
 
   // A frame vision tracked: its keyframe's stamp, its own, and the rotation keyframe <- camera vision
   // alone measured (OdometryResult::vision_rotation). Each keyframe's longest span (up to max_span)
