@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,6 +23,7 @@
 #include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_backend.h"
+#include "vocal/simulation/blank_wall_visit.h"
 #include "vocal/simulation/simulated_imu.h"
 #include "vocal/simulation/synthetic_sequence.h"
 
@@ -378,5 +380,85 @@ TEST(OdometryWithGyro, AFastTurnIsTrackedFromTheGyrosStart) {
       EXPECT_LT(worst, 1.0 * M_PI / 180.0);
       EXPECT_LT(worst, 0.5 * worst_without);
     }
+  }
+}
+
+// The method's own limit: facing a blank wall (one untextured plane) vision holds three directions at
+// most. 10 s there, turning and moving, between two looks into the room: with the gyro every frame is
+// tracked, degraded while facing the wall (the two in-plane directions guessed, and marked so in the
+// covariance), tracking again once the room is back, the rotation within a degree throughout; without,
+// the frames at the wall are lost (the pose held while the camera turns), relocalised once the start's
+// view is back.
+TEST(OdometryWithGyro, ABlankWallIsCrossedOnTheGyroWithTheGuessedDirectionsMarked) {
+  vocal::BlankWallVisitOptions visit;
+  visit.frame_rate = 15.0;
+  const vocal::Trajectory path = vocal::generateBlankWallVisit(visit);
+  const auto [dwell_first, dwell_last] = vocal::blankWallDwell(visit);
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kBlankWall);
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(320, 240);
+  std::vector<vocal::RgbdFrame> frames;
+  for (std::size_t i = 0; i < path.size(); ++i)
+    frames.push_back(vocal::renderSyntheticFrame(scene, camera, path[i], vocal::kinectLikeSensorModel(), 500 + i));
+  vocal::SimulatedImuOptions imu_options;
+  imu_options.extrinsics = vocal::simulatedImuExtrinsics();
+  const std::vector<vocal::ImuSample> samples = vocal::simulateImu(path, imu_options);
+  vocal::OdometryConfig config;  // the defaults, but for a camera that renders every row at once
+  config.rolling_shutter_readout = 0.0;
+  config.depth_time_offset = 0.0;
+  const Eigen::Vector3d wall_normal = Eigen::Vector3d::UnitY();  // the panel's, in the world (= odometry frame)
+
+  double worst_at_the_wall_without = 0.0;
+  for (const bool gyro : {false, true}) {
+    vocal::IcpDvoOdometry odometry(camera, config);
+    odometry.reset(path.front().pose);
+    vocal::GyroRotationPrior imu(imu_options.extrinsics);
+    imu.add(samples);
+    int untracked = 0, dwell_frames = 0, dwell_untracked = 0, dwell_degraded = 0, tracking_at_the_end = 0;
+    double worst_at_the_wall = 0.0, worst_in_plane = 0.0, guessed_over_held = std::numeric_limits<double>::infinity();
+    vocal::OdometryResult result;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      std::optional<vocal::RotationPrior> prior;
+      if (gyro && i > 0) prior = imu.between(path[i - 1].stamp, path[i].stamp);
+      result = odometry.track(frames[i], prior ? &*prior : nullptr);
+      if (result.state == vocal::TrackingState::kTracking) {
+        imu.observe(result.keyframe_stamp, path[i].stamp, result.vision_rotation);
+      } else {
+        imu.breakWindow();
+      }
+      untracked += !result.quality.trusted;
+      if (i + 15 >= frames.size()) tracking_at_the_end += result.state == vocal::TrackingState::kTracking;
+      if (path[i].stamp < dwell_first || path[i].stamp > dwell_last) continue;
+      ++dwell_frames;
+      dwell_untracked += !result.quality.trusted;
+      worst_at_the_wall = std::max(worst_at_the_wall, angleBetween(result.pose.linear(), path[i].pose.linear()) * 180.0 / M_PI);
+      if (result.state != vocal::TrackingState::kDegraded || result.guessed_directions.cols() != 2) continue;
+      ++dwell_degraded;
+      // The pose covariance's translation block: the guessed directions against the wall's normal, which ICP holds.
+      const Eigen::Matrix3d position = result.pose_covariance.topLeftCorner<3, 3>();
+      for (int k = 0; k < 2; ++k) {
+        const Eigen::Vector3d u = result.guessed_directions.col(k);
+        worst_in_plane = std::max(worst_in_plane, std::abs(u.dot(wall_normal)));
+        guessed_over_held = std::min(guessed_over_held, u.dot(position * u) / wall_normal.dot(position * wall_normal));
+      }
+    }
+    const double end_error = angleBetween(result.pose.linear(), path.back().pose.linear()) * 180.0 / M_PI;
+    std::printf("%s the gyro: %d of %zu frames not tracked (%d of %d at the wall), rotation off by up to %.2f deg at the wall, "
+                "%.2f deg at the end, position by %.3f m\n", gyro ? "with" : "without", untracked, frames.size(), dwell_untracked,
+                dwell_frames, worst_at_the_wall, end_error, (result.pose.translation() - path.back().pose.translation()).norm());
+    EXPECT_EQ(tracking_at_the_end, 15) << "tracking picks up when the room is back";
+    if (!gyro) {
+      worst_at_the_wall_without = worst_at_the_wall;
+      EXPECT_GT(dwell_untracked, 0.8 * dwell_frames) << "vision alone cannot hold the wall";
+      continue;
+    }
+    std::printf("with the gyro: %d of %d frames at the wall degraded, guessed directions within %.3f of the wall's plane, "
+                "their variance at least %.0fx the normal's\n", dwell_degraded, dwell_frames, worst_in_plane, guessed_over_held);
+    EXPECT_EQ(untracked, 0);
+    EXPECT_GE(dwell_degraded, 0.9 * dwell_frames);
+    EXPECT_LT(worst_in_plane, 0.2);
+    EXPECT_GT(guessed_over_held, 100.0);
+    EXPECT_LT(worst_at_the_wall, 1.0);
+    EXPECT_LT(end_error, 1.0);
+    EXPECT_LT(worst_at_the_wall, 0.2 * worst_at_the_wall_without);
   }
 }

@@ -9,6 +9,7 @@
 #include "vocal/core/image_io.h"
 #include "vocal/core/se3.h"
 #include "vocal/core/tum_sequence.h"
+#include "vocal/simulation/blank_wall_visit.h"
 #include "vocal/simulation/synthetic_sequence.h"
 
 using vocal_test::makeTempFolder;
@@ -166,7 +167,7 @@ TEST(SyntheticSequence, VariantsHaveTheStructureTheyPromise) {
     return unique.size();
   };
   for (vocal::SceneVariant variant :
-       {vocal::SceneVariant::kIndoorRoom, vocal::SceneVariant::kTexturedWall, vocal::SceneVariant::kBareRoom}) {
+       {vocal::SceneVariant::kIndoorRoom, vocal::SceneVariant::kTexturedWall, vocal::SceneVariant::kBareRoom, vocal::SceneVariant::kBlankWall}) {
     const vocal::SyntheticScene scene = vocal::SyntheticScene::make(variant);
     vocal::SyntheticTrajectoryOptions trajectory_options;
     trajectory_options.frames = 150;
@@ -176,12 +177,13 @@ TEST(SyntheticSequence, VariantsHaveTheStructureTheyPromise) {
       const vocal::RenderedView view = scene.render(camera, path[k].pose);
       const auto valid = std::count_if(view.depth.pixels().begin(), view.depth.pixels().end(), vocal::isValidDepth);
       EXPECT_EQ(valid, static_cast<long>(view.depth.size())) << "every ray hits a surface";
-      if (variant == vocal::SceneVariant::kBareRoom) {
-        EXPECT_LE(colours(view.color), 20u) << "untextured: one shade per surface orientation";
+      if (variant == vocal::SceneVariant::kBareRoom || variant == vocal::SceneVariant::kBlankWall) {
+        // The blank wall's workspace faces the panel: one untextured plane fills the view.
+        EXPECT_LE(colours(view.color), variant == vocal::SceneVariant::kBlankWall ? 1u : 20u) << "untextured: one shade per surface orientation";
       } else {
         EXPECT_GT(colours(view.color), 1000u) << "textured";
       }
-      if (variant == vocal::SceneVariant::kTexturedWall) {
+      if (variant == vocal::SceneVariant::kTexturedWall || variant == vocal::SceneVariant::kBlankWall) {
         // One plane: inverse depth is affine in the pixel coordinates everywhere.
         const auto& d = view.depth;
         for (int v = 0; v + 1 < d.height(); v += 7)
@@ -191,6 +193,42 @@ TEST(SyntheticSequence, VariantsHaveTheStructureTheyPromise) {
     }
   }
   EXPECT_THROW(vocal::parseSceneVariant("garden"), vocal::InputError);
+}
+
+// The blank wall visit: the room (textured, many colours) before and after, the panel alone (one colour,
+// one plane) all through the dwell, at the requested rate; bad spans refused.
+TEST(BlankWallVisit, FacesThePanelAloneThroughTheDwellAndTheRoomAroundIt) {
+  const vocal::SyntheticScene scene = vocal::SyntheticScene::make(vocal::SceneVariant::kBlankWall);
+  const vocal::PinholeCamera camera = vocal::defaultKinectCamera(80, 60);
+  vocal::BlankWallVisitOptions options;
+  options.frame_rate = 10.0;
+  const vocal::Trajectory path = vocal::generateBlankWallVisit(options);
+  EXPECT_EQ(path.size(), 181u);  // 4 + 1 + 10 + 1 + 2 s at 10 Hz, both ends
+  EXPECT_NEAR(path[1].stamp - path[0].stamp, 0.1, 1e-6);
+  const auto [first, last] = vocal::blankWallDwell(options);
+  EXPECT_DOUBLE_EQ(first, options.start_stamp + 5.0);
+  EXPECT_DOUBLE_EQ(last, options.start_stamp + 15.0);
+  const int panel = static_cast<int>(scene.surfaces().size()) - 1;
+  for (const vocal::StampedPose& pose : path) {
+    const bool dwelling = pose.stamp >= first && pose.stamp <= last;
+    const bool in_room = pose.stamp < first - options.turn_seconds || pose.stamp > last + options.turn_seconds;
+    int on_panel = 0, hits = 0;
+    for (int v = 0; v < camera.height; v += 4) {
+      for (int u = 0; u < camera.width; u += 4) {
+        const Eigen::Vector3d ray = pose.pose.linear() * Eigen::Vector3d((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+        double t = 0.0;
+        int surface = -1;
+        if (!scene.intersect(pose.pose.translation(), ray, &t, &surface)) continue;
+        ++hits;
+        on_panel += surface == panel;
+      }
+    }
+    ASSERT_GT(hits, 0);
+    if (dwelling) EXPECT_EQ(on_panel, hits) << "at " << pose.stamp - options.start_stamp << " s the view leaves the panel";
+    if (in_room) EXPECT_LT(on_panel, hits / 3) << "at " << pose.stamp - options.start_stamp << " s the panel blocks the room";
+  }
+  options.turn_seconds = 0.0;
+  EXPECT_THROW(vocal::generateBlankWallVisit(options), vocal::InputError);
 }
 
 TEST(SyntheticTrajectory, MovesAtTheRequestedSpeedAndRate) {

@@ -102,7 +102,7 @@ TEST(ToolsCli, BadInputGivesOneClearLine) {
 
   r = runTool("generate_synthetic_sequence " + folder + "/x --scene garden");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.output, "generate_synthetic_sequence: error: scene 'garden' is unknown: expected room, wall or bare_room\n");
+  EXPECT_EQ(r.output, "generate_synthetic_sequence: error: scene 'garden' is unknown: expected room, wall, bare_room or blank_wall\n");
 
   r = runTool("generate_synthetic_sequence " + folder + "/x --frames many");
   EXPECT_EQ(r.exit_code, 1);

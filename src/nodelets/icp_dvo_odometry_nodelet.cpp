@@ -69,6 +69,16 @@ void copyCovariance(const Matrix6d& covariance, boost::array<double, 36>* out) {
 
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) { return tf2::toMsg(pose); }
 
+// How bad a state is, for the worst since the last diagnostics report.
+int severity(TrackingState state) {
+  switch (state) {
+    case TrackingState::kLost: return 3;
+    case TrackingState::kPredicted: return 2;
+    case TrackingState::kDegraded: return 1;
+    default: return 0;
+  }
+}
+
 // One synchronised frame waiting for the worker.
 struct PendingFrame {
   ImageMsg::ConstPtr rgb, depth;
@@ -433,9 +443,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     last_stamp_ = rgb.header.stamp;
     state_ = result.state;
     lost_frames_ = result.lost_frames;
-    if (result.state == TrackingState::kLost || (result.state == TrackingState::kPredicted && worst_since_report_ != TrackingState::kLost)) {
-      worst_since_report_ = result.state;
-    }
+    if (severity(result.state) > severity(worst_since_report_)) worst_since_report_ = result.state;
     keyframe_id_ = result.keyframe_id;
     keyframes_ += result.new_keyframe;
     window_links_ += result.window_links;
@@ -451,6 +459,11 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       ++frames_tracked_;
       last_problem_.clear();
       quality_ = result.quality;
+      if (result.state == TrackingState::kDegraded) {
+        ++frames_degraded_;
+        last_degraded_ = result.degraded;
+        NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: degraded: " << result.degraded);
+      }
       if (result.state == TrackingState::kRelocalised) {
         ++relocalisations_;
         NODELET_INFO_STREAM("IcpDvoOdometry: " << trackingEvent(result));
@@ -477,8 +490,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       odom.twist.twist.angular.x = twist[3], odom.twist.twist.angular.y = twist[4], odom.twist.twist.angular.z = twist[5];
       // Measured only while tracking: a predicted motion was assumed, and a relocalised frame's increment
       // also holds the correction of the prediction before it.
-      const Matrix6d twist_covariance = result.state == TrackingState::kTracking
-                                            ? Matrix6d(to_base * result.covariance * to_base.transpose() / (dt * dt))
+      const bool measured = result.state == TrackingState::kTracking || result.state == TrackingState::kDegraded;
+      const Matrix6d twist_covariance = measured ? Matrix6d(to_base * result.covariance * to_base.transpose() / (dt * dt))
                                             : Matrix6d(Matrix6d::Identity() * 1e6);
       copyCovariance(twist_covariance, &odom.twist.covariance);
     }
@@ -609,6 +622,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       message << (state_ == TrackingState::kLost ? "lost" : "predicting from the last motion") << " for " << lost_frames_
               << " frames: " << last_problem_;
       status.summary(state_ == TrackingState::kLost ? DiagnosticStatus::ERROR : DiagnosticStatus::WARN, message.str());
+    } else if (state_ == TrackingState::kDegraded) {
+      // Vision holds only some directions (a blank wall, one plane, darkness): the gyro and the motion
+      // model the rest, which the odometry's covariance marks.
+      status.summary(DiagnosticStatus::WARN, "degraded: " + last_degraded_);
     } else if (!skip_warning.empty()) {
       status.summary(DiagnosticStatus::WARN, skip_warning);
     } else if (!last_problem_.empty()) {
@@ -639,6 +656,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);
     status.add("frames predicted", frames_predicted_);
+    status.add("frames degraded (vision held only some directions)", frames_degraded_);
     status.add("tracking state", trackingStateName(state_));
     // A loss shorter than the report period would otherwise go unseen by whoever watches diagnostics.
     status.add("worst state since last report", trackingStateName(worst_since_report_));
@@ -701,7 +719,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   std::unique_ptr<IcpDvoOdometry> odometry_;
   std::unique_ptr<VoxelCloudMap> fused_map_;
-  std::string backend_name_, last_problem_;
+  std::string backend_name_, last_problem_, last_degraded_;
   ros::Time last_stamp_;
   nav_msgs::Path path_;
   static constexpr std::size_t kMaxPathPoses = 4096;
@@ -717,9 +735,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::size_t frames_processed_ = 0, frames_tracked_ = 0, frames_lost_ = 0, frames_dropped_ = 0, frames_out_of_order_ = 0,
               resets_ = 0, time_jumps_back_ = 0, frames_received_at_watchdog_ = 0;
   // Tracking loss: frames_lost_ counts every frame not tracked, of which these were predicted.
-  std::size_t frames_predicted_ = 0, relocalisations_ = 0, keyframes_ = 0, window_links_ = 0, window_links_skipped_ = 0;
+  std::size_t frames_predicted_ = 0, frames_degraded_ = 0, relocalisations_ = 0, keyframes_ = 0, window_links_ = 0, window_links_skipped_ = 0;
   TrackingState state_ = TrackingState::kTracking;
-  TrackingState worst_since_report_ = TrackingState::kTracking;  // lost > predicted > tracking, since the last diagnostics
+  TrackingState worst_since_report_ = TrackingState::kTracking;  // lost > predicted > degraded > tracking, since the last diagnostics
   int lost_frames_ = 0, keyframe_id_ = 0;
   double processing_seconds_ = 0.0;
   StageTimes stage_sums_;

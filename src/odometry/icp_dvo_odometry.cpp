@@ -28,6 +28,14 @@ constexpr double kLostVariance = 1e6;
 // The share of a window's correction of the estimate the published pose takes in per frame: most of
 // it within ten frames, no step a jump.
 constexpr double kCorrectionSharePerFrame = 0.2;
+// The motion model a degraded frame's free translation comes from: constant velocity, its speed fading
+// with this time constant (a hand-held camera or a robot does not keep a speed for long unseen), off by
+// an acceleration of this much (the solve's information), and by this much speed per second of guessing
+// (the covariance: a hand-held camera's speed is 0.2-0.4 m/s on TUM's freiburg1, which the guess may
+// miss entirely).
+constexpr double kGuessedSpeedTimeConstant = 1.0;  // seconds
+constexpr double kGuessedAcceleration = 2.0;       // m/s^2
+constexpr double kGuessedSpeedSigma = 0.3;         // m/s
 }  // namespace
 
 IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig& config,
@@ -65,11 +73,13 @@ void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   unpublished_correction_ = Eigen::Isometry3d::Identity();
   if (window_) window_->clear();
   pose_covariance_.setZero();
+  guessed_covariance_.setZero();
 }
 
 std::string trackingStateName(TrackingState state) {
   switch (state) {
     case TrackingState::kTracking: return "tracking";
+    case TrackingState::kDegraded: return "degraded";
     case TrackingState::kRelocalised: return "relocalised";
     case TrackingState::kPredicted: return "predicted";
     case TrackingState::kLost: return "lost";
@@ -106,11 +116,53 @@ void addRotationPrior(const RotationPrior& prior, const Eigen::Matrix3d& rotatio
   A->bottomRightCorner<3, 3>() += rotation * information * rotation.transpose();
   b->tail<3>() -= rotation * information * r;
 }
+
+// The translation directions vision does not hold. The translation block's information with the
+// rotation eliminated (the gyro holds it) is split into directions; one with less than
+// kMinTranslationShare of the total is free. Asked at the coarsest level only: there a plane's normals
+// are smooth and its in-plane share is 0.4-1.0 % (synthetic wall, Kinect noise), where the real TUM
+// sequences' weakest direction keeps 3.4 % or more; at the finer levels the wall's noisy normals put
+// 1.3-3.5 % there, information that is noise and biased (ICP facing one wall slides along it at 0.3 m/s).
+constexpr double kMinTranslationShare = 0.015;
+
+Eigen::Matrix3Xd freeTranslationDirections(const Matrix6d& A) {
+  const Eigen::Matrix3d tr = A.topRightCorner<3, 3>();
+  const Eigen::Matrix3d held_rotation = A.topLeftCorner<3, 3>() - tr * A.bottomRightCorner<3, 3>().ldlt().solve(tr.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(held_rotation);
+  const double total = eigen.eigenvalues().sum();
+  Eigen::Matrix3Xd free(3, 0);
+  for (int i = 0; i < 3; ++i) {
+    if (total > 0.0 && std::isfinite(total) && eigen.eigenvalues()[i] >= kMinTranslationShare * total) continue;
+    free.conservativeResize(3, free.cols() + 1);
+    free.col(free.cols() - 1) = eigen.eigenvectors().col(i);
+  }
+  return free;
+}
+
+// The motion model's translation t_guess where vision is degraded: along the free directions vision's
+// information is taken out (rows and columns projected away) and the guess's put in; along the others
+// the guess is added beside vision's, which near a blank wall is thin and may be biased (a frame that
+// still sees a strip of the room slid 4 cm along it). Not on frames vision fully holds: on the real TUM
+// sequences a guess beside every frame made fr1_rpy's ATE worse than no gyro (0.0167 against 0.0164).
+// The residual t - t_guess moves under the left perturbation by v + w x t: its Jacobian is [I, -[t]x].
+// `added`: the guess's information.
+void addTranslationGuess(const Eigen::Matrix3Xd& free, const Eigen::Vector3d& guess, double guess_information,
+                         const Eigen::Vector3d& translation, Matrix6d* A, Vector6d* b, Matrix6d* added) {
+  Matrix6d keep = Matrix6d::Identity();
+  keep.topLeftCorner<3, 3>() -= free * free.transpose();
+  *A = keep * *A * keep;
+  *b = keep * *b;
+  Eigen::Matrix<double, 3, 6> J;
+  J << Eigen::Matrix3d::Identity(), -skew(translation);
+  *added = guess_information * J.transpose() * J;
+  *A += *added;
+  *b -= guess_information * J.transpose() * (translation - guess);
+}
 }  // namespace
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference, const RgbdFrame& current,
                                                      const Eigen::Isometry3d& start, const Eigen::Isometry3d& last,
-                                                     OdometryBackend* backend, const RotationPrior* prior) {
+                                                     OdometryBackend* backend, const MotionPrior* prior) {
   if (!backend) backend = backend_.get();
   // The window's backend runs beside tracking: its loops on its own threads (if any), never on tracking's.
   WorkerPool* workers = backend == backend_.get() ? workers_ : backend->workers();
@@ -136,10 +188,26 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
       backend->trackingSystems(level, T, config_.rgb_huber_factor * rgb_sigma, brightness, use_icp ? &icp : nullptr,
                                 use_rgb ? &rgb : nullptr);
       if (rgb.count > 0) rgb_sigma = rgb.rmse();
+      bool icp_left_out = false, rgb_left_out = false;
+      if (prior) {
+        // With a gyro a term too thin to trust is left out (the priors carry what it would have said),
+        // where without one the frame fails the inlier checks below.
+        const int shrink = 2 * level;  // the minima are for the finest level: a quarter per level above
+        icp_left_out = use_icp && icp.count < (config_.min_icp_inliers >> shrink);
+        rgb_left_out = use_rgb && rgb.count < (config_.min_rgb_inliers >> shrink);
+        std::ostringstream left_out;
+        if (icp_left_out) left_out << "ICP term left out: too few inliers (" << icp.count << " < " << (config_.min_icp_inliers >> shrink) << ")";
+        if (rgb_left_out) {
+          left_out << (icp_left_out ? "; " : "") << "photometric term left out: too few inliers (" << rgb.count << " < "
+                   << (config_.min_rgb_inliers >> shrink) << ")";
+        }
+        solve.terms_left_out = left_out.str();
+        solve.residual_term_left_out = config_.mode == OdometryMode::kIcp ? icp_left_out : rgb_left_out;
+      }
       // Each term is scaled by the inverse variance of its residuals (the fused system is then the
       // information of both); rgb_weight scales the photometric term on top.
-      const double icp_scale = use_icp && icp.count > 0 ? 1.0 / std::max(icp.squared_residual_sum / icp.count, kMinIcpVariance) : 0.0;
-      const double rgb_scale = use_rgb && rgb.count > 0
+      const double icp_scale = use_icp && !icp_left_out && icp.count > 0 ? 1.0 / std::max(icp.squared_residual_sum / icp.count, kMinIcpVariance) : 0.0;
+      const double rgb_scale = use_rgb && !rgb_left_out && rgb.count > 0
                                    ? (use_icp ? config_.rgb_weight : 1.0) / std::max(rgb.squared_residual_sum / rgb.count, kMinRgbVariance)
                                    : 0.0;
       Matrix6d A = icp_scale * icp.A + rgb_scale * rgb.A;
@@ -148,13 +216,19 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
         // Where vision alone would step from here: the motion a gyro's bias is measured against.
         const Vector6d vision_step = A.ldlt().solve(b);
         if (vision_step.allFinite()) solve.vision_only = se3Exp(vision_step) * T;
-        addRotationPrior(*prior, T.linear(), &A, &b);
+        addRotationPrior(prior->rotation, T.linear(), &A, &b);
+        if (level == config_.levels - 1) solve.guessed = freeTranslationDirections(A);  // then held for the finer levels
+        solve.guess_information.setZero();
+        if (solve.guessed.cols() > 0 || icp_left_out || rgb_left_out) {
+          addTranslationGuess(solve.guessed, prior->translation, prior->translation_information, T.translation(), &A, &b,
+                              &solve.guess_information);
+        }
       }
       last_icp = icp;
       last_rgb = rgb;
       solve.information = A;
       last_count = icp.count + rgb.count;
-      if (last_count < 6) break;  // nothing to solve at this level
+      if (last_count < 6 && !prior) break;  // nothing to solve at this level
       const Vector6d x = A.ldlt().solve(b);
       if (!x.allFinite()) break;
       T = se3Exp(x) * T;
@@ -185,9 +259,10 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
 
   const Eigen::Isometry3d jump = last.inverse() * T;
   std::ostringstream failure;
-  if (use_icp && q.icp_inliers < config_.min_icp_inliers) {
+  // With a prior the terms too thin were left out, the priors filling what they leave free.
+  if (!prior && use_icp && q.icp_inliers < config_.min_icp_inliers) {
     failure << "too few ICP inliers (" << q.icp_inliers << " < " << config_.min_icp_inliers << ")";
-  } else if (use_rgb && q.rgb_inliers < config_.min_rgb_inliers) {
+  } else if (!prior && use_rgb && q.rgb_inliers < config_.min_rgb_inliers) {
     failure << "too few photometric inliers (" << q.rgb_inliers << " < " << config_.min_rgb_inliers << ")";
   } else if (!(q.condition <= config_.max_condition)) {
     failure << "the system is degenerate (condition " << q.condition << " > " << config_.max_condition
@@ -205,7 +280,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
 bool IcpDvoOdometry::suspicious(const DenseSolve& solve) const {
   // Without a running level (the first pair) a wrong minimum cannot be told apart: ask the features.
   if (!solve.failure.empty() || residual_level_ <= 0.0) return true;
-  return residualLevelOf(solve.quality) > config_.feature_fallback_residual_ratio * residual_level_;
+  return !solve.residual_term_left_out && residualLevelOf(solve.quality) > config_.feature_fallback_residual_ratio * residual_level_;
 }
 
 void IcpDvoOdometry::pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame) {
@@ -249,6 +324,7 @@ void IcpDvoOdometry::addKeyframe(const RgbdFrame& frame, std::shared_ptr<const F
   keyframe->features = std::move(features);
   keyframe->pose = pose_;
   keyframe->pose_covariance = pose_covariance_;
+  guessed_covariance_.setZero();  // now in the keyframe's
   keyframes_.push_back(keyframe);
   while (static_cast<int>(keyframes_.size()) > config_.keyframes_kept) keyframes_.pop_front();
   active_ = std::move(keyframe);
@@ -258,7 +334,7 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
   if (config_.tracking_reference == TrackingReference::kFrame) return true;
   const bool overlap_lost =
       keyframe.first_inliers > 0 && inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers;
-  const bool fit_lost = keyframe.first_residual > 0.0 &&
+  const bool fit_lost = keyframe.first_residual > 0.0 && !solve.residual_term_left_out &&
                         residualLevelOf(solve.quality) > config_.keyframe_max_residual_growth * keyframe.first_residual;
   const bool unconverged = config_.keyframe_after_unconverged && !solve.quality.converged;
   return overlap_lost || fit_lost || unconverged || solve.increment.translation().norm() > config_.keyframe_max_translation ||
@@ -266,7 +342,7 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
 }
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
-                                                              const RotationPrior* prior, std::shared_ptr<const FrameFeatures>* features,
+                                                              const MotionPrior* prior, std::shared_ptr<const FrameFeatures>* features,
                                                               OdometryResult* result) {
   auto clock = std::chrono::steady_clock::now();
   // The motion the features agree on (extracting those not extracted yet), asked for at most once.
@@ -328,7 +404,10 @@ void IcpDvoOdometry::rejectWrongMinimum(const std::optional<Eigen::Isometry3d>& 
   if (!solve->failure.empty()) return;
   std::ostringstream failure;
   const double residual = residualLevelOf(solve->quality);
-  if (residual_level_ > 0.0) {
+  if (solve->residual_term_left_out) {
+    // The term the level is of was left out (too few inliers, a gyro holding the motion): its residual,
+    // over a few hundred pixels at a blank wall's edge, says nothing of a wrong minimum.
+  } else if (residual_level_ > 0.0) {
     if (residual > config_.wrong_minimum_residual_ratio * residual_level_) {
       failure << "a wrong minimum: the " << (config_.mode == OdometryMode::kIcp ? "ICP" : "photometric") << " RMSE "
               << residual << " is " << residual / residual_level_ << "x the running level (> "
@@ -544,11 +623,20 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   // (measured on noisy synthetic frames: ATE 30 mm with it, 0.1 mm without; docs/benchmarks.md).
   Eigen::Isometry3d predicted =
       config_.tracking_reference == TrackingReference::kFrame ? active_from_last_ * velocity_ : active_from_last_;
-  // With a gyro the rotation is predicted from it, and held to it with its information.
-  std::optional<RotationPrior> prior;
+  // With a gyro the rotation is predicted from it, and held to it with its information; the motion
+  // model's translation stands by for directions vision leaves free.
+  std::optional<MotionPrior> prior;
   if (gyro && config_.imu_weight > 0.0) {
-    prior = RotationPrior{active_from_last_.linear() * gyro->rotation, gyro->covariance / config_.imu_weight};
-    predicted.linear() = prior->rotation;
+    prior.emplace();
+    prior->rotation = RotationPrior{active_from_last_.linear() * gyro->rotation, gyro->covariance / config_.imu_weight};
+    predicted.linear() = prior->rotation.rotation;
+    const double dt = since_last > 0.0 ? since_last : velocity_seconds_;
+    const Vector6d step = velocity_seconds_ > 0.0 ? Vector6d(se3Log(velocity_) * (dt / velocity_seconds_) *
+                                                             std::exp(-dt / kGuessedSpeedTimeConstant))
+                                                  : Vector6d::Zero();
+    prior->translation = (active_from_last_ * se3Exp(step)).translation();
+    const double sigma = std::max(kGuessedAcceleration * dt * dt, 1e-3);
+    prior->translation_information = config_.imu_weight / (sigma * sigma);
   }
   DenseSolve solve = trackAgainstActive(frame, predicted, prior ? &*prior : nullptr, &features, &result);
   const bool relocalised = !solve.failure.empty() && config_.relocalisation && relocalise(frame, &features, &solve, &result);
@@ -587,10 +675,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
 
   Keyframe& keyframe = *active_;
   const Eigen::Isometry3d& T = solve.increment;  // keyframe <- current
-  result.state = relocalised || lost_frames_ > 0 ? TrackingState::kRelocalised : TrackingState::kTracking;
+  const bool degraded = solve.guessed.cols() > 0 || !solve.terms_left_out.empty();
+  result.state = relocalised || lost_frames_ > 0 ? TrackingState::kRelocalised
+                 : degraded                      ? TrackingState::kDegraded
+                                                 : TrackingState::kTracking;
   result.lost_frames = lost_frames_;
   // After a loss the last motion is kept: the pose before it was a prediction.
-  if (result.state == TrackingState::kTracking) {
+  if (result.state == TrackingState::kTracking || result.state == TrackingState::kDegraded) {
     velocity_ = active_from_last_.inverse() * T;
     velocity_seconds_ = since_last;
     if (!keyframe.unrectified.color.empty() && velocity_seconds_ > 0.0) {
@@ -604,15 +695,49 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     }
   }
   lost_frames_ = 0;
-  // The running residual level a wrong minimum stands out from (an average over about ten frames).
+  // The running residual level a wrong minimum stands out from (an average over about ten frames); a
+  // degraded frame's (a blank wall's) says nothing of the level where vision works.
   const double residual = residualLevelOf(solve.quality);
-  residual_level_ = residual_level_ > 0.0 ? 0.9 * residual_level_ + 0.1 * residual : residual;
+  if (!degraded) residual_level_ = residual_level_ > 0.0 ? 0.9 * residual_level_ + 0.1 * residual : residual;
   result.quality.trusted = true;
-  result.covariance = solve.information.inverse();
+  // The motion model's guess enters the covariance with its own information, not the weight the solve
+  // gave it against the dense terms; each degraded frame adds a speed's uncertainty along the guessed
+  // directions (the guess errs the more, the longer it lasts).
+  const double weight = config_.imu_weight > 0.0 ? config_.imu_weight : 1.0;
+  result.covariance = (solve.information - solve.guess_information * (1.0 - 1.0 / weight)).inverse();
   // pose = keyframe pose * T: T's left perturbation moves into the odometry frame through the keyframe
   // pose's adjoint; the keyframe's own uncertainty adds (drift grows per keyframe, not per frame).
   const Matrix6d to_odometry = adjoint(keyframe.pose);
-  pose_covariance_ = keyframe.pose_covariance + to_odometry * result.covariance * to_odometry.transpose();
+  if (degraded) {
+    const double step_sigma = kGuessedSpeedSigma * (since_last > 0.0 ? since_last : velocity_seconds_);
+    result.guessed_directions = keyframe.pose.linear() * solve.guessed;
+    for (int i = 0; i < result.guessed_directions.cols(); ++i) {
+      Vector6d direction = Vector6d::Zero();
+      direction.head<3>() = result.guessed_directions.col(i);
+      guessed_covariance_ += step_sigma * step_sigma * direction * direction.transpose();
+    }
+    std::ostringstream text;
+    text << "vision constrains " << 3 - solve.guessed.cols() << " of 3 translation directions";
+    if (solve.guessed.cols() > 0) {
+      text << ", the motion model guesses " << solve.guessed.cols() << " (odometry frame:";
+      for (int i = 0; i < result.guessed_directions.cols(); ++i) {
+        text << std::fixed << std::setprecision(2) << (i ? "; " : " ") << result.guessed_directions(0, i) << " "
+             << result.guessed_directions(1, i) << " " << result.guessed_directions(2, i);
+      }
+      text << ")";
+    }
+    text << ", the gyro holds the rotation";
+    if (!solve.terms_left_out.empty()) text << "; " << solve.terms_left_out;
+    result.degraded = text.str();
+  }
+  pose_covariance_ = keyframe.pose_covariance + to_odometry * result.covariance * to_odometry.transpose() + guessed_covariance_;
+  // The motion's own covariance says the guess too: a speed's uncertainty over this frame's time.
+  for (int i = 0; i < solve.guessed.cols(); ++i) {
+    Vector6d direction = Vector6d::Zero();
+    direction.head<3>() = solve.guessed.col(i);
+    const double step_sigma = kGuessedSpeedSigma * (since_last > 0.0 ? since_last : velocity_seconds_);
+    result.covariance += step_sigma * step_sigma * direction * direction.transpose();
+  }
   pose_ = keyframe.pose * T;
   active_from_last_ = T;
   result.keyframe_stamp = keyframe.frame.stamp;
@@ -620,7 +745,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   result.pose_covariance = pose_covariance_;
   if (keyframe.first_inliers == 0) {
     keyframe.first_inliers = inliersOf(solve.quality);
-    keyframe.first_residual = residual;
+    keyframe.first_residual = solve.residual_term_left_out ? 0.0 : residual;
   }
   if (keyframeWornOut(keyframe, solve)) {
     const int tracked_against = keyframe.id;  // `keyframe` may leave the kept ones now

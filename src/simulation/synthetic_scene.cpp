@@ -84,7 +84,8 @@ SceneVariant parseSceneVariant(const std::string& name) {
   if (name == "room") return SceneVariant::kIndoorRoom;
   if (name == "wall") return SceneVariant::kTexturedWall;
   if (name == "bare_room") return SceneVariant::kBareRoom;
-  throw InputError("scene '" + name + "' is unknown: expected room, wall or bare_room");
+  if (name == "blank_wall") return SceneVariant::kBlankWall;
+  throw InputError("scene '" + name + "' is unknown: expected room, wall, bare_room or blank_wall");
 }
 
 std::string sceneVariantName(SceneVariant variant) {
@@ -92,6 +93,7 @@ std::string sceneVariantName(SceneVariant variant) {
     case SceneVariant::kIndoorRoom: return "room";
     case SceneVariant::kTexturedWall: return "wall";
     case SceneVariant::kBareRoom: return "bare_room";
+    case SceneVariant::kBlankWall: return "blank_wall";
   }
   return "unknown";
 }
@@ -111,9 +113,29 @@ SyntheticScene SyntheticScene::make(SceneVariant variant) {
     scene.workspace_.roll_amplitude = 0.08;
     return scene;
   }
-  SceneBuilder builder(variant == SceneVariant::kIndoorRoom);
+  SceneBuilder builder(variant != SceneVariant::kBareRoom);
   addIndoorRoom(&builder);
   scene.surfaces_ = builder.take();
+  if (variant == SceneVariant::kBlankWall) {
+    // A painted partition beside the path, floor to ceiling (x -3.5..0.5 m at y = 1.5 m): from the path's
+    // centre, facing it (yaw +90 deg), it fills a Kinect's view for +-12 deg of yaw and +-15 cm of travel.
+    SceneSurface panel;
+    panel.center = {-1.5, 1.5, 1.4};
+    panel.axis_u = Eigen::Vector3d::UnitX();
+    panel.axis_v = Eigen::Vector3d::UnitZ();
+    panel.half_u = 2.0;
+    panel.half_v = 1.4;
+    panel.albedo = Eigen::Vector3d::Constant(0.6);
+    panel.textured = false;
+    scene.surfaces_.push_back(panel);
+    scene.workspace_.center = {-1.5, 0.0, 1.4};
+    scene.workspace_.amplitude = {0.15, 0.1, 0.08};
+    scene.workspace_.yaw = M_PI / 2;
+    scene.workspace_.yaw_amplitude = 0.2;
+    scene.workspace_.pitch_amplitude = 0.08;
+    scene.workspace_.roll_amplitude = 0.05;
+    return scene;
+  }
   scene.workspace_.center = {-1.5, 0.0, 1.4};
   scene.workspace_.amplitude = {0.4, 0.6, 0.2};
   scene.workspace_.pitch = 0.25;

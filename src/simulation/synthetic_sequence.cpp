@@ -107,9 +107,9 @@ SyntheticSequence writeSyntheticSequence(const std::string& folder, const Synthe
   const SyntheticScene scene = SyntheticScene::make(options.scene);
   SyntheticSequence sequence;
   sequence.camera = defaultKinectCamera(options.width, options.height);
-  sequence.ground_truth = options.trajectory_path.empty()
-                              ? generateSyntheticTrajectory(scene.workspace(), options.trajectory)
-                              : readTumTrajectory(options.trajectory_path);
+  sequence.ground_truth = !options.trajectory_path.empty() ? readTumTrajectory(options.trajectory_path)
+                          : !options.poses.empty()        ? options.poses
+                                                          : generateSyntheticTrajectory(scene.workspace(), options.trajectory);
   if (sequence.ground_truth.empty()) {
     throw InputError(options.trajectory_path + ": trajectory has no poses");
   }

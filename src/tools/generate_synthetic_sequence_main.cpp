@@ -6,13 +6,18 @@
 #include <stdexcept>
 
 #include "vocal/core/errors.h"
+#include "vocal/simulation/blank_wall_visit.h"
 #include "vocal/simulation/synthetic_sequence.h"
 #include "vocal/tools/command_line.h"
 
 namespace {
 const char kUsage[] =
     "usage: generate_synthetic_sequence OUTPUT_FOLDER [options]\n"
-    "  --scene room|wall|bare_room  indoor room (default), one flat textured wall, untextured room\n"
+    "  --scene room|wall|bare_room|blank_wall  indoor room (default), one flat textured wall, untextured\n"
+    "                               room, the room with a blank panel beside the path\n"
+    "  --blank-wall-visit SECONDS   scene blank_wall, the path leaving the room for SECONDS facing the\n"
+    "                               blank panel, then back (4 s room before, 1 s turn each way, 2 s room after;\n"
+    "                               --frames ignored)\n"
     "  --frames N                   number of frames (default 300)\n"
     "  --width W --height H         image size (default 640x480; intrinsics scale with it)\n"
     "  --rate HZ                    frame rate (default 30)\n"
@@ -41,6 +46,14 @@ int run(const vocal::CommandLine& args) {
   options.trajectory.speed = args.number("speed", 0.25);
   options.trajectory.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
   options.trajectory_path = args.text("trajectory", "");
+  if (args.has("blank-wall-visit")) {
+    if (!options.trajectory_path.empty()) throw vocal::InputError("--blank-wall-visit and --trajectory exclude each other");
+    options.scene = vocal::SceneVariant::kBlankWall;
+    vocal::BlankWallVisitOptions visit;
+    visit.frame_rate = options.trajectory.frame_rate;
+    visit.wall_seconds = args.number("blank-wall-visit", visit.wall_seconds);
+    options.poses = vocal::generateBlankWallVisit(visit);
+  }
   if (args.has("kinect-noise")) {
     options.sensor_model = vocal::kinectLikeSensorModel(args.number("missing", 0.02));
   } else {
@@ -77,6 +90,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("generate_synthetic_sequence", kUsage, run, argc, argv,
                         {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing", "cover",
-                         "rolling-shutter"},
+                         "rolling-shutter", "blank-wall-visit"},
                         {"kinect-noise", "axial-noise", "quantize", "quiet"}, 1);
 }

@@ -109,7 +109,8 @@ int run(const vocal::CommandLine& args) {
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
   int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0, window_links = 0, window_refined = 0;
-  int imu_priors = 0, imu_gaps = 0;
+  int imu_priors = 0, imu_gaps = 0, degraded = 0;
+  std::string last_degraded;
   std::string imu_gap;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
@@ -139,6 +140,10 @@ int run(const vocal::CommandLine& args) {
     feature_fallbacks += result.quality.feature_fallback;
     keyframes += result.new_keyframe;
     relocalisations += result.state == vocal::TrackingState::kRelocalised;
+    if (result.state == vocal::TrackingState::kDegraded) {
+      ++degraded;
+      last_degraded = result.degraded;
+    }
     failures += !result.quality.trusted;
     if (!result.window_error.empty()) std::fprintf(stderr, "\nframe %zu: %s\n", i, result.window_error.c_str());
     const std::string event = vocal::trackingEvent(result);
@@ -146,10 +151,11 @@ int run(const vocal::CommandLine& args) {
     if (args.has("verbose")) {
       const vocal::OdometryQuality& q = result.quality;
       std::fprintf(stderr, "frame %zu: icp %d inliers rmse %.4f m, rgb %d inliers rmse %.4f, %d steps, condition %.3g, "
-                   "weakest information %.3g%s, keyframe %d%s%s, features off by %.3f m %.2f deg, brightness x%.3f %+.3f\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse,
+                   "weakest information %.3g%s, keyframe %d%s%s, features off by %.3f m %.2f deg, brightness x%.3f %+.3f%s%s\n", i, q.icp_inliers, q.icp_rmse, q.rgb_inliers, q.rgb_rmse,
                    q.iterations, q.condition, q.weakest_information, q.converged ? "" : ", not converged", result.keyframe_id,
                    result.new_keyframe ? " (new)" : "", q.feature_fallback ? ", feature fallback" : "", q.feature_disagreement_m,
-                   q.feature_disagreement_deg, q.brightness_gain, q.brightness_bias);
+                   q.feature_disagreement_deg, q.brightness_gain, q.brightness_bias, result.degraded.empty() ? "" : "; degraded: ",
+                   result.degraded.c_str());
     } else if (!quiet) {
       std::fprintf(stderr, "\rframe %zu/%zu", i + 1, frames);
     }
@@ -170,8 +176,9 @@ int run(const vocal::CommandLine& args) {
   std::printf("keyframes: %d\nrelocalisations: %d\n", keyframes, relocalisations);
   if (imu) {
     const Eigen::Vector3d bias = imu->bias() * 180.0 / M_PI, sigma = imu->biasSigma() * 180.0 / M_PI;
-    std::printf("imu_priors: %d\nimu_gaps: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n", imu_priors, imu_gaps,
-                bias.x(), bias.y(), bias.z(), sigma.maxCoeff(), imu->biasUpdates());
+    std::printf("imu_priors: %d\nimu_gaps: %d\ndegraded_frames: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n", imu_priors, imu_gaps,
+                degraded, bias.x(), bias.y(), bias.z(), sigma.maxCoeff(), imu->biasUpdates());
+    if (degraded > 0) std::fprintf(stderr, "imu: %d frames degraded (vision held only some directions); the last: %s\n", degraded, last_degraded.c_str());
     if (imu_gaps > 0) std::fprintf(stderr, "imu: %d frames tracked without the gyro; the last because %s\n", imu_gaps, imu_gap.c_str());
   }
   if (config.local_window_keyframes > 0) {

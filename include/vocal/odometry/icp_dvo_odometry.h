@@ -29,11 +29,15 @@ namespace vocal {
 
 enum class TrackingState {
   kTracking,     // tracked against the keyframe (or the previous frame)
+  // Tracked with a gyro where vision does not constrain every direction (one plane, a blank wall,
+  // darkness): the rotation held by the gyro, the translation vision leaves free guessed by the motion
+  // model; the covariance says which directions (OdometryResult::degraded names them).
+  kDegraded,
   kRelocalised,  // tracked again after a loss, against a recent keyframe
   kPredicted,    // not tracked; the pose is the constant-velocity prediction (a short gap)
   kLost,         // not tracked for longer than the prediction bridges; the pose stays
 };
-std::string trackingStateName(TrackingState state);  // tracking, relocalised, predicted, lost
+std::string trackingStateName(TrackingState state);  // tracking, degraded, relocalised, predicted, lost
 
 struct OdometryQuality {
   int icp_inliers = 0;        // at the finest level, last iteration
@@ -96,6 +100,12 @@ struct OdometryResult {
   // gyro prior's pull taken out), what the gyro's bias is estimated from (GyroRotationPrior::observe).
   double keyframe_stamp = 0.0;
   Eigen::Matrix3d vision_rotation = Eigen::Matrix3d::Identity();
+  // Degraded: what vision did not give, e.g. "vision constrains 1 of 3 translation directions, the motion
+  // model guesses 2 (0.00 0.00 1.00 ...); photometric term left out: too few inliers (12 < 500)"; empty
+  // otherwise. The translation directions guessed, unit, in the odometry frame (one per column); the
+  // pose covariance grows along them with each degraded frame.
+  std::string degraded;
+  Eigen::Matrix3Xd guessed_directions = Eigen::Matrix3Xd(3, 0);
 };
 
 // One line for a log about a frame that was not tracked ("not tracked (predicted, frame 2 of the
@@ -118,6 +128,8 @@ class IcpDvoOdometry {
   // or structure, a jump, a wrong minimum) is reported in the result with its state (predicted or lost).
   // `gyro`: the camera's rotation since the last frame as an IMU measured it (gyro_rotation_prior.h):
   // the solve starts from it and holds the rotation to it with its information (times imu_weight).
+  // With it, a frame whose vision leaves directions free (one plane, no texture, no depth) is tracked
+  // degraded instead of lost: the translation there from the motion model.
   OdometryResult track(const RgbdFrame& frame, const RotationPrior* gyro = nullptr);
 
   // Forgets the reference frame; the next frame starts again at `pose`.
@@ -163,20 +175,36 @@ class IcpDvoOdometry {
     int first_inliers = 0;
     double first_residual = 0.0;
   };
+  // With a gyro, what is known of a frame's motion (keyframe <- current) before vision: the gyro's
+  // rotation, and the motion model's translation with its information (both times imu_weight).
+  struct MotionPrior {
+    RotationPrior rotation;
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+    double translation_information = 0.0;
+  };
   struct DenseSolve {
     Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
     Matrix6d information = Matrix6d::Zero();  // the final fused system's A
     // With a gyro prior: where the last step would have gone on vision alone (else the increment).
     Eigen::Isometry3d vision_only = Eigen::Isometry3d::Identity();
+    // With a motion prior, at the last step: the translation directions (keyframe frame, unit columns)
+    // held to the motion model because vision's information there was below its, the information that
+    // added, and the terms left out for too few inliers ("photometric term left out: ...").
+    Eigen::Matrix3Xd guessed = Eigen::Matrix3Xd(3, 0);
+    Matrix6d guess_information = Matrix6d::Zero();
+    std::string terms_left_out;
+    bool residual_term_left_out = false;  // the term residualLevelOf reads was among them
     OdometryQuality quality;
     std::string failure;  // empty when every check passed
   };
   // The coarse-to-fine ICP + DVO solve of `current` against `reference` (the frames the backend holds)
   // from `start` (keyframe <- current), and its checks; a jump is measured from `last` (the last
   // frame's pose in the keyframe).
-  // `prior`: the rotation reference <- current a gyro predicts, added to every level's system.
+  // `prior`: the rotation reference <- current a gyro predicts, added to every level's system, and the
+  // motion model's translation, added where vision leaves a direction free; with it a term with too few
+  // inliers is left out instead of failing the solve.
   DenseSolve solveFrom(const RgbdFrame& reference, const RgbdFrame& current, const Eigen::Isometry3d& start,
-                       const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr, const RotationPrior* prior = nullptr);
+                       const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr, const MotionPrior* prior = nullptr);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
@@ -186,7 +214,7 @@ class IcpDvoOdometry {
   void pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame);
   // The dense solve against the active keyframe from `predicted` (keyframe <- current), with the
   // feature fallback the config asks for, and the wrong-minimum test.
-  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted, const RotationPrior* prior,
+  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted, const MotionPrior* prior,
                                 std::shared_ptr<const FrameFeatures>* features, OdometryResult* result);
   // Marks a passing solve as failed when its residual is far above the running level, or its motion
   // far from the one the features agree on (when they were asked).
@@ -249,6 +277,9 @@ class IcpDvoOdometry {
   std::unique_ptr<OdometryBackend> window_backend_;  // solves the window's links (made when first needed)
   std::future<std::vector<KeyframeLink>> window_job_;  // the links being solved in the background
   Matrix6d pose_covariance_ = Matrix6d::Zero();
+  // What degraded frames since the active keyframe added to the pose covariance along the directions
+  // the motion model guessed (odometry frame); a new keyframe takes it into its own.
+  Matrix6d guessed_covariance_ = Matrix6d::Zero();
   std::deque<std::shared_ptr<Keyframe>> keyframes_;  // the recent ones, oldest first; empty before the first frame
   std::shared_ptr<Keyframe> active_;                 // the one frames are tracked against
   int next_keyframe_id_ = 0;

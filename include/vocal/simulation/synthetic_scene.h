@@ -40,9 +40,12 @@ enum class SceneVariant {
   kIndoorRoom,    // floor, walls, ceiling, a table and boxes, all textured
   kTexturedWall,  // one flat textured wall filling the view: no structure (ICP is degenerate)
   kBareRoom,      // the indoor room untextured, uniform grey: no texture (DVO is degenerate)
+  // The indoor room with a blank panel (one untextured plane, 4 x 2.8 m) 1.5 m to the left of the
+  // path: facing it, vision sees one plane and no texture (ICP leaves three directions free, DVO all).
+  kBlankWall,
 };
 
-// Parses "room", "wall" or "bare_room"; throws InputError naming the value otherwise.
+// Parses "room", "wall", "bare_room" or "blank_wall"; throws InputError naming the value otherwise.
 SceneVariant parseSceneVariant(const std::string& name);
 std::string sceneVariantName(SceneVariant variant);
 

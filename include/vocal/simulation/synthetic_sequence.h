@@ -21,6 +21,8 @@ struct SyntheticSequenceOptions {
   SyntheticTrajectoryOptions trajectory;
   // When set, poses come from this TUM trajectory file instead of being generated.
   std::string trajectory_path;
+  // When not empty (and no trajectory_path), these poses instead of generated ones.
+  Trajectory poses;
   RgbdSensorModel sensor_model;  // ideal images unless noise / drop-outs are switched on
   // Frames [covered_from, covered_from + covered_frames) show a hand over the lens (coverLens).
   int covered_from = 0;
