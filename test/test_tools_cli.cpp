@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <set>
@@ -609,4 +610,50 @@ TEST(ToolsCli, TumOdometryAndTumToBagTakeTheFoldersImu) {
   }
   EXPECT_EQ(imu_messages, vocal::readImuFile(folder + "/imu/imu.txt").size());
   EXPECT_TRUE(imu_on_tf);
+  bag.close();
+
+  // bag_odometry takes the gyro from the bag, its pose from /tf_static, as tum_odometry from the folder.
+  r = runTool("bag_odometry " + folder + "/imu.bag --output " + folder + "/bag_with.txt --imu-topic /camera/imu --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("imu: " + std::to_string(imu_messages) + " samples on /camera/imu at 200 Hz, camera in the IMU frame from the "
+                          "bag's /tf_static (camera_imu_frame <- camera_rgb_optical_frame)"),
+            std::string::npos) << r.output;
+  const std::map<std::string, double> bag_metrics = parseMetrics(r.output);
+  EXPECT_EQ(bag_metrics.at("imu_priors"), 11.0);
+  EXPECT_EQ(bag_metrics.at("imu_messages_dropped"), 0.0);
+  const vocal::Trajectory from_bag = vocal::readTumTrajectory(folder + "/bag_with.txt");
+  const vocal::Trajectory from_folder = vocal::readTumTrajectory(folder + "/with.txt");
+  ASSERT_EQ(from_bag.size(), from_folder.size());
+  const Eigen::Isometry3d apart = from_folder.back().pose.inverse() * from_bag.back().pose;
+  EXPECT_LT(vocal::rotationAngle(apart), 0.2 * M_PI / 180.0) << "the bag's images are quantised otherwise, the gyro is the same";
+
+  // A copy of the bag without /tf_static, and one with a NaN rate: the missing transform named, the NaN dropped and counted.
+  auto copyBag = [&](const std::string& name, const std::function<bool(const rosbag::MessageInstance&, rosbag::Bag*)>& rewrite) {
+    rosbag::Bag in(folder + "/imu.bag", rosbag::bagmode::Read), out(folder + "/" + name, rosbag::bagmode::Write);
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      if (!rewrite(m, &out)) out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+    }
+  };
+  copyBag("no_tf.bag", [](const rosbag::MessageInstance& m, rosbag::Bag*) { return m.getTopic() == "/tf_static"; });
+  r = runTool("bag_odometry " + folder + "/no_tf.bag --output " + folder + "/bag_with.txt --imu-topic /camera/imu --quiet");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("bag_odometry: error: " + folder + "/no_tf.bag: no transform from the IMU's frame 'camera_imu_frame' "
+                          "(/camera/imu) to the camera's 'camera_rgb_optical_frame' on /tf_static"),
+            std::string::npos) << r.output;
+  int imu_index = 0;
+  copyBag("nan.bag", [&](const rosbag::MessageInstance& m, rosbag::Bag* out) {
+    if (m.getTopic() != vocal::kImuTopic || imu_index++ != 5) return false;
+    sensor_msgs::Imu broken = *m.instantiate<sensor_msgs::Imu>();
+    broken.angular_velocity.y = std::nan("");
+    out->write(m.getTopic(), m.getTime(), broken);
+    return true;
+  });
+  r = runTool("bag_odometry " + folder + "/nan.bag --output " + folder + "/bag_with.txt --imu-topic /camera/imu --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(parseMetrics(r.output).at("imu_messages_dropped"), 1.0);
+  EXPECT_NE(r.output.find("imu: 1 messages dropped, the first: /camera/imu at "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("angular_velocity (") , std::string::npos) << r.output;
+  r = runTool("bag_odometry " + folder + "/imu.bag --output " + folder + "/bag_with.txt --imu-topic /camera/rgb/camera_info --quiet");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("/camera/rgb/camera_info carries sensor_msgs/CameraInfo, expected sensor_msgs/Imu"), std::string::npos) << r.output;
 }

@@ -7,7 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <algorithm>
+#include <iomanip>
 #include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -15,12 +18,19 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <tf2/buffer_core.h>
+#include <tf2/exceptions.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/imu_samples.h"
 #include "vocal/core/stamp_association.h"
 #include "vocal/core/trajectory_evaluation.h"
 #include "vocal/core/tum_trajectory.h"
 #include "vocal/nodelets/message_conversions.h"
+#include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_config_yaml.h"
 #include "vocal/tools/bag_file.h"
@@ -40,6 +50,11 @@ const char kUsage[] =
     "  --config FILE.yaml     odometry settings (keys: see config/odometry.yaml)\n"
     "  --backend auto|cpu|reference|opencl  overrides the config's backend\n"
     "  --threads N            CPU threads (overrides the config's; 0 = OMP_NUM_THREADS, else the cores)\n"
+    "  --imu-topic T          an IMU's sensor_msgs/Imu with angular velocity (a RealSense's /camera/imu): its\n"
+    "                         gyro's rotation between frames as a prior; its pose in the camera from the bag's\n"
+    "                         /tf_static (message frame -> colour image frame) unless --imu-extrinsics\n"
+    "  --imu-extrinsics FILE  imu_extrinsics.yaml (README) instead of /tf_static\n"
+    "  --imu-time-offset S    IMU stamp = camera stamp + S (default 0, or the extrinsics file's)\n"
     "  --groundtruth FILE     TUM trajectory to evaluate against (ATE / RPE)\n"
     "  --delta S              RPE interval (default 1 s)\n"
     "  --quiet                no progress bar\n";
@@ -68,6 +83,82 @@ void checkTopics(const rosbag::Bag& bag, const std::string& path, const std::map
   }
 }
 
+// The first message's frame_id on `topic` (sensor_msgs/Image).
+std::string firstImageFrame(const rosbag::Bag& bag, const std::string& topic) {
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  for (const rosbag::MessageInstance& m : view) return m.instantiate<ImageMsg>()->header.frame_id;
+  return "";
+}
+
+// The IMU on --imu-topic: every message with angular velocity (REP-145: angular_velocity_covariance[0]
+// not -1) read ahead, a NaN or a stamp not after the last one's dropped and counted; its pose in the
+// camera from --imu-extrinsics or the bag's /tf_static. A line says what is used.
+std::unique_ptr<vocal::GyroRotationPrior> openBagImu(const rosbag::Bag& bag, const std::string& path, const vocal::CommandLine& args,
+                                                     const std::string& camera_frame, std::string* line, int* dropped) {
+  const std::string topic = args.text("imu-topic", "");
+  std::vector<vocal::ImuSample> samples;
+  std::string imu_frame, first_drop;
+  int without_gyro = 0;
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  for (const rosbag::MessageInstance& m : view) {
+    const sensor_msgs::Imu::ConstPtr msg = m.instantiate<sensor_msgs::Imu>();
+    if (msg->angular_velocity_covariance[0] == -1.0) {
+      ++without_gyro;
+      continue;
+    }
+    if (imu_frame.empty()) imu_frame = msg->header.frame_id;
+    std::ostringstream what;
+    what << topic << " at " << std::fixed << std::setprecision(6) << msg->header.stamp.toSec();
+    try {
+      const vocal::ImuSample sample = vocal::fromImuMessage(*msg, what.str());
+      if (!samples.empty() && !(sample.stamp > samples.back().stamp)) throw vocal::InputError(what.str() + ": not after the previous message");
+      samples.push_back(sample);
+    } catch (const vocal::InputError& e) {
+      if ((*dropped)++ == 0) first_drop = e.what();
+    }
+  }
+  if (samples.size() < 2) {
+    std::ostringstream message;
+    message << path << ": " << topic << " has " << samples.size() << " messages with angular velocity";
+    if (without_gyro > 0) message << " (" << without_gyro << " without: an accelerometer alone, REP-145's angular_velocity_covariance[0] = -1)";
+    if (*dropped > 0) message << "; " << *dropped << " dropped, the first: " << first_drop;
+    throw vocal::InputError(message.str());
+  }
+  if (*dropped > 0) std::fprintf(stderr, "imu: %d messages dropped, the first: %s\n", *dropped, first_drop.c_str());
+  vocal::ImuExtrinsics extrinsics;
+  std::string source;
+  if (args.has("imu-extrinsics")) {
+    source = args.text("imu-extrinsics", "");
+    extrinsics = vocal::readImuExtrinsics(source);
+  } else {
+    tf2::BufferCore transforms;
+    rosbag::View statics(bag, rosbag::TopicQuery("/tf_static"));
+    for (const rosbag::MessageInstance& m : statics) {
+      if (const tf2_msgs::TFMessage::ConstPtr msg = m.instantiate<tf2_msgs::TFMessage>()) {
+        for (const geometry_msgs::TransformStamped& t : msg->transforms) transforms.setTransform(t, "bag", true);
+      }
+    }
+    try {
+      extrinsics.camera_in_imu = tf2::transformToEigen(transforms.lookupTransform(imu_frame, camera_frame, ros::Time(0)));
+    } catch (const tf2::TransformException& e) {
+      throw vocal::InputError(path + ": no transform from the IMU's frame '" + imu_frame + "' (" + topic + ") to the camera's '" +
+                              camera_frame + "' on /tf_static, needed to turn the gyro's rates into the camera's (or give " +
+                              "--imu-extrinsics FILE): " + e.what());
+    }
+    extrinsics.imu_frame = imu_frame;
+    extrinsics.camera_frame = camera_frame;
+    source = "the bag's /tf_static (" + imu_frame + " <- " + camera_frame + ")";
+  }
+  extrinsics.time_offset = args.number("imu-time-offset", extrinsics.time_offset);
+  auto imu = std::make_unique<vocal::GyroRotationPrior>(extrinsics);
+  imu->add(samples);
+  char text[1024];
+  std::snprintf(text, sizeof(text), "imu: %zu samples on %s at %.0f Hz, camera in the IMU frame from %s (time offset %.4f s): the gyro's rotation as a prior, its bias estimated online",
+                samples.size(), topic.c_str(), vocal::imuRate(samples), source.c_str(), extrinsics.time_offset);
+  *line = text;
+  return imu;
+}
+
 void progress(std::size_t done, std::size_t total) {
   const int width = 30;
   const int filled = total ? static_cast<int>(width * done / total) : width;
@@ -92,14 +183,22 @@ int run(const vocal::CommandLine& args) {
   const std::string path = args.positional()[0];
   rosbag::Bag bag;
   vocal::openBag(&bag, path, rosbag::bagmode::Read);
-  checkTopics(bag, path,
-              {{rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}});
+  std::map<std::string, std::string> wanted{
+      {rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}};
+  if (args.has("imu-topic")) wanted[args.text("imu-topic", "")] = "sensor_msgs/Imu";
+  checkTopics(bag, path, wanted);
+  std::string imu_line;
+  int imu_dropped = 0;
+  const std::unique_ptr<vocal::GyroRotationPrior> imu =
+      args.has("imu-topic") ? openBagImu(bag, path, args, firstImageFrame(bag, rgb_topic), &imu_line, &imu_dropped) : nullptr;
+  std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "no IMU (no --imu-topic)");
 
   std::unique_ptr<vocal::IcpDvoOdometry> odometry;
   bool said_lens_problem = false;  // a lens the odometry cannot undo is said once
   vocal::Trajectory trajectory;
   double tracking_seconds = 0.0;
-  int failures = 0, relocalisations = 0, dropped = 0;
+  int failures = 0, relocalisations = 0, dropped = 0, imu_priors = 0, imu_gaps = 0, degraded = 0;
+  std::string imu_gap;
   std::string first_drop;
   CameraInfoMsg::ConstPtr info;
 
@@ -123,7 +222,20 @@ int run(const vocal::CommandLine& args) {
     }
     const vocal::RgbdFrame frame = vocal::toRgbdFrame(rgb, depth, rgb_topic, depth_topic);
     const auto start = std::chrono::steady_clock::now();
-    const vocal::OdometryResult result = odometry->track(frame);
+    std::optional<vocal::RotationPrior> gyro;
+    if (imu && !trajectory.empty()) {
+      gyro = imu->between(trajectory.back().stamp, frame.stamp, &imu_gap);
+      ++(gyro ? imu_priors : imu_gaps);
+    }
+    const vocal::OdometryResult result = odometry->track(frame, gyro ? &*gyro : nullptr);
+    if (imu) {
+      if (result.state == vocal::TrackingState::kTracking && result.quality.trusted) {
+        imu->observe(result.keyframe_stamp, frame.stamp, result.vision_rotation);
+      } else {
+        imu->breakWindow();
+      }
+    }
+    degraded += result.state == vocal::TrackingState::kDegraded;
     tracking_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     trajectory.push_back({rgb.header.stamp.toSec(), result.pose});
     failures += !result.quality.trusted;
@@ -205,6 +317,13 @@ int run(const vocal::CommandLine& args) {
               "relocalisations: %d\nframes_per_second: %.2f\n",
               trajectory.size(), unpaired, out_of_order, dropped, failures, relocalisations,
               trajectory.size() / std::max(tracking_seconds, 1e-9));
+  if (imu) {
+    const Eigen::Vector3d bias = imu->bias() * 180.0 / M_PI;
+    std::printf("imu_priors: %d\nimu_gaps: %d\nimu_messages_dropped: %d\ndegraded_frames: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n",
+                imu_priors, imu_gaps, imu_dropped, degraded, bias.x(), bias.y(), bias.z(), imu->biasSigma().maxCoeff() * 180.0 / M_PI,
+                imu->biasUpdates());
+    if (imu_gaps > 0) std::fprintf(stderr, "imu: %d frames tracked without the gyro; the last because %s\n", imu_gaps, imu_gap.c_str());
+  }
   if (!groundtruth.empty()) {
     vocal::printTrajectoryMetrics(stdout, vocal::computeAte(groundtruth, trajectory),
                                   vocal::computeRpe(groundtruth, trajectory, args.number("delta", 1.0)));
@@ -216,6 +335,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("bag_odometry", kUsage, run, argc, argv,
                         {"output", "rgb-topic", "depth-topic", "camera-info-topic", "max-difference", "config", "backend",
-                         "threads", "groundtruth", "delta"},
+                         "threads", "groundtruth", "delta", "imu-topic", "imu-extrinsics", "imu-time-offset"},
                         {"quiet"}, 1);
 }
