@@ -56,6 +56,7 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
   rectification_ = FrameRectification(camera_, config_.undistort_lens ? lens_ : LensDistortion(), config_.rolling_shutter_readout,
                                       config_.depth_time_offset);
   if (config_.local_window_keyframes > 0) window_.emplace(config_.local_window_keyframes);
+  if (config_.gravity_time_constant > 0.0 && !window_) gravity_.emplace(config_.gravity_time_constant);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -74,6 +75,7 @@ void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   if (window_) window_->clear();
   pose_covariance_.setZero();
   guessed_covariance_.setZero();
+  if (gravity_) gravity_->reset();
 }
 
 std::string trackingStateName(TrackingState state) {
@@ -564,7 +566,7 @@ void IcpDvoOdometry::publish(OdometryResult* result) {
   result->pose = published_pose_ = published;
 }
 
-OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior* gyro) {
+OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior* gyro, const std::vector<AccelerometerSample>* accelerometer) {
   input.validate("odometry frame");
   if (!input.color.sameSize(camera_.width, camera_.height)) {
     std::ostringstream message;
@@ -603,6 +605,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     result.new_keyframe = true;
     result.keyframe_id = active_->id;
     if (window_) window_->addKeyframe(active_->id, active_->pose);
+    if (gravity_ && accelerometer) gravity_->correct(input.stamp, pose_, *accelerometer, 0.0);  // its history starts
     publish(&result);
     result.pose_covariance = pose_covariance_;
     return result;
@@ -759,6 +762,15 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
       startWindow(tracked_against, solve, &result);
       result.timings.window_ms += lapMilliseconds(&clock);
     }
+  }
+  if (gravity_ && accelerometer) {
+    // Roll and pitch toward gravity's level: the keyframe turns with the estimate, so frames tracked
+    // against it keep the correction.
+    std::string why_not;
+    const Eigen::Isometry3d correction = gravity_->correct(input.stamp, pose_, *accelerometer, since_last, &why_not);
+    if (gravity_->started() && why_not.empty()) result.gravity_error_deg = gravity_->lastError() * 180.0 / M_PI;
+    active_->pose = correction * active_->pose;
+    pose_ = correction * pose_;
   }
   publish(&result);
   result.timings.solve_ms += lapMilliseconds(&clock);

@@ -20,6 +20,7 @@ void OdometryConfig::validate() const {
   if (!(icp_max_angle_deg > 0.0 && icp_max_angle_deg <= 180.0)) fail("icp_max_angle_deg must be in (0, 180]");
   if (!(rgb_weight >= 0.0 && std::isfinite(rgb_weight))) fail("rgb_weight must be finite and >= 0");
   if (!(imu_weight >= 0.0 && std::isfinite(imu_weight))) fail("imu_weight must be finite and >= 0");
+  if (!(gravity_time_constant >= 0.0 && std::isfinite(gravity_time_constant))) fail("gravity_time_constant must be finite and >= 0");
   if (!(feature_fallback_residual_ratio > 1.0 && std::isfinite(feature_fallback_residual_ratio)))
     fail("feature_fallback_residual_ratio must be finite and > 1");
   if (!(keyframe_min_overlap >= 0.0 && keyframe_min_overlap <= 1.0)) fail("keyframe_min_overlap must be in [0, 1]");

@@ -42,6 +42,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"depth_time_offset", [&](const YAML::Node& n) { config.depth_time_offset = n.as<double>(); }},
       {"rgb_weight", [&](const YAML::Node& n) { config.rgb_weight = n.as<double>(); }},
       {"imu_weight", [&](const YAML::Node& n) { config.imu_weight = n.as<double>(); }},
+      {"gravity_time_constant", [&](const YAML::Node& n) { config.gravity_time_constant = n.as<double>(); }},
       {"feature_initialisation",
        [&](const YAML::Node& n) { config.feature_initialisation = parseFeatureInitialisation(n.as<std::string>()); }},
       {"feature_fallback_residual_ratio",

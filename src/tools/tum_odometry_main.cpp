@@ -10,6 +10,7 @@
 #include <string>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/gravity.h"
 #include "vocal/core/imu_samples.h"
 #include "vocal/core/stamp_association.h"
 #include "vocal/core/trajectory_evaluation.h"
@@ -39,6 +40,10 @@ const char kUsage[] =
     "  --imu-extrinsics FILE       its imu_extrinsics.yaml (default: the folder's; required with an IMU)\n"
     "  --imu-weight W              overrides the config's imu_weight (0: ignore the gyro)\n"
     "  --no-imu                    ignore the folder's imu.txt\n"
+    "  --gravity-time-constant S   overrides the config's: roll and pitch held to the accelerometer's gravity\n"
+    "                              (the folder's accelerometer.txt, a Kinect's; else imu.txt's) with this time\n"
+    "                              constant (0: off)\n"
+    "  --no-accelerometer          ignore the folder's accelerometer.txt and imu.txt's accelerations\n"
     "  --delta S                   RPE interval (default 1 s)\n"
     "  --quiet                     no progress line\n"
     "  --verbose                   one line of quality figures per frame\n";
@@ -66,6 +71,33 @@ std::unique_ptr<vocal::GyroRotationPrior> openImu(const vocal::CommandLine& args
   return imu;
 }
 
+// The accelerometer in the camera frame: the folder's accelerometer.txt (a Kinect's, its axes mapped), else
+// the IMU's accelerations (through its extrinsics); a line says which. Empty without either.
+std::vector<vocal::AccelerometerSample> openAccelerometer(const vocal::CommandLine& args, const vocal::TumSequence& sequence,
+                                                          const std::string& imu_path, const vocal::GyroRotationPrior* imu,
+                                                          std::string* line) {
+  std::vector<vocal::AccelerometerSample> samples;
+  if (args.has("no-accelerometer")) {
+    *line = "no accelerometer (--no-accelerometer)";
+    return samples;
+  }
+  if (!sequence.accelerometer().empty()) {
+    for (vocal::AccelerometerSample s : sequence.accelerometer()) {
+      s.specific_force = vocal::opticalFromKinectAccelerometer() * s.specific_force;
+      samples.push_back(s);
+    }
+    *line = "accelerometer: " + std::to_string(samples.size()) + " samples from " + sequence.folder() + "/accelerometer.txt (a Kinect's axes)";
+  } else if (imu) {
+    const Eigen::Matrix3d camera_from_imu = imu->extrinsics().camera_in_imu.linear().transpose();
+    for (const vocal::ImuSample& s : vocal::readImuFile(imu_path))
+      samples.push_back({s.stamp - imu->extrinsics().time_offset, camera_from_imu * s.linear_acceleration});
+    *line = "accelerometer: " + std::to_string(samples.size()) + " samples from " + imu_path;
+  } else {
+    *line = "no accelerometer (no accelerometer.txt in the folder, no IMU)";
+  }
+  return samples;
+}
+
 int run(const vocal::CommandLine& args) {
   if (!args.has("output")) throw vocal::InputError("--output TRAJ.txt is required");
   vocal::OdometryConfig config;
@@ -78,6 +110,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("reference")) config.tracking_reference = vocal::parseTrackingReference(args.text("reference", ""));
   if (args.has("brightness")) config.brightness_model = vocal::parseBrightnessModel(args.text("brightness", ""));
   config.imu_weight = args.number("imu-weight", config.imu_weight);
+  config.gravity_time_constant = args.number("gravity-time-constant", config.gravity_time_constant);
 
   const vocal::TumSequence sequence = vocal::TumSequence::open(args.positional()[0]);
   std::string imu_line;
@@ -98,6 +131,17 @@ int run(const vocal::CommandLine& args) {
                vocal::odometryModeName(config.mode).c_str(), odometry.backend().name().c_str(),
                odometry.cameraModelText().c_str());
   std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "no IMU (no imu.txt in the folder, no --imu)");
+  std::string accelerometer_line;
+  const std::vector<vocal::AccelerometerSample> accelerometer =
+      openAccelerometer(args, sequence, args.text("imu", args.positional()[0] + "/imu.txt"), imu.get(), &accelerometer_line);
+  if (!accelerometer.empty()) {
+    char tail[160];
+    std::snprintf(tail, sizeof(tail), config.gravity_time_constant > 0.0 ? ": roll and pitch held to its gravity (time constant %.1f s)"
+                                                                          : ": not used (gravity_time_constant 0)",
+                  config.gravity_time_constant);
+    accelerometer_line += tail;
+  }
+  std::fprintf(stderr, "%s\n", accelerometer_line.c_str());
 
   if (args.has("start-from-ground-truth")) {
     if (!sequence.hasGroundTruth()) throw vocal::InputError(sequence.folder() + ": --start-from-ground-truth needs groundtruth.txt");
@@ -109,7 +153,8 @@ int run(const vocal::CommandLine& args) {
   double tracking_seconds = 0.0;
   vocal::OdometryTimings stage_sums;
   int failures = 0, feature_fallbacks = 0, keyframes = 0, relocalisations = 0, window_links = 0, window_refined = 0;
-  int imu_priors = 0, imu_gaps = 0, degraded = 0;
+  int imu_priors = 0, imu_gaps = 0, degraded = 0, gravity_frames = 0;
+  double worst_gravity_error = 0.0;
   std::string last_degraded;
   std::string imu_gap;
   const bool quiet = args.has("quiet");
@@ -121,7 +166,12 @@ int run(const vocal::CommandLine& args) {
       gyro = imu->between(trajectory.back().stamp, frame.stamp, &imu_gap);
       ++(gyro ? imu_priors : imu_gaps);
     }
-    const vocal::OdometryResult result = odometry.track(frame, gyro ? &*gyro : nullptr);
+    const bool gravity = !accelerometer.empty() && config.gravity_time_constant > 0.0;
+    const vocal::OdometryResult result = odometry.track(frame, gyro ? &*gyro : nullptr, gravity ? &accelerometer : nullptr);
+    if (result.gravity_error_deg >= 0.0) {
+      ++gravity_frames;
+      worst_gravity_error = std::max(worst_gravity_error, result.gravity_error_deg);
+    }
     if (imu) {
       if (result.state == vocal::TrackingState::kTracking && result.quality.trusted) {
         imu->observe(result.keyframe_stamp, frame.stamp, result.vision_rotation);
@@ -181,6 +231,9 @@ int run(const vocal::CommandLine& args) {
     if (degraded > 0) std::fprintf(stderr, "imu: %d frames degraded (vision held only some directions); the last: %s\n", degraded, last_degraded.c_str());
     if (imu_gaps > 0) std::fprintf(stderr, "imu: %d frames tracked without the gyro; the last because %s\n", imu_gaps, imu_gap.c_str());
   }
+  if (!accelerometer.empty() && config.gravity_time_constant > 0.0) {
+    std::printf("gravity_frames: %d\nworst_gravity_error_deg: %.2f\n", gravity_frames, worst_gravity_error);
+  }
   if (config.local_window_keyframes > 0) {
     std::printf("window_ms: %.2f\nwindow_links: %d\nwindow_refined_keyframes: %d\n", stage_sums.window_ms / n, window_links,
                 window_refined);
@@ -197,6 +250,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
                         {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta",
-                         "imu", "imu-extrinsics", "imu-weight"},
-                        {"start-from-ground-truth", "quiet", "verbose", "no-imu"}, 1);
+                         "imu", "imu-extrinsics", "imu-weight", "gravity-time-constant"},
+                        {"start-from-ground-truth", "quiet", "verbose", "no-imu", "no-accelerometer"}, 1);
 }

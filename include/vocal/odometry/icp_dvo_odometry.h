@@ -20,6 +20,7 @@
 #include "vocal/core/worker_pool.h"
 #include "vocal/odometry/feature_alignment.h"
 #include "vocal/odometry/frame_rectification.h"
+#include "vocal/odometry/gravity_correction.h"
 #include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/keyframe_window.h"
 #include "vocal/odometry/odometry_backend.h"
@@ -100,6 +101,9 @@ struct OdometryResult {
   // gyro prior's pull taken out), what the gyro's bias is estimated from (GyroRotationPrior::observe).
   double keyframe_stamp = 0.0;
   Eigen::Matrix3d vision_rotation = Eigen::Matrix3d::Identity();
+  // With an accelerometer's up: how far roll / pitch were from the reference level before this frame's
+  // correction (degrees; -1: no correction, e.g. the body accelerating, or none asked).
+  double gravity_error_deg = -1.0;
   // Degraded: what vision did not give, e.g. "vision constrains 1 of 3 translation directions, the motion
   // model guesses 2 (0.00 0.00 1.00 ...); photometric term left out: too few inliers (12 < 500)"; empty
   // otherwise. The translation directions guessed, unit, in the odometry frame (one per column); the
@@ -130,7 +134,12 @@ class IcpDvoOdometry {
   // the solve starts from it and holds the rotation to it with its information (times imu_weight).
   // With it, a frame whose vision leaves directions free (one plane, no texture, no depth) is tracked
   // degraded instead of lost: the translation there from the motion model.
-  OdometryResult track(const RgbdFrame& frame, const RotationPrior* gyro = nullptr);
+  // `accelerometer`: its samples in the camera frame (m/s^2, the camera's clock, stamps increasing, at
+  // least the last second's): with config.gravity_time_constant > 0 gravity (the specific force less the
+  // camera's acceleration) pulls roll and pitch toward the level of its first window (GravityCorrection),
+  // on tracked frames.
+  OdometryResult track(const RgbdFrame& frame, const RotationPrior* gyro = nullptr,
+                       const std::vector<AccelerometerSample>* accelerometer = nullptr);
 
   // Forgets the reference frame; the next frame starts again at `pose`.
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
@@ -280,6 +289,7 @@ class IcpDvoOdometry {
   // What degraded frames since the active keyframe added to the pose covariance along the directions
   // the motion model guessed (odometry frame); a new keyframe takes it into its own.
   Matrix6d guessed_covariance_ = Matrix6d::Zero();
+  std::optional<GravityCorrection> gravity_;  // with config.gravity_time_constant > 0
   std::deque<std::shared_ptr<Keyframe>> keyframes_;  // the recent ones, oldest first; empty before the first frame
   std::shared_ptr<Keyframe> active_;                 // the one frames are tracked against
   int next_keyframe_id_ = 0;

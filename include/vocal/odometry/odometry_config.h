@@ -86,6 +86,10 @@ struct OdometryConfig {
   // figure is worth about this much more (chosen on every real TUM sequence with a simulated consumer
   // gyro: 300 and 1000 both lower rotational RPE by 30-55 %, 1000 also translation's; docs/benchmarks.md).
   double imu_weight = 1000.0;
+  // An accelerometer's gravity (IcpDvoOdometry::track's `up`) pulls the attitude's roll and pitch toward
+  // the first frame's level with this time constant (GravityCorrection; seconds; 0: off). Not applied
+  // while a local window refines the keyframes (its poses would undo it).
+  double gravity_time_constant = 0.0;
 
   // Where each frame's dense solve starts. The dense terms converge only within a few centimetres and
   // degrees; ORB features (FeatureAlignment) also find faster motion, at a cost per frame.
