@@ -165,8 +165,9 @@ TEST(ToolsCli, BagOdometryReadsTumAndOpenNi2Bags) {
   // The TUM benchmark's bag layout (tum_to_bag), through flags: the same frames, the same trajectory.
   r = runTool("tum_to_bag " + folder + "/seq " + folder + "/tum.bag");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Its accelerometer (/imu, on /tf_static) holds roll and pitch as the folder's accelerometer.txt does tum_odometry's.
   r = runTool("bag_odometry " + folder + "/tum.bag --output " + folder + "/tum.txt --rgb-topic /camera/rgb/image_color "
-              "--depth-topic /camera/depth/image --groundtruth " + folder + "/seq/groundtruth.txt --delta 0.3 --quiet");
+              "--depth-topic /camera/depth/image --imu-topic /imu --groundtruth " + folder + "/seq/groundtruth.txt --delta 0.3 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto metrics = parseMetrics(r.output);
   for (const char* name : {"frames", "frames_per_second", "ate_rmse_m", "rpe_trans_m_per_s"}) {

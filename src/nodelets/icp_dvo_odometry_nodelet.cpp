@@ -274,6 +274,36 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     return prior;
   }
 
+  // The accelerometer's last seconds in the camera frame, on the camera's clock: what holds roll and pitch
+  // to gravity (config gravity_time_constant). Empty without one, with the correction off, or without tf
+  // from its frame to the camera's (said in the diagnostics).
+  std::vector<AccelerometerSample> accelerometerInCamera(const std::string& camera_frame) {
+    std::vector<AccelerometerSample> samples;
+    if (imu_topic_.empty() || !(config_.gravity_time_constant > 0.0)) return samples;
+    std::string imu_frame;
+    {
+      std::lock_guard<std::mutex> lock(imu_mutex_);
+      samples.assign(accelerometer_.begin(), accelerometer_.end());
+      imu_frame = imu_frame_;
+    }
+    if (samples.empty()) return samples;
+    if (camera_from_accelerometer_frame_ != imu_frame) {
+      try {
+        camera_from_accelerometer_ =
+            tf2::transformToEigen(tf_buffer_->lookupTransform(camera_frame, imu_frame, ros::Time(0))).linear();
+        camera_from_accelerometer_frame_ = imu_frame;
+      } catch (const tf2::TransformException& e) {
+        gravity_problem_ = "tf " + camera_frame + " <- " + imu_frame + " unavailable (the accelerometer's pose in the camera): " + e.what();
+        return {};
+      }
+    }
+    for (AccelerometerSample& sample : samples) {
+      sample.stamp -= imu_time_offset_;
+      sample.specific_force = camera_from_accelerometer_ * sample.specific_force;
+    }
+    return samples;
+  }
+
   // odom <- the base at the first frame: level (z up, the heading kept) where the accelerometer's mean
   // around that frame is gravity, else the identity (odom is then the base's first pose), with why.
   Eigen::Isometry3d levelledStart(const std::string& base_frame, const ros::Time& stamp, std::string* how) {
@@ -423,7 +453,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
 
     const std::optional<RotationPrior> gyro = gyroPrior(camera_frame, rgb.header.stamp);
     if (!imu_topic_.empty() && !last_stamp_.isZero()) ++(gyro ? gyro_priors_ : gyro_missing_);
-    const OdometryResult result = odometry_->track(frame, gyro ? &*gyro : nullptr);
+    const std::vector<AccelerometerSample> accelerometer = accelerometerInCamera(camera_frame);
+    const OdometryResult result = odometry_->track(frame, gyro ? &*gyro : nullptr, accelerometer.empty() ? nullptr : &accelerometer);
+    if (result.gravity_error_deg >= 0.0) gravity_error_deg_ = result.gravity_error_deg;
     if (gyro_) {
       if (result.state == TrackingState::kTracking && result.quality.trusted) {
         gyro_->observe(result.keyframe_stamp, rgb.header.stamp.toSec(), result.vision_rotation);
@@ -641,6 +673,16 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.add("frames with the gyro's rotation prior", gyro_priors_);
       status.add("frames without it", gyro_missing_);
       if (gyro_missing_ > 0) status.add("why not (last)", gyro_problem_);
+      if (config_.gravity_time_constant > 0.0) {
+        std::ostringstream gravity;
+        if (gravity_error_deg_ >= 0.0) {
+          gravity << std::fixed << std::setprecision(2) << gravity_error_deg_ << " deg (last), pulled back with a "
+                  << config_.gravity_time_constant << " s time constant";
+        } else {
+          gravity << "not measured yet" << (gravity_problem_.empty() ? "" : ": " + gravity_problem_);
+        }
+        status.add("roll / pitch off the first level by (accelerometer)", gravity.str());
+      }
       if (gyro_) {
         const Eigen::Vector3d bias = gyro_->bias() * 180.0 / M_PI;
         std::ostringstream text;
@@ -719,7 +761,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   std::unique_ptr<IcpDvoOdometry> odometry_;
   std::unique_ptr<VoxelCloudMap> fused_map_;
-  std::string backend_name_, last_problem_, last_degraded_;
+  std::string backend_name_, last_problem_, last_degraded_, gravity_problem_;
+  Eigen::Matrix3d camera_from_accelerometer_ = Eigen::Matrix3d::Identity();
+  std::string camera_from_accelerometer_frame_;  // the frame camera_from_accelerometer_ is of (empty: none yet)
+  double gravity_error_deg_ = -1.0;
   ros::Time last_stamp_;
   nav_msgs::Path path_;
   static constexpr std::size_t kMaxPathPoses = 4096;

@@ -90,41 +90,46 @@ std::string firstImageFrame(const rosbag::Bag& bag, const std::string& topic) {
   return "";
 }
 
-// The IMU on --imu-topic: every message with angular velocity (REP-145: angular_velocity_covariance[0]
-// not -1) read ahead, a NaN or a stamp not after the last one's dropped and counted; its pose in the
-// camera from --imu-extrinsics or the bag's /tf_static. A line says what is used.
-std::unique_ptr<vocal::GyroRotationPrior> openBagImu(const rosbag::Bag& bag, const std::string& path, const vocal::CommandLine& args,
-                                                     const std::string& camera_frame, std::string* line, int* dropped) {
+// The IMU on --imu-topic, read ahead: the gyro (messages with angular velocity, REP-145:
+// angular_velocity_covariance[0] not -1) as a rotation prior, every message's acceleration (in the camera
+// frame, on the camera's clock) for gravity; a NaN or a stamp not after the last one's dropped and
+// counted. Its pose in the camera from --imu-extrinsics or the bag's /tf_static. A line says what is used.
+struct BagImu {
+  std::unique_ptr<vocal::GyroRotationPrior> gyro;  // null for an accelerometer alone
+  std::vector<vocal::AccelerometerSample> accelerometer;
+  std::string line;
+  int dropped = 0;
+};
+
+BagImu openBagImu(const rosbag::Bag& bag, const std::string& path, const vocal::CommandLine& args, const std::string& camera_frame) {
   const std::string topic = args.text("imu-topic", "");
-  std::vector<vocal::ImuSample> samples;
+  BagImu imu;
+  std::vector<vocal::ImuSample> rates;
+  std::vector<vocal::AccelerometerSample> forces;
   std::string imu_frame, first_drop;
-  int without_gyro = 0;
+  double last_stamp = -1.0;
   rosbag::View view(bag, rosbag::TopicQuery(topic));
   for (const rosbag::MessageInstance& m : view) {
     const sensor_msgs::Imu::ConstPtr msg = m.instantiate<sensor_msgs::Imu>();
-    if (msg->angular_velocity_covariance[0] == -1.0) {
-      ++without_gyro;
-      continue;
-    }
-    if (imu_frame.empty()) imu_frame = msg->header.frame_id;
     std::ostringstream what;
     what << topic << " at " << std::fixed << std::setprecision(6) << msg->header.stamp.toSec();
     try {
-      const vocal::ImuSample sample = vocal::fromImuMessage(*msg, what.str());
-      if (!samples.empty() && !(sample.stamp > samples.back().stamp)) throw vocal::InputError(what.str() + ": not after the previous message");
-      samples.push_back(sample);
+      if (!(msg->header.stamp.toSec() > last_stamp)) throw vocal::InputError(what.str() + ": not after the previous message");
+      forces.push_back(vocal::fromImuAcceleration(*msg, what.str()));
+      if (msg->angular_velocity_covariance[0] != -1.0) rates.push_back(vocal::fromImuMessage(*msg, what.str()));
+      last_stamp = msg->header.stamp.toSec();
+      if (imu_frame.empty()) imu_frame = msg->header.frame_id;
     } catch (const vocal::InputError& e) {
-      if ((*dropped)++ == 0) first_drop = e.what();
+      if (imu.dropped++ == 0) first_drop = e.what();
     }
   }
-  if (samples.size() < 2) {
+  if (forces.size() < 2) {
     std::ostringstream message;
-    message << path << ": " << topic << " has " << samples.size() << " messages with angular velocity";
-    if (without_gyro > 0) message << " (" << without_gyro << " without: an accelerometer alone, REP-145's angular_velocity_covariance[0] = -1)";
-    if (*dropped > 0) message << "; " << *dropped << " dropped, the first: " << first_drop;
+    message << path << ": " << topic << " has " << forces.size() << " usable messages";
+    if (imu.dropped > 0) message << "; " << imu.dropped << " dropped, the first: " << first_drop;
     throw vocal::InputError(message.str());
   }
-  if (*dropped > 0) std::fprintf(stderr, "imu: %d messages dropped, the first: %s\n", *dropped, first_drop.c_str());
+  if (imu.dropped > 0) std::fprintf(stderr, "imu: %d messages dropped, the first: %s\n", imu.dropped, first_drop.c_str());
   vocal::ImuExtrinsics extrinsics;
   std::string source;
   if (args.has("imu-extrinsics")) {
@@ -142,7 +147,7 @@ std::unique_ptr<vocal::GyroRotationPrior> openBagImu(const rosbag::Bag& bag, con
       extrinsics.camera_in_imu = tf2::transformToEigen(transforms.lookupTransform(imu_frame, camera_frame, ros::Time(0)));
     } catch (const tf2::TransformException& e) {
       throw vocal::InputError(path + ": no transform from the IMU's frame '" + imu_frame + "' (" + topic + ") to the camera's '" +
-                              camera_frame + "' on /tf_static, needed to turn the gyro's rates into the camera's (or give " +
+                              camera_frame + "' on /tf_static, needed to turn its readings into the camera's (or give " +
                               "--imu-extrinsics FILE): " + e.what());
     }
     extrinsics.imu_frame = imu_frame;
@@ -150,12 +155,23 @@ std::unique_ptr<vocal::GyroRotationPrior> openBagImu(const rosbag::Bag& bag, con
     source = "the bag's /tf_static (" + imu_frame + " <- " + camera_frame + ")";
   }
   extrinsics.time_offset = args.number("imu-time-offset", extrinsics.time_offset);
-  auto imu = std::make_unique<vocal::GyroRotationPrior>(extrinsics);
-  imu->add(samples);
+  const Eigen::Matrix3d camera_from_imu = extrinsics.camera_in_imu.linear().transpose();
+  for (vocal::AccelerometerSample s : forces) {
+    s.stamp -= extrinsics.time_offset;
+    s.specific_force = camera_from_imu * s.specific_force;
+    imu.accelerometer.push_back(s);
+  }
   char text[1024];
-  std::snprintf(text, sizeof(text), "imu: %zu samples on %s at %.0f Hz, camera in the IMU frame from %s (time offset %.4f s): the gyro's rotation as a prior, its bias estimated online",
-                samples.size(), topic.c_str(), vocal::imuRate(samples), source.c_str(), extrinsics.time_offset);
-  *line = text;
+  if (rates.size() >= 2) {
+    imu.gyro = std::make_unique<vocal::GyroRotationPrior>(extrinsics);
+    imu.gyro->add(rates);
+    std::snprintf(text, sizeof(text), "imu: %zu samples on %s at %.0f Hz, camera in the IMU frame from %s (time offset %.4f s): the gyro's rotation as a prior, its bias estimated online",
+                  rates.size(), topic.c_str(), vocal::imuRate(rates), source.c_str(), extrinsics.time_offset);
+  } else {
+    std::snprintf(text, sizeof(text), "imu: %zu accelerometer samples on %s (no angular velocity: REP-145's angular_velocity_covariance[0] = -1), camera in its frame from %s (time offset %.4f s): no gyro",
+                  forces.size(), topic.c_str(), source.c_str(), extrinsics.time_offset);
+  }
+  imu.line = text;
   return imu;
 }
 
@@ -187,11 +203,15 @@ int run(const vocal::CommandLine& args) {
       {rgb_topic, "sensor_msgs/Image"}, {depth_topic, "sensor_msgs/Image"}, {info_topic, "sensor_msgs/CameraInfo"}};
   if (args.has("imu-topic")) wanted[args.text("imu-topic", "")] = "sensor_msgs/Imu";
   checkTopics(bag, path, wanted);
-  std::string imu_line;
-  int imu_dropped = 0;
-  const std::unique_ptr<vocal::GyroRotationPrior> imu =
-      args.has("imu-topic") ? openBagImu(bag, path, args, firstImageFrame(bag, rgb_topic), &imu_line, &imu_dropped) : nullptr;
-  std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "no IMU (no --imu-topic)");
+  BagImu bag_imu;
+  if (args.has("imu-topic")) bag_imu = openBagImu(bag, path, args, firstImageFrame(bag, rgb_topic));
+  vocal::GyroRotationPrior* const imu = bag_imu.gyro.get();
+  std::fprintf(stderr, "%s\n", args.has("imu-topic") ? bag_imu.line.c_str() : "no IMU (no --imu-topic)");
+  const bool gravity = !bag_imu.accelerometer.empty() && config.gravity_time_constant > 0.0;
+  if (!bag_imu.accelerometer.empty()) {
+    std::fprintf(stderr, gravity ? "its accelerometer holds roll and pitch to gravity (time constant %.1f s)\n"
+                                 : "its accelerometer is not used (gravity_time_constant %.0f)\n", config.gravity_time_constant);
+  }
 
   std::unique_ptr<vocal::IcpDvoOdometry> odometry;
   bool said_lens_problem = false;  // a lens the odometry cannot undo is said once
@@ -227,7 +247,7 @@ int run(const vocal::CommandLine& args) {
       gyro = imu->between(trajectory.back().stamp, frame.stamp, &imu_gap);
       ++(gyro ? imu_priors : imu_gaps);
     }
-    const vocal::OdometryResult result = odometry->track(frame, gyro ? &*gyro : nullptr);
+    const vocal::OdometryResult result = odometry->track(frame, gyro ? &*gyro : nullptr, gravity ? &bag_imu.accelerometer : nullptr);
     if (imu) {
       if (result.state == vocal::TrackingState::kTracking && result.quality.trusted) {
         imu->observe(result.keyframe_stamp, frame.stamp, result.vision_rotation);
@@ -317,10 +337,11 @@ int run(const vocal::CommandLine& args) {
               "relocalisations: %d\nframes_per_second: %.2f\n",
               trajectory.size(), unpaired, out_of_order, dropped, failures, relocalisations,
               trajectory.size() / std::max(tracking_seconds, 1e-9));
+  if (args.has("imu-topic")) std::printf("imu_messages_dropped: %d\n", bag_imu.dropped);
   if (imu) {
     const Eigen::Vector3d bias = imu->bias() * 180.0 / M_PI;
-    std::printf("imu_priors: %d\nimu_gaps: %d\nimu_messages_dropped: %d\ndegraded_frames: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n",
-                imu_priors, imu_gaps, imu_dropped, degraded, bias.x(), bias.y(), bias.z(), imu->biasSigma().maxCoeff() * 180.0 / M_PI,
+    std::printf("imu_priors: %d\nimu_gaps: %d\ndegraded_frames: %d\ngyro_bias_deg_per_s: %.3f %.3f %.3f (+- %.3f, %d updates)\n",
+                imu_priors, imu_gaps, degraded, bias.x(), bias.y(), bias.z(), imu->biasSigma().maxCoeff() * 180.0 / M_PI,
                 imu->biasUpdates());
     if (imu_gaps > 0) std::fprintf(stderr, "imu: %d frames tracked without the gyro; the last because %s\n", imu_gaps, imu_gap.c_str());
   }

@@ -34,6 +34,8 @@ const char kUsage[] =
     "                               frame FIRST (counted from 0)\n"
     "  --rolling-shutter S          rows read one after another over S seconds, as a Kinect's are\n"
     "                               (0.02 matches the odometry's default; default 0: a global shutter)\n"
+    "  --exposure S                 each row exposed over S seconds: colour blurred along the motion,\n"
+    "                               depth lost where it smears (default 0: sharp)\n"
     "  --quiet                      no progress line\n";
 
 int run(const vocal::CommandLine& args) {
@@ -62,6 +64,7 @@ int run(const vocal::CommandLine& args) {
     options.sensor_model.quantize_disparity = args.has("quantize");
   }
   options.rolling_shutter_readout = args.number("rolling-shutter", 0.0);
+  options.exposure = args.number("exposure", 0.0);
   if (args.has("cover")) {
     const std::string cover = args.text("cover", "");
     const std::size_t colon = cover.find(':');
@@ -90,6 +93,6 @@ int run(const vocal::CommandLine& args) {
 int main(int argc, char** argv) {
   return vocal::runTool("generate_synthetic_sequence", kUsage, run, argc, argv,
                         {"scene", "frames", "width", "height", "rate", "speed", "seed", "trajectory", "missing", "cover",
-                         "rolling-shutter", "blank-wall-visit"},
+                         "rolling-shutter", "blank-wall-visit", "exposure"},
                         {"kinect-noise", "axial-noise", "quantize", "quiet"}, 1);
 }

@@ -29,6 +29,8 @@ struct SyntheticSequenceOptions {
   int covered_frames = 0;
   // Seconds from the first row's exposure to the last (renderRollingShutterFrame); 0: a global shutter.
   double rolling_shutter_readout = 0.0;
+  // Seconds each row is exposed: colour blurred along the motion, depth lost where it smears (0: sharp).
+  double exposure = 0.0;
 };
 
 // Renders one frame; `noise_seed` makes the depth model reproducible.
@@ -40,9 +42,12 @@ RgbdFrame renderSyntheticFrame(const SyntheticScene& scene, const PinholeCamera&
 // another over `readout_seconds` (first to last), the middle row at the frame's stamp, each band of
 // rows from the pose the camera had then (interpolated along the path). What a Kinect's colour and
 // depth sensors do; renderSyntheticFrame is the global-shutter case.
+// With `exposure_seconds` > 0 each row is also exposed over that long, centred on its instant: its colour
+// the mean of the views in between (motion blur), its depth lost where they disagree by more than 2 % (a
+// structured-light pattern smeared across depths), as a fast turn does to a real camera.
 RgbdFrame renderRollingShutterFrame(const SyntheticScene& scene, const PinholeCamera& camera, const Trajectory& path,
                                     std::size_t index, double readout_seconds, const RgbdSensorModel& sensor_model,
-                                    std::uint32_t noise_seed);
+                                    std::uint32_t noise_seed, double exposure_seconds = 0.0);
 
 // A hand held over the lens: no depth (closer than the sensor's minimum range) and a dark, nearly
 // uniform colour image with sensor noise; what tracking must survive without inventing motion.
