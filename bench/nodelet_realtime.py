@@ -13,8 +13,8 @@ compares what it published with bag_odometry's offline run of the same recording
    rosbag play at --rate (1 = real time); with --busy N, N CPU-bound processes run beside the live part (a
    robot's other work: the CPU is shared with them, the player and the recorder).
    With --imu DIR (simulate_imu's imu.txt and imu_extrinsics.yaml), the bag also carries the IMU on
-   /camera/imu (gyro and accelerometer, its frame on tf) and the nodelet takes it (imu:=/camera/imu);
-   bag_odometry has no IMU input yet: its run is without.
+   /camera/imu (gyro and accelerometer, its frame on tf) and both the nodelet (imu:=/camera/imu) and
+   bag_odometry (--imu-topic /camera/imu) take it.
 4. Prints the share of frames with odometry, RPE / ATE of both trajectories against the ground truth and
    the nodelet's last diagnostics (skipped frames, per-stage means).
 """
@@ -112,8 +112,9 @@ def main():
     run([os.path.join(TOOLS, "tum_to_bag"), args.folder, bag, "--layout", "openni2", "--quiet"] + imu, "tum_to_bag")
     offline_trajectory = os.path.join(args.workdir, "bag_odometry.txt")
     config = ["--config", os.path.abspath(args.config)] if args.config else []
+    offline_imu = ["--imu-topic", "/camera/imu", "--imu-time-offset", str(args.imu_time_offset)] if args.imu else []
     offline = metrics(run([os.path.join(TOOLS, "bag_odometry"), bag, "--output", offline_trajectory, "--groundtruth",
-                           ground_truth, "--quiet"] + config, "bag_odometry").stdout)
+                           ground_truth, "--quiet"] + config + offline_imu, "bag_odometry").stdout)
 
     env = ros_environment(args.port)
     record_bag = os.path.join(args.workdir, "nodelet_output.bag")

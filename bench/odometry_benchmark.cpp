@@ -16,6 +16,7 @@
 #include "vocal/odometry/cpu_backend.h"
 #include "vocal/odometry/fast_cpu_backend.h"
 #include "vocal/odometry/frame_rectification.h"
+#include "vocal/odometry/gravity_correction.h"
 #include "vocal/odometry/gyro_rotation_prior.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/simulation/simulated_imu.h"
@@ -217,9 +218,36 @@ void BM_GyroPriorPerFrame(benchmark::State& state) {
     k = k % 299 + 1;
   }
 }
+
+// The accelerometer's cost per frame: the gravity correction over its half-second window of 200 Hz
+// samples (each turned by the pose interpolated at its stamp), 2 s of samples handed in, as the nodelet
+// does.
+void BM_GravityCorrectionPerFrame(benchmark::State& state) {
+  std::vector<vocal::AccelerometerSample> samples;
+  for (int i = 0; i <= 200 * 12; ++i) {
+    const double t = i / 200.0;
+    samples.push_back({t, Eigen::Vector3d(0.3 * std::sin(t), 0.2, vocal::kStandardGravity)});
+  }
+  vocal::GravityCorrection gravity(30.0);
+  int frame = 0;
+  for (auto _ : state) {
+    const double t = 0.5 + (frame % 300) / 30.0;
+    if (frame % 300 == 0) gravity.reset();
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(0.1 * t, 0.0, 1.0);
+    pose.linear() = vocal::rotationFromRollPitchYaw(0.0, 0.0, 0.2 * t);
+    const auto first = std::lower_bound(samples.begin(), samples.end(), t - 2.0,
+                                        [](const vocal::AccelerometerSample& s, double stamp) { return s.stamp < stamp; });
+    const std::vector<vocal::AccelerometerSample> recent(first, std::upper_bound(first, samples.end(), t,
+                                                                                 [](double stamp, const vocal::AccelerometerSample& s) { return stamp < s.stamp; }));
+    benchmark::DoNotOptimize(gravity.correct(t, pose, recent, 1.0 / 30.0));
+    ++frame;
+  }
+}
 }  // namespace
 
 BENCHMARK(BM_GyroPriorPerFrame)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GravityCorrectionPerFrame)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Preprocess)->Apply(stageArguments);
 BENCHMARK(BM_IcpSystem)->Apply(levelArguments);
 BENCHMARK(BM_RgbSystem)->Apply(levelArguments);
