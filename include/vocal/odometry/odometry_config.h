@@ -89,7 +89,7 @@ struct OdometryConfig {
   // An accelerometer's gravity (IcpDvoOdometry::track's `accelerometer`) pulls the attitude's roll and
   // pitch toward the first window's level with this time constant (GravityCorrection; seconds; 0: off).
   // On the real TUM sequences with their Kinect's accelerometer (fr1_rpy, fr1_xyz; 5-10 s) 30 s is
-  // neutral (+-0.5 % on every figure, with or without a gyro), 10 s costs up to 1.3 % of rotational RPE
+  // neutral (within 0.8 % on every figure, with or without a gyro), 10 s costs up to 1.3 % of rotational RPE
   // with a gyro, 2 s up to 27 %: their runs are too short to drift, and that accelerometer reads up to
   // 3-5 deg off the level vision keeps. On a long run whose attitude drifts it holds the tilt (test:
   // 7.1 -> 1.2 deg after 10 s at 1 s). Not applied while a local window refines the keyframes (its poses
