@@ -104,6 +104,11 @@ int IcpDvoOdometry::inliersOf(const OdometryQuality& quality) const {
   return config_.mode == OdometryMode::kRgb ? quality.rgb_inliers : quality.icp_inliers;
 }
 
+double IcpDvoOdometry::residualOf(const DenseSolve& solve) const {
+  // A left-out term's residual (a few hundred pixels at a blank wall's edge) says nothing of the fit.
+  return solve.residual_term_left_out ? 0.0 : residualLevelOf(solve.quality);
+}
+
 double IcpDvoOdometry::residualLevelOf(const OdometryQuality& quality) const {
   return config_.mode == OdometryMode::kIcp ? quality.icp_rmse : quality.rgb_rmse;
 }
@@ -123,7 +128,7 @@ void addRotationPrior(const RotationPrior& prior, const Eigen::Matrix3d& rotatio
 // rotation eliminated (the gyro holds it) is split into directions; one with less than
 // kMinTranslationShare of the total is free. Asked at the coarsest level only: there a plane's normals
 // are smooth and its in-plane share is 0.4-1.0 % (synthetic wall, Kinect noise), where the real TUM
-// sequences' weakest direction keeps 3.4 % or more; at the finer levels the wall's noisy normals put
+// sequences' weakest direction keeps 3.1 % or more; at the finer levels the wall's noisy normals put
 // 1.3-3.5 % there, information that is noise and biased (ICP facing one wall slides along it at 0.3 m/s).
 constexpr double kMinTranslationShare = 0.015;
 
@@ -282,7 +287,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
 bool IcpDvoOdometry::suspicious(const DenseSolve& solve) const {
   // Without a running level (the first pair) a wrong minimum cannot be told apart: ask the features.
   if (!solve.failure.empty() || residual_level_ <= 0.0) return true;
-  return !solve.residual_term_left_out && residualLevelOf(solve.quality) > config_.feature_fallback_residual_ratio * residual_level_;
+  return residualOf(solve) > config_.feature_fallback_residual_ratio * residual_level_;
 }
 
 void IcpDvoOdometry::pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame) {
@@ -336,8 +341,8 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
   if (config_.tracking_reference == TrackingReference::kFrame) return true;
   const bool overlap_lost =
       keyframe.first_inliers > 0 && inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers;
-  const bool fit_lost = keyframe.first_residual > 0.0 && !solve.residual_term_left_out &&
-                        residualLevelOf(solve.quality) > config_.keyframe_max_residual_growth * keyframe.first_residual;
+  const bool fit_lost =
+      keyframe.first_residual > 0.0 && residualOf(solve) > config_.keyframe_max_residual_growth * keyframe.first_residual;
   const bool unconverged = config_.keyframe_after_unconverged && !solve.quality.converged;
   return overlap_lost || fit_lost || unconverged || solve.increment.translation().norm() > config_.keyframe_max_translation ||
          rotationAngle(solve.increment) * 180.0 / M_PI > config_.keyframe_max_rotation_deg;
@@ -576,6 +581,8 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   }
   auto clock = std::chrono::steady_clock::now();
   const double since_last = input.stamp - last_stamp_;
+  // The frame's time for the motion model (the last measured one's when the stamps do not say).
+  const double frame_seconds = since_last > 0.0 ? since_last : velocity_seconds_;
   last_stamp_ = input.stamp;
   if (rectification_.active()) {
     // The rows turn with the last measured motion (none known yet: the lens alone).
@@ -633,12 +640,11 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     prior.emplace();
     prior->rotation = RotationPrior{active_from_last_.linear() * gyro->rotation, gyro->covariance / config_.imu_weight};
     predicted.linear() = prior->rotation.rotation;
-    const double dt = since_last > 0.0 ? since_last : velocity_seconds_;
-    const Vector6d step = velocity_seconds_ > 0.0 ? Vector6d(se3Log(velocity_) * (dt / velocity_seconds_) *
-                                                             std::exp(-dt / kGuessedSpeedTimeConstant))
+    const Vector6d step = velocity_seconds_ > 0.0 ? Vector6d(se3Log(velocity_) * (frame_seconds / velocity_seconds_) *
+                                                             std::exp(-frame_seconds / kGuessedSpeedTimeConstant))
                                                   : Vector6d::Zero();
     prior->translation = (active_from_last_ * se3Exp(step)).translation();
-    const double sigma = std::max(kGuessedAcceleration * dt * dt, 1e-3);
+    const double sigma = std::max(kGuessedAcceleration * frame_seconds * frame_seconds, 1e-3);
     prior->translation_information = config_.imu_weight / (sigma * sigma);
   }
   DenseSolve solve = trackAgainstActive(frame, predicted, prior ? &*prior : nullptr, &features, &result);
@@ -700,7 +706,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   lost_frames_ = 0;
   // The running residual level a wrong minimum stands out from (an average over about ten frames); a
   // degraded frame's (a blank wall's) says nothing of the level where vision works.
-  const double residual = residualLevelOf(solve.quality);
+  const double residual = residualOf(solve);
   if (!degraded) residual_level_ = residual_level_ > 0.0 ? 0.9 * residual_level_ + 0.1 * residual : residual;
   result.quality.trusted = true;
   // The motion model's guess enters the covariance with its own information, not the weight the solve
@@ -711,14 +717,13 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   // pose = keyframe pose * T: T's left perturbation moves into the odometry frame through the keyframe
   // pose's adjoint; the keyframe's own uncertainty adds (drift grows per keyframe, not per frame).
   const Matrix6d to_odometry = adjoint(keyframe.pose);
+  // A speed's uncertainty over this frame's time along the guessed directions (keyframe frame).
+  Matrix6d guessed_step = Matrix6d::Zero();
+  const double step_sigma = kGuessedSpeedSigma * frame_seconds;
+  guessed_step.topLeftCorner<3, 3>() = step_sigma * step_sigma * solve.guessed * solve.guessed.transpose();
   if (degraded) {
-    const double step_sigma = kGuessedSpeedSigma * (since_last > 0.0 ? since_last : velocity_seconds_);
     result.guessed_directions = keyframe.pose.linear() * solve.guessed;
-    for (int i = 0; i < result.guessed_directions.cols(); ++i) {
-      Vector6d direction = Vector6d::Zero();
-      direction.head<3>() = result.guessed_directions.col(i);
-      guessed_covariance_ += step_sigma * step_sigma * direction * direction.transpose();
-    }
+    guessed_covariance_ += to_odometry * guessed_step * to_odometry.transpose();
     std::ostringstream text;
     text << "vision constrains " << 3 - solve.guessed.cols() << " of 3 translation directions";
     if (solve.guessed.cols() > 0) {
@@ -734,13 +739,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     result.degraded = text.str();
   }
   pose_covariance_ = keyframe.pose_covariance + to_odometry * result.covariance * to_odometry.transpose() + guessed_covariance_;
-  // The motion's own covariance says the guess too: a speed's uncertainty over this frame's time.
-  for (int i = 0; i < solve.guessed.cols(); ++i) {
-    Vector6d direction = Vector6d::Zero();
-    direction.head<3>() = solve.guessed.col(i);
-    const double step_sigma = kGuessedSpeedSigma * (since_last > 0.0 ? since_last : velocity_seconds_);
-    result.covariance += step_sigma * step_sigma * direction * direction.transpose();
-  }
+  result.covariance += guessed_step;  // the motion's own covariance says the guess too
   pose_ = keyframe.pose * T;
   active_from_last_ = T;
   result.keyframe_stamp = keyframe.frame.stamp;
@@ -748,7 +747,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   result.pose_covariance = pose_covariance_;
   if (keyframe.first_inliers == 0) {
     keyframe.first_inliers = inliersOf(solve.quality);
-    keyframe.first_residual = solve.residual_term_left_out ? 0.0 : residual;
+    keyframe.first_residual = residual;
   }
   if (keyframeWornOut(keyframe, solve)) {
     const int tracked_against = keyframe.id;  // `keyframe` may leave the kept ones now

@@ -74,8 +74,7 @@ std::unique_ptr<vocal::GyroRotationPrior> openImu(const vocal::CommandLine& args
 // The accelerometer in the camera frame: the folder's accelerometer.txt (a Kinect's, its axes mapped), else
 // the IMU's accelerations (through its extrinsics); a line says which. Empty without either.
 std::vector<vocal::AccelerometerSample> openAccelerometer(const vocal::CommandLine& args, const vocal::TumSequence& sequence,
-                                                          const std::string& imu_path, const vocal::GyroRotationPrior* imu,
-                                                          std::string* line) {
+                                                          const vocal::GyroRotationPrior* imu, std::string* line) {
   std::vector<vocal::AccelerometerSample> samples;
   if (args.has("no-accelerometer")) {
     *line = "no accelerometer (--no-accelerometer)";
@@ -89,9 +88,9 @@ std::vector<vocal::AccelerometerSample> openAccelerometer(const vocal::CommandLi
     *line = "accelerometer: " + std::to_string(samples.size()) + " samples from " + sequence.folder() + "/accelerometer.txt (a Kinect's axes)";
   } else if (imu) {
     const Eigen::Matrix3d camera_from_imu = imu->extrinsics().camera_in_imu.linear().transpose();
-    for (const vocal::ImuSample& s : vocal::readImuFile(imu_path))
+    for (const vocal::ImuSample& s : imu->samples())  // the IMU's, already read
       samples.push_back({s.stamp - imu->extrinsics().time_offset, camera_from_imu * s.linear_acceleration});
-    *line = "accelerometer: " + std::to_string(samples.size()) + " samples from " + imu_path;
+    *line = "accelerometer: " + std::to_string(samples.size()) + " samples from the IMU's accelerations";
   } else {
     *line = "no accelerometer (no accelerometer.txt in the folder, no IMU)";
   }
@@ -133,7 +132,7 @@ int run(const vocal::CommandLine& args) {
   std::fprintf(stderr, "%s\n", imu ? imu_line.c_str() : "no IMU (no imu.txt in the folder, no --imu)");
   std::string accelerometer_line;
   const std::vector<vocal::AccelerometerSample> accelerometer =
-      openAccelerometer(args, sequence, args.text("imu", args.positional()[0] + "/imu.txt"), imu.get(), &accelerometer_line);
+      openAccelerometer(args, sequence, imu.get(), &accelerometer_line);
   if (!accelerometer.empty()) {
     char tail[160];
     std::snprintf(tail, sizeof(tail), config.gravity_time_constant > 0.0 ? ": roll and pitch held to its gravity (time constant %.1f s)"

@@ -216,6 +216,8 @@ class IcpDvoOdometry {
                        const Eigen::Isometry3d& last, OdometryBackend* backend = nullptr, const MotionPrior* prior = nullptr);
   // The residual a wrong minimum shows in: photometric RMSE (ICP's in ICP mode).
   double residualLevelOf(const OdometryQuality& quality) const;
+  // That of a solve, 0 when its term was left out: the fit and wrong-minimum checks then pass it by.
+  double residualOf(const DenseSolve& solve) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
   bool suspicious(const DenseSolve& solve) const;
   // Makes the backend track `frame` against `keyframe` (preprocessing the keyframe again if the backend
