@@ -531,6 +531,62 @@ TEST(JointedCalibration, WristCameraWithTheArmsJointOffsetsBesideOpenCv) {
   }
 }
 
+// A camera fixed on a post whose pose the rig gives (the reference), the board in a 6-joint arm's gripper:
+// the camera stays exactly where the rig put it, and the base frame it ties down makes the first joint's
+// offset solvable (held when no pose is given: the camera's own pose took it up); the board on the tool
+// lands right at arm configurations the session never visited.
+TEST(JointedCalibration, AGivenFixedCameraHoldsTheBaseFrameAndFixesTheFirstJoint) {
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeToHand, seed, 0.0002);
+    const Eigen::Isometry3d given = session.arm.arm.camera;  // base <- camera, true
+    const vocal::HandEyeResult result =
+        vocal::calibrateArmRig({{vocal::SensorType::kCamera, false, given, "post_camera"}}, true, session.stations, session.options);
+    ASSERT_EQ(result.held.size(), 1u);
+    EXPECT_TRUE(result.held[0]);
+    EXPECT_LT((result.camera().translation() - given.translation()).norm(), 1e-12);
+    EXPECT_LT(vocal::rotationAngle(given.inverse() * result.camera()), 1e-12);
+    EXPECT_EQ(result.cameraSigma().norm(), 0.0);
+    EXPECT_EQ(result.sensor_spreads[0].norm(), 0.0);
+    const vocal::JointCalibration& first = result.joints.front();
+    EXPECT_TRUE(first.held.empty()) << first.held;
+    EXPECT_EQ(first.fixed_by, "the pose the rig gives 'post_camera' and joints that moved after it");
+    EXPECT_NEAR(first.offset, session.arm.joints[session.arm.chain.front()].offset, 0.0005);
+    EXPECT_NE(result.joints.back().held.find("no joint after it moved"), std::string::npos) << result.joints.back().held;
+    // The board in the base frame at configurations between the still poses' (each joint drawn within the
+    // range the session covered), from encoders reading the true angle less the true offset.
+    std::mt19937 rng(seed);
+    std::vector<double> solved(session.arm.joints.size(), 0.0), zero(session.arm.joints.size(), 0.0);
+    for (std::size_t i = 0; i < session.arm.chain.size(); ++i) solved[session.arm.chain[i]] = result.joints[i].offset;
+    double worst_translation = 0.0, worst_rotation = 0.0;
+    for (int n = 0; n < 20; ++n) {
+      std::vector<double> angles(session.arm.chain.size()), readings(session.arm.chain.size());
+      for (std::size_t i = 0; i < angles.size(); ++i) {
+        double low = 1e9, high = -1e9;
+        for (const std::vector<double>& pose : session.arm.angles) low = std::min(low, pose[i]), high = std::max(high, pose[i]);
+        angles[i] = std::uniform_real_distribution<double>(low, high)(rng);
+        readings[i] = angles[i] - session.arm.joints[session.arm.chain[i]].offset;
+      }
+      const Eigen::Isometry3d truth = vocal::chainPose(session.arm.joints, session.arm.chain, angles, zero) * session.arm.arm.board;
+      const Eigen::Isometry3d found = vocal::chainPose(session.arm.joints, session.arm.chain, readings, solved) * result.board;
+      worst_translation = std::max(worst_translation, (found.translation() - truth.translation()).norm());
+      worst_rotation = std::max(worst_rotation, vocal::rotationAngle(truth.inverse() * found));
+    }
+    std::printf("given fixed camera, seed %u: first joint %.2f mrad (truth %.2f), the board at 20 unvisited configurations within "
+                "%.2f mm / %.2f mrad\n", seed, 1000 * first.offset, 1000 * session.arm.joints[session.arm.chain.front()].offset,
+                1000 * worst_translation, 1000 * worst_rotation);
+    EXPECT_LT(worst_translation, 0.002);
+    EXPECT_LT(worst_rotation, 0.002);
+
+    // No pose given: the camera's own pose takes the first joint's offset up, held and said what would solve it.
+    const vocal::HandEyeResult free = vocal::calibrateArmRig({{vocal::SensorType::kCamera, false}}, true, session.stations, session.options);
+    EXPECT_FALSE(free.held[0]);
+    EXPECT_EQ(free.joints.front().offset, 0.0);
+    EXPECT_NE(free.joints.front().held.find("give a fixed sensor's pose in the rig (the reference) to solve it"), std::string::npos)
+        << free.joints.front().held;
+  }
+}
+
 // A 6-joint arm's session as a robot records it (images, /joint_states at 200 Hz, /tf from the readings)
 // through calibrate_rig with a rig that names the arm's joints: the tool from the joint states, the
 // joints' offsets solved, OpenCV's closed forms beside.

@@ -269,6 +269,9 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
               &result.sensor_spreads[s]);
   }
   printPose(("board in " + board_parent).c_str(), result.board, &result.board_sigma, nullptr);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (result.held[s]) std::printf("%s held at the pose the rig gives in %s\n", rig.sensors[s].spec.name.c_str(), frames.parentOf(s).c_str());
+  }
   std::printf("spread across the arm's poses: %d re-solves, each without one pose\n", result.spread_solves);
   std::printf("each camera view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
   if (result.unmodelled_translation > 0.0) {

@@ -80,6 +80,8 @@ const char kUsage[] =
     "                      /arm_camera/image_raw/compressed)\n"
     "  --beside            (eye-to-hand) a VLP-16-like lidar and an RGB-D camera fixed beside the camera, in\n"
     "                      the same session\n"
+    "  --given-reference   (eye-to-hand) rig.yaml gives the fixed camera's true pose in the base frame (the\n"
+    "                      reference, held by the calibration)\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
     "  --arm               a 6-joint arm (1.1 m reach) reaches the poses: its readings on /joint_states at 200 Hz\n"
@@ -124,8 +126,14 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     joint_arm = vocal::simulateJointArm(arm_options, joint_options);
   }
   const vocal::SimulatedArm arm = joint_arm ? joint_arm->arm : vocal::simulateArm(arm_options);
-  const vocal::RigDescription rig = joint_arm ? vocal::simulatedJointArmRig(arm_options.setup, target, *joint_arm, args.has("beside"))
-                                              : vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
+  vocal::RigDescription rig = joint_arm ? vocal::simulatedJointArmRig(arm_options.setup, target, *joint_arm, args.has("beside"))
+                                        : vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
+  if (args.has("given-reference")) {
+    if (arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
+      throw vocal::InputError("option --given-reference: with --eye-to-hand (the camera on the tool is no fixed reference)");
+    }
+    rig.sensors.front().pose = arm.camera;  // the fixed camera, in the base frame
+  }
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose, joint_arm ? &*joint_arm : nullptr);
   vocal::HandEyeBagOptions bag_options;
@@ -239,5 +247,5 @@ int main(int argc, char** argv) {
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known", "arm"}, 1);
+                         "pan-tilt", "pose-known", "arm", "given-reference"}, 1);
 }

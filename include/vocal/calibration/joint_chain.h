@@ -116,6 +116,8 @@ struct JointCalibration {
   // The offset could not be told from a mount (no joint after it in a sensor's chain moved): held at its
   // initial value, and why, for the user. Empty: solved.
   std::string held;
+  // Solved: what fixed it, for the user (the joints on either side that moved, or a pose the rig gives).
+  std::string fixed_by;
   double motion = 0.0;  // the range its positions covered over the still poses
   // Solved, but its standard deviation is over max_offset_sigma: what would fix it better, for the user.
   std::string weak;

@@ -141,6 +141,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
            << "    motion: " << joint.motion << "  # the range its readings covered over the still poses\n"
            << "    solved: " << (joint.held.empty() ? "true" : "false") << "\n";
       if (!joint.held.empty()) file << "    held_because: " << quoted(joint.held) << "\n";
+      if (!joint.fixed_by.empty()) file << "    fixed_by: " << quoted(joint.fixed_by) << "\n";
       if (!joint.weak.empty()) file << "    weak: " << quoted(joint.weak) << "\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";
@@ -157,6 +158,7 @@ std::string jointOffsetText(const JointDescription& joint, const JointCalibratio
                 1000 * calibration.standard_deviation, calibration.motion, prismatic ? "m" : "rad");
   std::string text = line;
   if (!calibration.held.empty()) text += ", held: " + calibration.held;
+  if (!calibration.fixed_by.empty()) text += ", fixed by " + calibration.fixed_by;
   if (!calibration.weak.empty()) text += ", " + calibration.weak;
   return text;
 }
@@ -240,16 +242,23 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
 }  // namespace
 
 HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
-  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}};
+  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}, {}};
   if (arm.from_joints)
     for (const int j : arm.chain) frames.joint_names.push_back(rig.joints.at(j).name);
-  for (const RigSensorDescription& d : rig.sensors) frames.on_tool.push_back(!d.parent.empty());
+  bool reference_given = false;
+  for (const RigSensorDescription& d : rig.sensors) {
+    const bool on_tool = !d.parent.empty();
+    frames.on_tool.push_back(on_tool);
+    const bool reference = !on_tool && d.pose && !reference_given;
+    reference_given = reference_given || reference;
+    frames.given_poses.push_back(reference || (on_tool && d.pose_known) ? d.pose : std::nullopt);
+  }
   return frames;
 }
 
 std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
   std::vector<HandEyeSensor> out;
-  for (std::size_t s = 0; s < sensors.size(); ++s) out.push_back({sensors[s].type, on_tool[s]});
+  for (std::size_t s = 0; s < sensors.size(); ++s) out.push_back({sensors[s].type, on_tool[s], given_poses[s], sensors[s].name});
   return out;
 }
 
@@ -299,6 +308,7 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << "    translation_spread: " << listOf(result.sensor_spreads[s].head<3>()) << "  # m, jackknife over the arm's poses\n"
          << "    rotation_spread: " << listOf(result.sensor_spreads[s].tail<3>()) << "  # rad\n"
          << "    published: " << (withheld[s].empty() ? "true" : "false") << "\n";
+    if (s < result.held.size() && result.held[s]) file << "    held: true  # at the pose the rig gives\n";
     if (!withheld[s].empty()) file << "    withheld_because: " << quoted(withheld[s]) << "\n";
   }
   file << "target:\n"
@@ -324,7 +334,9 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
       const JointCalibration& joint = result.joints[i];
       if (!joint.reported) continue;
       file << "  - {name: " << frames.joint_names[i] << ", offset: " << joint.offset << ", offset_stddev: " << joint.standard_deviation
-           << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false") << "}\n";
+           << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false");
+      if (!joint.fixed_by.empty()) file << ", fixed_by: " << quoted(joint.fixed_by);
+      file << "}\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";
     for (std::size_t i = 0; i < result.joints.size(); ++i)

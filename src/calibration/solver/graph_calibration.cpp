@@ -369,13 +369,18 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     return high[j] - low[j] >= mounts.tolerances.minMotion(joint);
   };
   std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false);
+  std::vector<std::string> fixed_after(joint_count);  // what ties a solvable joint down on the sensor's side
   for (std::size_t s = 0; s < mounts.chains.size(); ++s) {
     if (!mounts.jointed(static_cast<int>(s)) || isolated[s]) continue;
     const std::vector<int>& chain = mounts.chains[s];
-    bool later_moved = mounts.knownMount(static_cast<int>(s)).has_value();  // nothing to take the offsets up
+    const bool known = mounts.knownMount(static_cast<int>(s)).has_value();  // nothing to take the offsets up
+    bool later_moved = false;
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       in_a_chain[*it] = true;
-      solvable[*it] = solvable[*it] || later_moved;
+      if (fixed_after[*it].empty() && (later_moved || known)) {
+        fixed_after[*it] = later_moved ? "joints that moved after it" : "the known mount of the sensor behind it";
+      }
+      solvable[*it] = solvable[*it] || later_moved || known;
       later_moved = later_moved || moved(*it);
     }
   }
@@ -391,6 +396,8 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     } else if (!solvable[j]) {
       joints[j].held = "no joint after it moved over the session, so the mount of the sensor behind it takes up its offset: move the "
                        "joints after it between still poses, or give the sensor's mount";
+    } else {
+      joints[j].fixed_by = "the reference's given pose (the rig frame) and " + fixed_after[j];
     }
   }
   return joints;

@@ -340,6 +340,20 @@ struct ArmRig {
   bool board_on_tool = false;
   int main_camera = -1;
   Mounting mounting(int sensor) const { return {sensors[sensor].on_tool, board_on_tool}; }
+  std::string name(int sensor) const {
+    return sensors[sensor].name.empty() ? "sensor " + std::to_string(sensor) : "'" + sensors[sensor].name + "'";
+  }
+  // The first sensor on the tool (or fixed) held at a given pose that sees the board at some station, or
+  // -1: what ties that side's frame down.
+  int heldOn(bool tool_side, const std::vector<HandEyeStation>& stations) const {
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      if (sensors[s].on_tool != tool_side || !sensors[s].given_pose) continue;
+      for (const HandEyeStation& station : stations)
+        for (const HandEyeView& view : station.views)
+          if (view.sensor == static_cast<int>(s)) return static_cast<int>(s);
+    }
+    return -1;
+  }
 };
 
 // What the cameras' views disagree by beyond their PnP covariance and the arm's repeatability: a real
@@ -409,10 +423,11 @@ Eigen::Isometry3d armTool(const ArmJoints& arm, const std::vector<double>& readi
   return chainPose(arm.joints, arm.chain, readings, all);
 }
 
-// Per joint of the arm's chain: the range its readings covered, and whether its offset can be solved - a
-// joint before it and one after it moved (else the base side's unknowns, the board or the fixed sensors,
-// or the tool side's take it up).
-std::vector<JointCalibration> armJointsSolvable(const ArmJoints& arm, const std::vector<HandEyeStation>& stations) {
+// Per joint of the arm's chain: the range its readings covered, and whether its offset can be solved and
+// what fixes it: on the base side a joint before it that moved, or a fixed sensor held at the pose the rig
+// gives (else the base side's unknowns, the board or the fixed sensors, take it up); on the tool side a
+// joint after it that moved, or a tool sensor's given mount.
+std::vector<JointCalibration> armJointsSolvable(const ArmRig& rig, const ArmJoints& arm, const std::vector<HandEyeStation>& stations) {
   const std::size_t n = arm.chain.size();
   std::vector<JointCalibration> joints(n);
   std::vector<bool> moved(n, false);
@@ -426,16 +441,22 @@ std::vector<JointCalibration> armJointsSolvable(const ArmJoints& arm, const std:
     moved[i] = joint.type != JointType::kFixed &&
                joints[i].motion >= arm.tolerances.minMotion(joint);
   }
+  const int base_held = rig.heldOn(false, stations), tool_held = rig.heldOn(true, stations);
   for (std::size_t i = 0; i < n; ++i) {
     const bool before = std::any_of(moved.begin(), moved.begin() + i, [](bool m) { return m; });
     const bool after = std::any_of(moved.begin() + i + 1, moved.end(), [](bool m) { return m; });
     if (arm.joints[arm.chain[i]].type == JointType::kFixed) {
       joints[i].held = "a fixed joint";
       joints[i].reported = false;
-    } else if (!before) {
-      joints[i].held = "no joint before it moved, so the poses in the base frame (the board's, or the fixed sensors') take up its offset";
-    } else if (!after) {
+    } else if (!before && base_held < 0) {
+      joints[i].held = "no joint before it moved, so the poses in the base frame (the board's, or the fixed sensors') take up its offset: "
+                       "give a fixed sensor's pose in the rig (the reference) to solve it";
+    } else if (!after && tool_held < 0) {
       joints[i].held = "no joint after it moved, so the poses on the tool (the camera's, or the board's) take up its offset";
+    } else {
+      joints[i].fixed_by = before && after ? std::string("joints that moved before and after it")
+                           : (before ? std::string("joints that moved before it") : "the pose the rig gives " + rig.name(base_held)) + " and " +
+                                 (after ? std::string("joints that moved after it") : "the mount the rig gives " + rig.name(tool_held));
     }
   }
   return joints;
@@ -499,12 +520,19 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       for (std::size_t i = 0; i < n; ++i)
         if (arm->joints[arm->chain[i]].type == JointType::kFixed) problem.SetParameterBlockConstant(&graph->corrections[k][i]);
     }
-    const std::vector<JointCalibration> solvable = armJointsSolvable(*arm, stations);
+    const std::vector<JointCalibration> solvable = armJointsSolvable(rig, *arm, stations);
     for (std::size_t i = 0; i < n; ++i)
       if (!solvable[i].held.empty()) problem.SetParameterBlockConstant(&graph->offsets[i]);
   }
-  for (PoseState& sensor : graph->sensors)
-    if (problem.HasParameterBlock(sensor.rotation.coeffs().data())) problem.SetManifold(sensor.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  for (std::size_t s = 0; s < graph->sensors.size(); ++s) {
+    PoseState& sensor = graph->sensors[s];
+    if (!problem.HasParameterBlock(sensor.rotation.coeffs().data())) continue;
+    problem.SetManifold(sensor.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+    if (rig.sensors[s].given_pose) {  // the frame the user gave stays put
+      problem.SetParameterBlockConstant(sensor.rotation.coeffs().data());
+      problem.SetParameterBlockConstant(sensor.translation.data());
+    }
+  }
   problem.SetManifold(graph->board.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
@@ -573,9 +601,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     }
   }
   std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
-  starts[rig.main_camera] = std::find_if(result.closed_forms.begin(), result.closed_forms.end(), [](const HandEyeClosedForm& c) {
-                              return c.method == "Park";
-                            })->camera;
+  starts[rig.main_camera] = rig.sensors[rig.main_camera].given_pose.value_or(
+      std::find_if(result.closed_forms.begin(), result.closed_forms.end(), [](const HandEyeClosedForm& c) { return c.method == "Park"; })->camera);
   const Mounting main_mounting = rig.mounting(rig.main_camera);
   std::vector<Eigen::Isometry3d> boards;
   for (const HandEyeStation& s : stations) {
@@ -593,7 +620,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     const int s = static_cast<int>(sensor);
     if (s == rig.main_camera) continue;
     if (rig.sensors[sensor].type == SensorType::kCamera) result.flipped_views += turnLikePredicted(&stations, s, rig.mounting(s), board_start);
-    starts[sensor] = startOf(rig, s, stations, board_start);
+    starts[sensor] = rig.sensors[sensor].given_pose.value_or(startOf(rig, s, stations, board_start));
   }
 
   // Solved with the views' and the arm's own noise; when the cameras' views then disagree far beyond it
@@ -627,6 +654,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     calibratedTools();
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
+  for (const HandEyeSensor& sensor : rig.sensors) result.held.push_back(sensor.given_pose.has_value());
   result.board = graph->board.pose();
 
   ceres::Covariance covariance(ceres::Covariance::Options{});
@@ -635,18 +663,20 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     blocks.emplace_back(state.rotation.coeffs().data(), state.rotation.coeffs().data());
     blocks.emplace_back(state.translation.data(), state.translation.data());
   };
-  for (PoseState& p : graph->sensors) add(p);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s)
+    if (!result.held[s]) add(graph->sensors[s]);  // a held pose has no uncertainty to give
   add(graph->board);
   result.sensor_sigmas.assign(rig.sensors.size(), Eigen::Matrix<double, 6, 1>::Zero());
   if (covariance.Compute(blocks, graph->problem.get())) {
-    for (std::size_t s = 0; s < rig.sensors.size(); ++s) result.sensor_sigmas[s] = sigmasOf(covariance, graph->sensors[s]);
+    for (std::size_t s = 0; s < rig.sensors.size(); ++s)
+      if (!result.held[s]) result.sensor_sigmas[s] = sigmasOf(covariance, graph->sensors[s]);
     result.board_sigma = sigmasOf(covariance, graph->board);
   }
 
   double squared_distance = 0.0, squared_angle = 0.0;
   int views = 0;
   if (const std::optional<ArmJoints>& arm = options.arm_joints) {
-    result.joints = armJointsSolvable(*arm, stations);
+    result.joints = armJointsSolvable(rig, *arm, stations);
     std::vector<std::pair<const double*, const double*>> offset_blocks;
     for (std::size_t i = 0; i < graph->offsets.size(); ++i) {
       result.joints[i].offset = graph->offsets[i];

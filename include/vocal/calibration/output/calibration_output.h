@@ -68,6 +68,9 @@ struct HandEyeFrames {
   std::string reference_frame, tool_frame;
   std::vector<SensorSpec> sensors;
   std::vector<bool> on_tool;  // per sensor
+  // Per sensor, the pose the rig gives that the solve holds: the first fixed sensor's with a `pose` (the
+  // reference, in reference_frame) and a tool sensor's `pose_known` mount.
+  std::vector<std::optional<Eigen::Isometry3d>> given_poses;
   std::vector<std::string> joint_names;  // an arm whose tool comes from its joints: its chain's, in order
   const std::string& parentOf(std::size_t sensor) const { return on_tool[sensor] ? tool_frame : reference_frame; }
   std::vector<HandEyeSensor> solverSensors() const;  // what calibrateArmRig takes

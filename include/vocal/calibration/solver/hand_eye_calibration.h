@@ -18,6 +18,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -36,8 +37,17 @@ std::string handEyeSetupName(HandEyeSetup setup);  // "eye-in-hand", "eye-to-han
 // One sensor of an arm's rig: a camera or a range sensor (RGB-D, 3D lidar), on the tool or fixed in the
 // base frame.
 struct HandEyeSensor {
+  HandEyeSensor(SensorType type = SensorType::kCamera, bool on_tool = true, std::optional<Eigen::Isometry3d> given_pose = std::nullopt,
+                std::string name = "")
+      : type(type), on_tool(on_tool), given_pose(std::move(given_pose)), name(std::move(name)) {}
   SensorType type = SensorType::kCamera;
   bool on_tool = true;
+  // The pose the rig gives it in its parent, held there: the frame the user gave stays put. A fixed
+  // sensor's (the reference) ties the base frame down, so with an arm from its joints the first joint's
+  // offset is solved instead of taken up by the base side's poses; a tool sensor's known mount does the
+  // same for the last joint's.
+  std::optional<Eigen::Isometry3d> given_pose;
+  std::string name;  // for messages; empty: "sensor N"
 };
 
 // One sensor's view of the board at one still pose of the arm.
@@ -112,8 +122,10 @@ struct HandEyeResult {
   double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
   int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
   std::vector<HandEyeClosedForm> closed_forms;
-  // With HandEyeOptions::arm_joints: per joint of its chain, the offset as solved or held and why.
+  // With HandEyeOptions::arm_joints: per joint of its chain, the offset as solved (and what fixed it) or
+  // held and why.
   std::vector<JointCalibration> joints;
+  std::vector<bool> held;  // per sensor: at its given pose (HandEyeSensor::given_pose; sigma and spread zero)
 };
 
 // Why the arm's motion between the stations cannot fix the camera (the classic degeneracy: fewer than 3
