@@ -587,6 +587,54 @@ TEST(JointedCalibration, AGivenFixedCameraHoldsTheBaseFrameAndFixesTheFirstJoint
   }
 }
 
+// The arm holds the board before a camera on a post whose pose the rig gives (the reference), a lidar, an
+// RGB-D camera and a 2D laser fixed beside it, 24 still poses, the tool from the joint states: the camera
+// stays where the rig put it, the first joint's offset is solved (what fixed it said), the fixed sensors
+// land in the base frame within 2 mm / 2 mrad and the 2D laser within what it states of itself.
+TEST(JointedCalibration, ArmBeforeAGivenCameraALidarAndA2dLaserThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_joint_arm_given");
+  vocal_test::RunResult r =
+      vocal_test::runTool("simulate_calibration_session " + folder + " --eye-to-hand --arm --beside --given-reference --poses 24");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("arm_camera held at the pose the rig gives in arm_base"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fixed by the pose the rig gives 'arm_camera' and joints that moved after it"), std::string::npos) << r.output;
+  const YAML::Node rig = YAML::LoadFile(folder + "/rig.yaml");
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const auto poseOf = [](const std::vector<double>& t, const std::vector<double>& q) {
+    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+  };
+  const auto resultPose = [&](const YAML::Node& n) {
+    return poseOf(n["translation"].as<std::vector<double>>(), n["rotation"].as<std::vector<double>>());
+  };
+  // The camera where rig.yaml put it (to the digits the YAML carries).
+  const std::vector<double> given = rig["sensors"][0]["pose"].as<std::vector<double>>();
+  const Eigen::Isometry3d camera = resultPose(result["sensors"][0]);
+  EXPECT_TRUE(result["sensors"][0]["held"].as<bool>());
+  EXPECT_LT((camera.translation() - Eigen::Vector3d(given[0], given[1], given[2])).norm(), 1e-6);
+  EXPECT_LT(vocal::rotationAngle(poseOf({given[0], given[1], given[2]}, {given[3], given[4], given[5], given[6]}).inverse() * camera), 1e-6);
+  EXPECT_TRUE(result["joints"][0]["solved"].as<bool>());
+  EXPECT_NEAR(result["joints"][0]["offset"].as<double>(), truth["joints"][0]["offset"].as<double>(), 0.0005);
+  for (std::size_t s = 1; s < result["sensors"].size(); ++s) {
+    const YAML::Node sensor = result["sensors"][s];
+    const std::string name = sensor["name"].as<std::string>();
+    const YAML::Node true_pose = truth["sensors"][name]["pose"];
+    const Eigen::Isometry3d error =
+        poseOf(true_pose["translation"].as<std::vector<double>>(), true_pose["rotation"].as<std::vector<double>>()).inverse() * resultPose(sensor);
+    const double metres = error.translation().norm(), radians = vocal::rotationAngle(error);
+    std::printf("%s in arm_base: %.2f mm / %.2f mrad from the truth\n", name.c_str(), 1000 * metres, 1000 * radians);
+    const auto sd = sensor["translation_stddev"].as<std::vector<double>>();
+    const auto rd = sensor["rotation_stddev"].as<std::vector<double>>();
+    EXPECT_LT(metres, 3 * Eigen::Vector3d(sd[0], sd[1], sd[2]).norm()) << name;
+    EXPECT_LT(radians, 3 * Eigen::Vector3d(rd[0], rd[1], rd[2]).norm()) << name;
+    EXPECT_LT(metres, name == "arm_laser" ? 0.005 : 0.002) << name;
+    EXPECT_LT(radians, name == "arm_laser" ? 0.005 : 0.002) << name;
+  }
+  EXPECT_EQ(result["sensors"].size(), 4u);
+}
+
 // A 6-joint arm's session as a robot records it (images, /joint_states at 200 Hz, /tf from the readings)
 // through calibrate_rig with a rig that names the arm's joints: the tool from the joint states, the
 // joints' offsets solved, OpenCV's closed forms beside.

@@ -264,6 +264,14 @@ std::optional<ArmJoints> CalibrationSession::armJoints() const {
   return arm;
 }
 
+HandEyeOptions CalibrationSession::handEyeOptions() const {
+  HandEyeOptions options;
+  options.arm_joints = armJoints();
+  options.board_width = rig_.target.width;
+  options.board_height = rig_.target.height;
+  return options;
+}
+
 bool CalibrationSession::roomFor(std::size_t bytes) {
   const double budget = memory_options_.max_held_mb * 1e6;
   if (full_) return false;

@@ -231,9 +231,6 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
                        "'; one moving frame per rig");
     }
     const bool on_tool = !sensor.parent.empty();
-    if (sensor.spec.type == SensorType::kLaser2d) {
-      throw InputError(where + ": a 2D laser is not calibrated against a robot arm yet; calibrate it in a session of its own");
-    }
     if (on_tool && rig.target.parent.empty()) {
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
                        "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");

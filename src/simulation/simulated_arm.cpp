@@ -58,6 +58,10 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
     // Where a robot's body carries them: a lidar across the workspace, level, and an RGB-D camera beside it.
     arm.lidar = poseFromTranslationQuaternion({0.55, 1.35, 0.35}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2 - 0.05, Eigen::Vector3d::UnitZ())));
     arm.rgbd = lookingAt({0.05, 0.85, 0.55}, {0.5, 0.0, 0.3}, 0.0);
+    // A 2D laser on a post at the board's height, its scan plane rolled a little: it crosses the board
+    // in the gripper at most poses.
+    arm.laser = poseFromTranslationQuaternion({0.45, 1.0, 0.37}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
+                                                                                     Eigen::AngleAxisd(0.08, Eigen::Vector3d::UnitX())));
   }
   for (int k = 0; k < options.poses; ++k) {
     Eigen::Isometry3d tool;
@@ -102,7 +106,7 @@ std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, con
     for (int v = 0; v < views; ++v) {
       std::vector<Eigen::Vector2d> pixels;
       for (const Eigen::Vector3d& c : corners) pixels.push_back(camera.project(camera_from_board * c) + Eigen::Vector2d(noise(*rng), noise(*rng)));
-      station.views.push_back({0, observePattern(pixels, pattern, camera, "simulated arm camera").plane, {}});
+      station.views.push_back({0, observePattern(pixels, pattern, camera, "simulated arm camera").plane, {}, {}});
     }
     stations.push_back(std::move(station));
   }

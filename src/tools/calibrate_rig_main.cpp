@@ -231,10 +231,9 @@ void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Mat
 // A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
-  vocal::HandEyeOptions options;
+  const vocal::HandEyeOptions options = session.handEyeOptions();
   if (arm.from_joints) {
     // The tool from the arm's joint states (read with the session), its joints' offsets solved.
-    options.arm_joints = session.armJoints();
     std::printf("%zu joint readings on %s: the tool %s from the arm's %zu joints\n", session.jointReadings(), rig.joint_states_topic.c_str(),
                 arm.tool_frame.c_str(), arm.chain.size());
     if (session.jointReadings() == 0) {

@@ -42,6 +42,16 @@ sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std
   return msg;
 }
 
+// A sensor of the rig in its parent: the camera's (on the tool, or fixed), the fixed others' by type.
+Eigen::Isometry3d fixedSensorPose(const SimulatedArm& arm, SensorType type) {
+  switch (type) {
+    case SensorType::kLidar3d: return arm.lidar;
+    case SensorType::kRgbd: return arm.rgbd;
+    case SensorType::kLaser2d: return arm.laser;
+    default: return arm.camera;
+  }
+}
+
 // The arm's base on a table 0.75 m above the simulated room's floor.
 Eigen::Isometry3d roomFromBase() {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -71,6 +81,10 @@ RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& 
     rgbd.depth_topic = "/arm_rgbd/depth/image";
     rgbd.camera_info_topic = "/arm_rgbd/depth/camera_info";
     rig.sensors.push_back(rgbd);
+    RigSensorDescription laser;
+    laser.spec = {"arm_laser", SensorType::kLaser2d, "arm_laser"};
+    laser.scan_topic = "/arm_laser/scan";
+    rig.sensors.push_back(laser);
   }
   rig.reference_sensor = -1;
   return rig;
@@ -124,20 +138,23 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
-      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kLidar3d ? arm.lidar
-                                                 : d.spec.type == SensorType::kRgbd  ? arm.rgbd
-                                                 : in_hand                           ? tool * arm.camera
-                                                                                     : arm.camera;
+      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : fixedSensorPose(arm, d.spec.type);
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;
       view.reference_from_target = roomFromBase() * (in_hand ? arm.board : tool * arm.board);
       view.target = &rig.target;
-      view.range_noise = d.spec.type == SensorType::kLidar3d ? options.lidar_noise : options.depth_noise;
+      view.range_noise = d.spec.type == SensorType::kLidar3d   ? options.lidar_noise
+                         : d.spec.type == SensorType::kLaser2d ? options.laser_noise
+                                                               : options.depth_noise;
       if (d.spec.type == SensorType::kLidar3d) {
         SimulatedTruth truth;
         const std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
         bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
+        continue;
+      }
+      if (d.spec.type == SensorType::kLaser2d) {  // a 270-degree scanner, 0.25-degree steps
+        bag.write(d.scan_topic, stamp, toLaserScan(simulateLaserRanges(view, &rng), -135.0 * M_PI / 180.0, 0.25 * M_PI / 180.0, 8.0, d.spec.frame_id, stamp));
         continue;
       }
       if (d.spec.type == SensorType::kRgbd) {
@@ -182,7 +199,7 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
        << "camera: {parent: " << (in_hand ? kTool : kBase) << ", pose: " << pose(arm.camera) << "}\n"
        << "sensors:  # every sensor of the rig, by name\n";
   for (const RigSensorDescription& d : rig.sensors) {
-    const Eigen::Isometry3d& p = d.spec.type == SensorType::kLidar3d ? arm.lidar : d.spec.type == SensorType::kRgbd ? arm.rgbd : arm.camera;
+    const Eigen::Isometry3d p = fixedSensorPose(arm, d.spec.type);
     file << "  " << d.spec.name << ": {parent: " << (d.parent.empty() ? rig.reference_frame : d.parent) << ", pose: " << pose(p) << "}\n";
   }
   file

@@ -113,6 +113,8 @@ class CalibrationSession {
   HandEyeAssociation handEyeAssociation(const ToolStillnessOptions& options = {}) const;
   // An arm whose tool comes from its joints (HandEyeRig::from_joints): its chain, for HandEyeOptions::arm_joints.
   std::optional<ArmJoints> armJoints() const;
+  // The hand-eye solve's options the rig gives: the arm's joints (armJoints) and the board's plate size.
+  HandEyeOptions handEyeOptions() const;
 
   // A sensor_msgs/JointState: each named joint's position at `stamp` (joints the rig does not name are
   // ignored; a reading that is not finite is skipped); for an arm whose tool comes from its joints, the

@@ -35,10 +35,12 @@ struct SimulatedArm {
   Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Isometry3d> true_tool;      // base <- tool at each still pose
   std::vector<Eigen::Isometry3d> reported_tool;  // ... as the arm reports it
-  // Eye-to-hand: where a 3D lidar (x ahead, z up) and an RGB-D camera (optical frame) fixed in the base
-  // frame would watch the board in the gripper too (base <- sensor), for a rig that has them.
+  // Eye-to-hand: where a 3D lidar (x ahead, z up), an RGB-D camera (optical frame) and a 2D laser (its
+  // scan plane z = 0) fixed in the base frame would watch the board in the gripper too (base <- sensor),
+  // for a rig that has them.
   Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d rgbd = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d laser = Eigen::Isometry3d::Identity();
 
   // Camera <- board at pose k (the truth).
   Eigen::Isometry3d cameraFromBoard(int k) const;

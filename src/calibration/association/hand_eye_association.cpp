@@ -67,9 +67,9 @@ HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, 
     if (station.views.empty() || view.stamp < station.first_stamp) station.first_stamp = view.stamp;
     station.last_stamp = std::max(station.last_stamp, view.stamp);
     if (view.plane_measurements.empty()) {
-      station.views.push_back({view.sensor, PlaneMeasurement{}, view.points});  // a range sensor's board points
+      station.views.push_back({view.sensor, PlaneMeasurement{}, view.points, view.outline});  // a range sensor's board points
     }
-    for (const PlaneMeasurement& pattern : view.plane_measurements) station.views.push_back({view.sensor, pattern, {}});
+    for (const PlaneMeasurement& pattern : view.plane_measurements) station.views.push_back({view.sensor, pattern, {}, {}});
   }
   for (HandEyeStation& station : stations) {
     if (station.views.empty()) {

@@ -19,6 +19,7 @@
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
+#include "vocal/calibration/solver/outline_point_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
 #include "vocal/core/errors.h"
 
@@ -67,22 +68,6 @@ struct OnBoardPlane {
     const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
     const T offset = -normal.dot(t);
     return plane(rotation, translation, normal.data(), &offset, residual);
-  }
-};
-
-// A point a sensor saw on the board's edge (sensor frame): its distance within the board's plane to the
-// board's outline, in standard deviations.
-struct OutlinePointResidual {
-  Eigen::Vector3d point;
-  double sigma, half_width, half_height;
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
-    const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q * point.cast<T>() + t - t_board);
-    residual[0] = distanceToOutline(on_board.x(), on_board.y(), half_width, half_height) / T(sigma);
-    return true;
   }
 };
 

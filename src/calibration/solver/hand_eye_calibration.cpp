@@ -13,6 +13,8 @@
 #include <opencv2/calib3d.hpp>
 
 #include "vocal/calibration/plane.h"
+#include "vocal/calibration/solver/beam_range_residual.h"
+#include "vocal/calibration/solver/outline_point_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
 #include "vocal/core/errors.h"
@@ -108,6 +110,44 @@ struct RangeViewResidual {
 
   ObservationOnPlaneResidual on_plane;
   Mounting mounting;
+};
+
+// A 2D laser's board points against the board's plane where the unknowns put it, as range errors along
+// its beams (beam_range_residual.h): its plane alone fixes its height and pitch weakly, so the bias a
+// fit of point-to-plane distances has there would be taken up in full.
+struct BeamRangeViewResidual {
+  std::vector<Eigen::Vector3d> points;
+  double sigma;
+  Mounting mounting;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    using Quaternion = Eigen::Quaternion<T>;
+    using Vector = Eigen::Matrix<T, 3, 1>;
+    Quaternion q;
+    Vector t;
+    mounting.boardInSensorParent(Quaternion(blocks[2]), Vector(blocks[3]), Quaternion(blocks[4]), Vector(blocks[5]), &q, &t);
+    const Vector normal = q * Vector::UnitZ();
+    beamRangeResiduals(points, sigma, Quaternion(blocks[0]), Vector(blocks[1]), normal, T(-normal.dot(t)), residuals);
+    return true;
+  }
+};
+
+// A range sensor's point on the board's edge against the board's outline where the unknowns put it (in
+// the sensor's parent frame, Mounting).
+struct RangeOutlineResidual {
+  OutlinePointResidual on_outline;
+  Mounting mounting;
+
+  template <typename T>
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
+    using Quaternion = Eigen::Quaternion<T>;
+    using Vector = Eigen::Matrix<T, 3, 1>;
+    Quaternion q;
+    Vector t;
+    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
+    return on_outline(xq, xt, q.coeffs().data(), t.data(), residual);
+  }
 };
 
 // The tool where the arm reported it, within its repeatability: rotation in the tool frame, translation
@@ -462,6 +502,14 @@ std::vector<JointCalibration> armJointsSolvable(const ArmRig& rig, const ArmJoin
   return joints;
 }
 
+// BeamRangeViewResidual's cost: a residual per point, over the sensor's, the board's and the tool's pose.
+ceres::CostFunction* beamRangeCost(const std::vector<Eigen::Vector3d>& points, double sigma, Mounting mounting) {
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<BeamRangeViewResidual, 4>(new BeamRangeViewResidual{points, sigma, mounting});
+  for (int block = 0; block < 3; ++block) cost->AddParameterBlock(4), cost->AddParameterBlock(3);
+  cost->SetNumResiduals(static_cast<int>(points.size()));
+  return cost;
+}
+
 std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
                                      const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start,
                                      const std::vector<double>* offset_starts = nullptr) {
@@ -477,14 +525,24 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     PoseState& tool = graph->tools[k];
     for (const HandEyeView& view : stations[k].views) {
       PoseState& sensor = graph->sensors[view.sensor];
+      const bool laser = rig.sensors[view.sensor].type == SensorType::kLaser2d;
       ceres::CostFunction* cost =
-          rig.sensors[view.sensor].type == SensorType::kCamera
+          laser ? beamRangeCost(view.points, estimatedPointSigma(view.points, SensorType::kLaser2d), rig.mounting(view.sensor))
+          : rig.sensors[view.sensor].type == SensorType::kCamera
               ? static_cast<ceres::CostFunction*>(new ceres::AutoDiffCostFunction<CameraViewResidual, 6, 4, 3, 4, 3, 4, 3>(
                     new CameraViewResidual(view.pattern, rig.mounting(view.sensor))))
               : new ceres::AutoDiffCostFunction<RangeViewResidual, 4, 4, 3, 4, 3, 4, 3>(new RangeViewResidual(
                     view.points, estimatedPointSigma(view.points, rig.sensors[view.sensor].type), rig.mounting(view.sensor)));
       problem.AddResidualBlock(cost, nullptr, sensor.rotation.coeffs().data(), sensor.translation.data(), graph->board.rotation.coeffs().data(),
                                graph->board.translation.data(), tool.rotation.coeffs().data(), tool.translation.data());
+      if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
+      for (const Eigen::Vector3d& end : view.outline) {
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RangeOutlineResidual, 1, 4, 3, 4, 3, 4, 3>(new RangeOutlineResidual{
+                                     {end, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height}, rig.mounting(view.sensor)}),
+                                 new ceres::CauchyLoss(options.edge_loss_sigmas), sensor.rotation.coeffs().data(), sensor.translation.data(),
+                                 graph->board.rotation.coeffs().data(), graph->board.translation.data(), tool.rotation.coeffs().data(),
+                                 tool.translation.data());
+      }
     }
     if (!options.arm_joints) {
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
@@ -551,8 +609,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
 // it too, from whichever side fits).
 Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandEyeStation>& stations, const Eigen::Isometry3d& board) {
   const Mounting mounting = rig.mounting(sensor);
+  const bool laser = rig.sensors[sensor].type == SensorType::kLaser2d;
   std::vector<Eigen::Isometry3d> poses;
   std::vector<Plane> in_parent, in_sensor;
+  std::vector<std::vector<Eigen::Vector3d>> scans;
   for (const HandEyeStation& s : stations) {
     const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, s.base_from_tool);
     for (const HandEyeView& view : s.views) {
@@ -564,12 +624,14 @@ Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandE
         plane.normal = seen.linear().col(2);
         plane.offset = -plane.normal.dot(seen.translation());
         in_parent.push_back(plane);
-        in_sensor.push_back(fitPlane(view.points, "hand-eye range view").plane);
+        if (laser) scans.push_back(view.points);  // a line: no plane of its own
+        else in_sensor.push_back(fitPlane(view.points, "hand-eye range view").plane);
       }
     }
   }
   if (!poses.empty()) return chordalMean(poses);
-  const std::string what = "hand-eye sensor " + std::to_string(sensor);
+  const std::string what = "hand-eye sensor " + rig.name(sensor);
+  if (laser) return alignLaserLines(in_parent, scans, what);  // each scan point on its board's plane, either side
   const Eigen::Isometry3d front = alignPlanes(in_parent, in_sensor, what);
   std::vector<Plane> flipped = in_parent;
   for (Plane& p : flipped) p.normal = -p.normal, p.offset = -p.offset;

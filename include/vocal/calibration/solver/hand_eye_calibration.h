@@ -12,9 +12,11 @@
 // One Ceres graph: each sensor's pose in its parent and the board's in its parent, and the tool's pose at
 // every still pose as an unknown measured by the arm with its repeatability under a Cauchy loss (one arm
 // pose millimetres off then moves itself instead of the result); each camera view a 6-DoF residual
-// whitened by its PnP covariance, each range view its points on the board's plane. Started from OpenCV's
-// calibrateHandEye (Park and Martin) for the main camera, after the board's 180-degree symmetry is
-// resolved (a chessboard's corners may be found in either order).
+// whitened by its PnP covariance, each range view its points on the board's plane (a 2D laser's as
+// range errors along its beams, and its scan ends on the board's outline). A sensor whose pose the rig
+// gives is held there. Started from OpenCV's calibrateHandEye (Park and Martin) for the main camera (or
+// its given pose), after the board's 180-degree symmetry is resolved (a chessboard's corners may be
+// found in either order).
 
 #include <optional>
 #include <string>
@@ -55,6 +57,7 @@ struct HandEyeView {
   int sensor = 0;
   PlaneMeasurement pattern;             // a camera's: the pattern's pose and covariance
   std::vector<Eigen::Vector3d> points;  // a range sensor's board points, in its frame
+  std::vector<Eigen::Vector3d> outline;  // ... its points on the board's edges (a 2D laser's scan ends)
 };
 
 // One still pose of the arm.
@@ -79,6 +82,13 @@ struct HandEyeOptions {
   double min_rotation = 0.17;    // radians (10 degrees)
   double min_axis_angle = 0.35;  // radians (20 degrees)
   int max_iterations = 100;
+  // The board's plate (pattern centred on it, x along the width), metres; zero: not known. A 2D laser's
+  // line on the board's plane leaves it free to slide along the line: its scan ends, held on the plate's
+  // outline within `edge_sigma` (the beam's step and width) under a Cauchy loss of `edge_loss_sigmas`
+  // (a finger over the edge ends a line early), fix it.
+  double board_width = 0.0, board_height = 0.0;
+  double edge_sigma = 0.01;
+  double edge_loss_sigmas = 2.0;
   // The tool's pose from the arm's joints: each still pose's tool is the chain's at its readings plus the
   // joints' zero offsets (unknowns of the graph; the first and last joints' are held, as the board's and
   // the sensors' poses take them up) plus the readings' own errors (a prior of reading_sigma, under the
@@ -142,7 +152,7 @@ HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, Hand
 // first camera on the other side from the board (on the tool when the board is fixed, fixed when it is
 // on the tool) is the main camera, started from OpenCV's closed form; every other sensor is started
 // from the board's poses that solution gives (a camera's views; a range sensor's planes, which must turn
-// about two axes at least). Throws InputError as calibrateHandEye, for no such camera, and for a sensor
+// about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Throws InputError as calibrateHandEye, for no such camera, and for a sensor
 // on the board's side that is not a camera (it would see the board in one place only).
 HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& stations,
                               const HandEyeOptions& options = {});
