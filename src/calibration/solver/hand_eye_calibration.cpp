@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
@@ -40,6 +41,15 @@ struct Mounting {
     *t = board_t;
     if (board_on_tool) *t = tool_q * *t + tool_t, *q = tool_q * *q;
     if (sensor_on_tool) *t = tool_q.conjugate() * (*t - tool_t), *q = tool_q.conjugate() * *q;
+  }
+  // ... from the graph's blocks (the board's rotation and translation, the tool's), as (q, t).
+  template <typename T>
+  std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> boardInSensorParent(const T* board_q, const T* board_t, const T* tool_q,
+                                                                             const T* tool_t) const {
+    std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> pose;
+    boardInSensorParent(Eigen::Quaternion<T>(board_q), Eigen::Matrix<T, 3, 1>(board_t), Eigen::Quaternion<T>(tool_q),
+                        Eigen::Matrix<T, 3, 1>(tool_t), &pose.first, &pose.second);
+    return pose;
   }
   Eigen::Isometry3d boardInSensorParent(const Eigen::Isometry3d& board, const Eigen::Isometry3d& base_from_tool) const {
     Eigen::Isometry3d pose = board;
@@ -98,12 +108,8 @@ struct RangeViewResidual {
 
   template <typename T>
   bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
-    using Quaternion = Eigen::Quaternion<T>;
-    using Vector = Eigen::Matrix<T, 3, 1>;
-    Quaternion q;
-    Vector t;
-    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
-    const Vector normal = q * Vector::UnitZ();
+    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
+    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
     const T offset = -normal.dot(t);
     return on_plane(xq, xt, normal.data(), &offset, residual);
   }
@@ -122,13 +128,9 @@ struct BeamRangeViewResidual {
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
-    using Quaternion = Eigen::Quaternion<T>;
-    using Vector = Eigen::Matrix<T, 3, 1>;
-    Quaternion q;
-    Vector t;
-    mounting.boardInSensorParent(Quaternion(blocks[2]), Vector(blocks[3]), Quaternion(blocks[4]), Vector(blocks[5]), &q, &t);
-    const Vector normal = q * Vector::UnitZ();
-    beamRangeResiduals(points, sigma, Quaternion(blocks[0]), Vector(blocks[1]), normal, T(-normal.dot(t)), residuals);
+    const auto [q, t] = mounting.boardInSensorParent(blocks[2], blocks[3], blocks[4], blocks[5]);
+    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
+    beamRangeResiduals(points, sigma, Eigen::Quaternion<T>(blocks[0]), Eigen::Matrix<T, 3, 1>(blocks[1]), normal, T(-normal.dot(t)), residuals);
     return true;
   }
 };
@@ -141,11 +143,7 @@ struct RangeOutlineResidual {
 
   template <typename T>
   bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
-    using Quaternion = Eigen::Quaternion<T>;
-    using Vector = Eigen::Matrix<T, 3, 1>;
-    Quaternion q;
-    Vector t;
-    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
+    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
     return on_outline(xq, xt, q.coeffs().data(), t.data(), residual);
   }
 };
