@@ -82,7 +82,7 @@ def main():
                     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
                 truth = yaml.safe_load(open(os.path.join(folder, "ground_truth.yaml")))
                 result, seconds = calibrate(os.path.join(folder, "rig.yaml"), os.path.join(folder, "session.bag"), folder)
-                name = "simulated %s%s, seed %d%s" % (setup, " + lidar + RGB-D" if beside else "", seed,
+                name = "simulated %s%s, seed %d%s" % (setup, " + lidar + RGB-D + 2D laser" if beside else "", seed,
                                                       ", pose %d reported 5 mm off" % poor if poor else "")
                 camera = truth["camera"]["pose"]
                 row(name, result, matrix(camera["translation"], camera["rotation"]), seconds, truth.get("sensors"))

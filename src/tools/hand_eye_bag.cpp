@@ -43,7 +43,7 @@ sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std
 }
 
 // A sensor of the rig in its parent: the camera's (on the tool, or fixed), the fixed others' by type.
-Eigen::Isometry3d fixedSensorPose(const SimulatedArm& arm, SensorType type) {
+Eigen::Isometry3d sensorPoseInParent(const SimulatedArm& arm, SensorType type) {
   switch (type) {
     case SensorType::kLidar3d: return arm.lidar;
     case SensorType::kRgbd: return arm.rgbd;
@@ -138,7 +138,7 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
-      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : fixedSensorPose(arm, d.spec.type);
+      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d.spec.type);
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;
@@ -199,7 +199,7 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
        << "camera: {parent: " << (in_hand ? kTool : kBase) << ", pose: " << pose(arm.camera) << "}\n"
        << "sensors:  # every sensor of the rig, by name\n";
   for (const RigSensorDescription& d : rig.sensors) {
-    const Eigen::Isometry3d p = fixedSensorPose(arm, d.spec.type);
+    const Eigen::Isometry3d p = sensorPoseInParent(arm, d.spec.type);
     file << "  " << d.spec.name << ": {parent: " << (d.parent.empty() ? rig.reference_frame : d.parent) << ", pose: " << pose(p) << "}\n";
   }
   file
