@@ -83,9 +83,7 @@ struct CameraViewResidual {
     using Vector = Eigen::Matrix<T, 3, 1>;
     const Eigen::Map<const Quaternion> camera_q(xq);
     const Eigen::Map<const Vector> camera_t(xt);
-    Quaternion q;
-    Vector t;
-    mounting.boardInSensorParent(Quaternion(yq), Vector(yt), Quaternion(tq), Vector(tt), &q, &t);
+    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
     Eigen::Matrix<T, 6, 1> r;
     r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), Quaternion(camera_q.conjugate() * q));
     r.template tail<3>() = camera_q.conjugate() * (t - camera_t) - translation.cast<T>();
