@@ -16,6 +16,7 @@
 #include "test_support.h"
 
 #include "vocal/calibration/association/joint_positions.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/output/calibrated_urdf.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
@@ -587,6 +588,89 @@ TEST(JointedCalibration, AGivenFixedCameraHoldsTheBaseFrameAndFixesTheFirstJoint
   }
 }
 
+// A second camera on the arm's forearm (behind its first three joints) beside the wrist camera, the board
+// fixed, the tool and the forearm from the joints: the forearm camera's mount in its link within 2 mm /
+// 2 mrad of the truth and the wrist camera's as without it; the same rig from tf (no joints) refused.
+TEST(JointedCalibration, ACameraOnTheForearmBesideTheWristCamera) {
+  constexpr int kForearm = 3;  // shoulder pan, shoulder lift, elbow
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeInHand, seed, 0.0002);
+    const std::vector<double> zero(session.arm.joints.size(), 0.0);
+    const std::vector<int> forearm_chain(session.arm.chain.begin(), session.arm.chain.begin() + kForearm);
+    const auto forearmAt = [&](std::size_t k) {
+      return vocal::chainPose(session.arm.joints, forearm_chain, std::vector<double>(session.arm.angles[k].begin(), session.arm.angles[k].begin() + kForearm),
+                              zero);
+    };
+    // The mount: 10 cm behind where the wrist camera was at one still pose, chosen so the board is in view
+    // at the most still poses.
+    const vocal::PinholeCamera lens = vocal::defaultKinectCamera(640, 480);
+    const vocal::TargetPattern pattern{7, 10, 0.03};
+    const std::vector<Eigen::Vector3d> corners = pattern.corners();
+    const auto inView = [&](const Eigen::Isometry3d& camera_from_board) {
+      for (const Eigen::Vector3d& c : corners) {
+        const Eigen::Vector3d p = camera_from_board * c;
+        if (p.z() < 0.1) return false;
+        const Eigen::Vector2d uv = lens.project(p);
+        if (!lens.contains(uv.x(), uv.y())) return false;
+      }
+      return true;
+    };
+    Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+    std::size_t most = 0;
+    for (std::size_t candidate = 0; candidate < session.arm.angles.size(); ++candidate) {
+      const Eigen::Isometry3d wrist = session.arm.arm.true_tool[candidate] * session.arm.arm.camera * Eigen::Translation3d(0.0, 0.0, -0.1);
+      const Eigen::Isometry3d m = forearmAt(candidate).inverse() * wrist;
+      std::size_t seen = 0;
+      for (std::size_t k = 0; k < session.arm.angles.size(); ++k) seen += inView((forearmAt(k) * m).inverse() * session.arm.arm.board);
+      if (seen > most) most = seen, mount = m;
+    }
+    ASSERT_GE(most, 6u);
+    const std::vector<vocal::HandEyeStation> wrist_stations = session.stations;
+    std::mt19937 rng(seed + 100);
+    std::normal_distribution<double> noise(0.0, 0.2);
+    for (std::size_t k = 0; k < session.stations.size(); ++k) {
+      const Eigen::Isometry3d camera_from_board = (forearmAt(k) * mount).inverse() * session.arm.arm.board;
+      if (!inView(camera_from_board)) continue;
+      for (int v = 0; v < 3; ++v) {
+        std::vector<Eigen::Vector2d> pixels;
+        for (const Eigen::Vector3d& c : corners) pixels.push_back(lens.project(camera_from_board * c) + Eigen::Vector2d(noise(rng), noise(rng)));
+        session.stations[k].views.push_back({1, vocal::observePattern(pixels, pattern, lens, "forearm camera").plane, {}, {}});
+      }
+    }
+    vocal::HandEyeSensor forearm(vocal::SensorType::kCamera, true, std::nullopt, "forearm_camera");
+    forearm.link_joints = kForearm;
+    const vocal::HandEyeResult result =
+        vocal::calibrateArmRig({{vocal::SensorType::kCamera, true, std::nullopt, "wrist_camera"}, forearm}, false, session.stations, session.options);
+    const vocal::HandEyeResult wrist_alone =
+        vocal::calibrateArmRig({{vocal::SensorType::kCamera, true, std::nullopt, "wrist_camera"}}, false, wrist_stations, session.options);
+    const double translation = (result.sensors[1].translation() - mount.translation()).norm();
+    const double rotation = vocal::rotationAngle(mount.inverse() * result.sensors[1]);
+    std::printf("forearm camera, seed %u, %zu of %zu still poses: %.2f mm / %.2f mrad (sigma %.2f mm); wrist camera %.3f mm from its "
+                "pose without it\n", seed, most, session.stations.size(), 1000 * translation, 1000 * rotation,
+                1000 * result.sensor_sigmas[1].head<3>().norm(), 1000 * (result.camera().translation() - wrist_alone.camera().translation()).norm());
+    EXPECT_LT(translation, 0.002);
+    EXPECT_LT(rotation, 0.002);
+    EXPECT_LT((result.camera().translation() - wrist_alone.camera().translation()).norm(), 0.001);
+
+    vocal::HandEyeOptions from_tf = session.options;
+    from_tf.arm_joints.reset();
+    try {
+      vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}, forearm}, false, session.stations, from_tf);
+      ADD_FAILURE() << "a forearm camera without the arm's joints was calibrated";
+    } catch (const vocal::InputError& e) {
+      EXPECT_STREQ(e.what(), "hand-eye calibration: 'forearm_camera' sits on a link of the arm before the tool, which needs the arm's joints "
+                             "(their readings and chain)");
+    }
+    try {
+      vocal::calibrateArmRig({{vocal::SensorType::kCamera, false}, forearm}, true, session.stations, session.options);
+      ADD_FAILURE() << "a forearm camera with the board on the tool was calibrated";
+    } catch (const vocal::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("while the board is on the tool: not supported yet"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // The arm holds the board before a camera on a post whose pose the rig gives (the reference), a lidar, an
 // RGB-D camera and a 2D laser fixed beside it, 24 still poses, the tool from the joint states: the camera
 // stays where the rig put it, the first joint's offset is solved (what fixed it said), the fixed sensors
@@ -668,4 +752,81 @@ TEST(JointedCalibration, ArmSessionThroughCalibrateRig) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("the arm's tool 'arm_tool' comes from its joints, but the bag has no sensor_msgs/JointState on /arm/joint_states"),
             std::string::npos) << r.output;
+}
+
+// A camera on the arm's forearm beside the wrist camera, the tool and the forearm from /joint_states,
+// through calibrate_rig: the forearm camera in forearm_link within 2 mm / 2 mrad of the truth and written
+// there; the tool found as the link furthest along the chain whichever sensor the rig lists first; the
+// same rig without the joints, or with the board on the tool, refused with what to do.
+TEST(JointedCalibration, ForearmCameraThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_forearm");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --eye-in-hand --arm --forearm --poses 12");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("forearm_camera in forearm_link"), std::string::npos) << r.output;
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  ASSERT_EQ(result["sensors"].size(), 2u);
+  const YAML::Node forearm = result["sensors"][1];
+  EXPECT_EQ(forearm["parent"].as<std::string>(), "forearm_link");
+  const YAML::Node true_pose = truth["sensors"]["forearm_camera"]["pose"];
+  const auto pose = [](const std::vector<double>& t, const std::vector<double>& q) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+    p.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+    return p;
+  };
+  const Eigen::Isometry3d expected = pose(true_pose["translation"].as<std::vector<double>>(), true_pose["rotation"].as<std::vector<double>>());
+  const Eigen::Isometry3d found = pose(forearm["translation"].as<std::vector<double>>(), forearm["rotation"].as<std::vector<double>>());
+  std::printf("forearm camera through calibrate_rig: %.2f mm / %.2f mrad\n", 1000 * (found.translation() - expected.translation()).norm(),
+              1000 * vocal::rotationAngle(expected.inverse() * found));
+  EXPECT_LT((found.translation() - expected.translation()).norm(), 0.002);
+  EXPECT_LT(vocal::rotationAngle(expected.inverse() * found), 0.002);
+  std::ifstream urdf(folder + "/calibration.urdf");
+  const std::string urdf_text((std::istreambuf_iterator<char>(urdf)), std::istreambuf_iterator<char>());
+  EXPECT_NE(urdf_text.find("<parent link=\"forearm_link\"/>"), std::string::npos) << urdf_text;
+
+  std::string rig_text;
+  {
+    std::ifstream rig(folder + "/rig.yaml");
+    rig_text.assign((std::istreambuf_iterator<char>(rig)), std::istreambuf_iterator<char>());
+  }
+  // The forearm camera listed first: the tool is still arm_tool, the wrist camera the main one.
+  const std::size_t wrist_at = rig_text.find("  - {name: arm_camera"), forearm_at = rig_text.find("  - {name: forearm_camera");
+  ASSERT_NE(wrist_at, std::string::npos);
+  ASSERT_NE(forearm_at, std::string::npos);
+  const std::string swapped = rig_text.substr(0, wrist_at) + rig_text.substr(forearm_at) + rig_text.substr(wrist_at, forearm_at - wrist_at);
+  vocal_test::writeText(folder + "/swapped.yaml", swapped);
+  const std::optional<vocal::HandEyeRig> arm = vocal::readRigDescription(folder + "/swapped.yaml").handEye();
+  ASSERT_TRUE(arm.has_value());
+  EXPECT_EQ(arm->tool_frame, "arm_tool");
+  EXPECT_EQ(arm->camera, 1);
+  EXPECT_EQ(arm->link_joints, std::vector<int>({3, 0}));
+
+  // Without the joints the forearm is a second frame tf would have to move: refused, saying what is needed.
+  const std::size_t joints_at = rig_text.find("joints:\n"), sensors_at = rig_text.find("sensors:\n");
+  ASSERT_NE(joints_at, std::string::npos);
+  vocal_test::writeText(folder + "/no_joints.yaml", rig_text.substr(0, joints_at) + rig_text.substr(sensors_at));
+  try {
+    vocal::readRigDescription(folder + "/no_joints.yaml");
+    ADD_FAILURE() << "a forearm camera without the arm's joints was accepted";
+  } catch (const vocal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("its parent 'forearm_link' is a second moving frame besides 'arm_tool'; one moving frame per rig (a sensor "
+                                         "on an arm's other links needs the arm's joints: 'joints:' or 'urdf:')"),
+              std::string::npos) << e.what();
+  }
+  // The board on the tool with a camera on the forearm: not supported yet, said so.
+  std::string on_tool = rig_text;
+  on_tool.replace(on_tool.find("parent: arm_base}"), std::string("parent: arm_base}").size(), "parent: arm_tool}");
+  on_tool.erase(on_tool.find(", parent: arm_tool, image_topic"), std::string(", parent: arm_tool").size());
+  vocal_test::writeText(folder + "/board_on_tool.yaml", on_tool);
+  try {
+    vocal::readRigDescription(folder + "/board_on_tool.yaml");
+    ADD_FAILURE() << "a forearm camera with the board on the tool was accepted";
+  } catch (const vocal::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'forearm_camera': it is on the arm's link 'forearm_link' while the board is on the tool 'arm_tool': "
+                                         "not supported yet"),
+              std::string::npos) << e.what();
+  }
 }

@@ -65,16 +65,35 @@ std::optional<HandEyeRig> RigDescription::handEye() const {
   }
   if (arm.tool_frame.empty()) return std::nullopt;
   arm.from_joints = isJointLink(arm.tool_frame);
-  if (arm.from_joints) {
+  // The joints from the base to a link, empty when no chain leads there (readRigDescription refuses it).
+  const auto chainTo = [&](const std::string& link) {
     try {
-      arm.chain = jointChain(joints, reference_frame, arm.tool_frame, "the arm's tool '" + arm.tool_frame + "'");
+      return jointChain(joints, reference_frame, link, "link '" + link + "'");
     } catch (const InputError&) {
-      arm.chain.clear();  // readRigDescription refuses it, naming the rig file
+      return std::vector<int>();
+    }
+  };
+  if (arm.from_joints) {
+    // Sensors on an arm's links before the tool (a forearm camera) beside the board fixed: the tool is the
+    // link furthest along the chain.
+    arm.chain = chainTo(arm.tool_frame);
+    for (std::size_t s = 0; s < sensors.size() && arm.eye_in_hand; ++s) {
+      if (!behindJoints(static_cast<int>(s))) continue;
+      std::vector<int> chain = chainTo(sensors[s].parent);
+      if (chain.size() > arm.chain.size()) arm.tool_frame = sensors[s].parent, arm.chain = std::move(chain);
     }
   }
-  // The main camera: the first on the other side from the board.
+  arm.link_joints.assign(sensors.size(), 0);
+  for (std::size_t s = 0; s < sensors.size() && arm.from_joints; ++s) {
+    if (sensors[s].parent.empty() || sensors[s].parent == arm.tool_frame || !behindJoints(static_cast<int>(s))) continue;
+    const std::vector<int> chain = chainTo(sensors[s].parent);
+    if (!chain.empty() && chain.size() < arm.chain.size() && std::equal(chain.begin(), chain.end(), arm.chain.begin()))
+      arm.link_joints[s] = static_cast<int>(chain.size());
+  }
+  // The main camera: the first on the other side from the board (on the tool itself when the board is fixed).
   for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s) {
-    if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand) arm.camera = static_cast<int>(s);
+    if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand && arm.link_joints[s] == 0)
+      arm.camera = static_cast<int>(s);
   }
   return arm;
 }
@@ -226,9 +245,14 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& sensor = rig.sensors[s];
     const std::string where = path + ": sensors[" + std::to_string(s) + "] '" + sensor.spec.name + "'";
-    if (!sensor.parent.empty() && sensor.parent != arm.tool_frame) {
-      throw InputError(where + ": its parent '" + sensor.parent + "' is a second moving frame besides '" + arm.tool_frame +
-                       "'; one moving frame per rig");
+    if (!sensor.parent.empty() && sensor.parent != arm.tool_frame && arm.link_joints[s] == 0) {
+      throw InputError(where + ": its parent '" + sensor.parent + "' is a second moving frame besides '" + arm.tool_frame + "'" +
+                       (arm.from_joints ? " and no link of the arm's chain to it" : "") + "; one moving frame per rig" +
+                       (arm.from_joints ? "" : " (a sensor on an arm's other links needs the arm's joints: 'joints:' or 'urdf:')"));
+    }
+    if (arm.link_joints[s] > 0 && board_on_tool) {
+      throw InputError(where + ": it is on the arm's link '" + sensor.parent + "' while the board is on the tool '" + arm.tool_frame +
+                       "': not supported yet; fix the board (target 'parent: " + rig.reference_frame + "') for a sensor on the arm's links");
     }
     const bool on_tool = !sensor.parent.empty();
     if (on_tool && rig.target.parent.empty()) {

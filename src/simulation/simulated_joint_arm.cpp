@@ -64,6 +64,15 @@ std::vector<double> SimulatedJointArm::readingsAt(double time, double still, dou
   return valuesAtTime(readings, time, still, moving);
 }
 
+std::vector<double> SimulatedJointArm::anglesAt(double time, double still, double moving) const {
+  return valuesAtTime(angles, time, still, moving);
+}
+
+Eigen::Isometry3d SimulatedJointArm::forearmAt(const std::vector<double>& at) const {
+  const std::vector<int> forearm(chain.begin(), chain.begin() + kForearmJoints);
+  return chainPose(joints, forearm, std::vector<double>(at.begin(), at.begin() + kForearmJoints), std::vector<double>(joints.size(), 0.0));
+}
+
 SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const SimulatedJointArmOptions& options) {
   SimulatedJointArm out;
   out.arm = simulateArm(arm_options);
@@ -94,6 +103,21 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
     out.readings.push_back(readings);
     out.arm.true_tool[k] = chainPose(out.joints, out.chain, angles, zero);
     out.arm.reported_tool[k] = chainPose(out.joints, out.chain, readings, zero);  // robot_state_publisher's, uncalibrated
+  }
+  // The forearm camera: 10 cm behind where the wrist camera was at one still pose, that pose chosen so the
+  // board's centre lies within 8 degrees of its optical axis at the most still poses.
+  if (out.arm.setup == HandEyeSetup::kEyeInHand) {
+    int most = -1;
+    for (std::size_t candidate = 0; candidate < out.angles.size(); ++candidate) {
+      const Eigen::Isometry3d camera = out.arm.true_tool[candidate] * out.arm.camera * Eigen::Translation3d(0.0, 0.0, -0.1);
+      const Eigen::Isometry3d mount = out.forearmAt(out.angles[candidate]).inverse() * camera;
+      int seen = 0;
+      for (const std::vector<double>& angles : out.angles) {
+        const Eigen::Vector3d centre = (out.forearmAt(angles) * mount).inverse() * out.arm.board.translation();
+        seen += centre.z() > 0.2 && centre.normalized().z() > std::cos(8.0 * M_PI / 180.0);
+      }
+      if (seen > most) most = seen, out.arm.forearm_camera = mount;
+    }
   }
   return out;
 }

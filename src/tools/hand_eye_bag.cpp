@@ -23,6 +23,7 @@ namespace {
 const char kBase[] = "arm_base";
 const char kFlange[] = "arm_flange";
 const char kTool[] = "arm_tool";
+const char kForearm[] = "forearm_link";  // simulated_joint_arm.h's link after its first three joints
 // The tool 10 cm past the flange (a gripper or an adapter plate), on /tf_static.
 Eigen::Isometry3d flangeFromTool() {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -42,9 +43,11 @@ sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std
   return msg;
 }
 
-// A sensor of the rig in its parent: the camera's (on the tool, or fixed), the fixed others' by type.
-Eigen::Isometry3d sensorPoseInParent(const SimulatedArm& arm, SensorType type) {
-  switch (type) {
+// A sensor of the rig in its parent: the camera's (on the tool, or fixed; on the forearm), the fixed
+// others' by type.
+Eigen::Isometry3d sensorPoseInParent(const SimulatedArm& arm, const RigSensorDescription& sensor) {
+  if (sensor.parent == kForearm) return arm.forearm_camera;
+  switch (sensor.spec.type) {
     case SensorType::kLidar3d: return arm.lidar;
     case SensorType::kRgbd: return arm.rgbd;
     case SensorType::kLaser2d: return arm.laser;
@@ -138,7 +141,11 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
-      const Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d.spec.type);
+      Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d);
+      if (d.parent == kForearm) {
+        if (!options.joint_arm) throw InputError(bag_path + ": a camera on the forearm needs the arm's joints");
+        base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) * arm.forearm_camera;
+      }
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;
@@ -174,8 +181,17 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
   bag.close();
 }
 
-RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside) {
+RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside,
+                                    bool forearm) {
   RigDescription rig = simulatedHandEyeRig(setup, target, false, beside);
+  if (forearm) {
+    RigSensorDescription camera;
+    camera.spec = {"forearm_camera", SensorType::kCamera, "forearm_camera_optical"};
+    camera.image_topic = "/forearm_camera/image_raw";
+    camera.camera_info_topic = "/forearm_camera/camera_info";
+    camera.parent = kForearm;
+    rig.sensors.push_back(camera);
+  }
   rig.joints = joint_arm.joints;
   for (JointDescription& joint : rig.joints) joint.offset = 0.0;  // unknown
   return rig;
@@ -199,7 +215,7 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
        << "camera: {parent: " << (in_hand ? kTool : kBase) << ", pose: " << pose(arm.camera) << "}\n"
        << "sensors:  # every sensor of the rig, by name\n";
   for (const RigSensorDescription& d : rig.sensors) {
-    const Eigen::Isometry3d p = sensorPoseInParent(arm, d.spec.type);
+    const Eigen::Isometry3d p = sensorPoseInParent(arm, d);
     file << "  " << d.spec.name << ": {parent: " << (d.parent.empty() ? rig.reference_frame : d.parent) << ", pose: " << pose(p) << "}\n";
   }
   file

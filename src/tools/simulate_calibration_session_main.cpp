@@ -88,6 +88,8 @@ const char kUsage[] =
     "                      (each joint's zero off by up to --joint-offsets, default 0.005 rad; 16-bit encoders;\n"
     "                      --joint-noise R per reading at a pose, default 0.0002 rad), /tf from the readings as\n"
     "                      robot_state_publisher gives it; rig.yaml names the joints (offsets unknown)\n"
+    "  --forearm           (--arm --eye-in-hand) a second camera on the arm's forearm_link, 10 cm behind where\n"
+    "                      the wrist camera was at one pose\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n";
@@ -114,6 +116,10 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   if (args.has("beside") && arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
     throw vocal::InputError("option --beside: with --eye-to-hand (a fixed lidar sees a fixed board in one place only)");
   }
+  if (args.has("forearm") && !(args.has("arm") && arm_options.setup == vocal::HandEyeSetup::kEyeInHand)) {
+    throw vocal::InputError("option --forearm: with --arm --eye-in-hand (a camera on the forearm moves with the arm's first joints "
+                            "over the fixed board)");
+  }
   // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
   std::optional<vocal::SimulatedJointArm> joint_arm;
   if (args.has("arm")) {
@@ -126,7 +132,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     joint_arm = vocal::simulateJointArm(arm_options, joint_options);
   }
   const vocal::SimulatedArm arm = joint_arm ? joint_arm->arm : vocal::simulateArm(arm_options);
-  vocal::RigDescription rig = joint_arm ? vocal::simulatedJointArmRig(arm_options.setup, target, *joint_arm, args.has("beside"))
+  vocal::RigDescription rig = joint_arm ? vocal::simulatedJointArmRig(arm_options.setup, target, *joint_arm, args.has("beside"), args.has("forearm"))
                                         : vocal::simulatedHandEyeRig(arm_options.setup, target, args.has("compressed"), args.has("beside"));
   if (args.has("given-reference")) {
     if (arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
@@ -247,5 +253,5 @@ int main(int argc, char** argv) {
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known", "arm", "given-reference"}, 1);
+                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm"}, 1);
 }

@@ -80,6 +80,9 @@ struct HandEyeRig {
   // through `chain` (jointChain from the reference frame), the joints' offsets calibrated with the rest.
   bool from_joints = false;
   std::vector<int> chain;
+  // Per sensor: on a link of that chain before the tool (a forearm camera), how many of its joints lie
+  // before that link; zero for the others (HandEyeSensor::link_joints).
+  std::vector<int> link_joints;
 };
 
 struct RigDescription {

@@ -33,6 +33,11 @@ struct SimulatedJointArm {
   // The readings at `time` into a session whose still pose k holds for `still` seconds from k * (still +
   // moving) then moves smoothly to the next (the last pose stays); at a still pose exactly `readings`.
   std::vector<double> readingsAt(double time, double still, double moving) const;
+  // ... and the true angles.
+  std::vector<double> anglesAt(double time, double still, double moving) const;
+  // base <- forearm_link (after the chain's first kForearmJoints joints) at the true `angles`.
+  static constexpr int kForearmJoints = 3;
+  Eigen::Isometry3d forearmAt(const std::vector<double>& angles) const;
 };
 
 // The still poses of simulateArm(arm_options) reached by the arm's joints. Throws InputError when a

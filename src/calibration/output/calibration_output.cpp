@@ -242,13 +242,16 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
 }  // namespace
 
 HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
-  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}, {}};
+  HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}, {}, {}, {}};
   if (arm.from_joints)
     for (const int j : arm.chain) frames.joint_names.push_back(rig.joints.at(j).name);
   bool reference_given = false;
   for (const RigSensorDescription& d : rig.sensors) {
     const bool on_tool = !d.parent.empty();
     frames.on_tool.push_back(on_tool);
+    const int link = arm.link_joints.empty() ? 0 : arm.link_joints[frames.parent_links.size()];
+    frames.link_joints.push_back(link);
+    frames.parent_links.push_back(link > 0 ? d.parent : std::string());
     const bool reference = !on_tool && d.pose && !reference_given;
     reference_given = reference_given || reference;
     frames.given_poses.push_back(reference || (on_tool && d.pose_known) ? d.pose : std::nullopt);
@@ -258,7 +261,10 @@ HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
 
 std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
   std::vector<HandEyeSensor> out;
-  for (std::size_t s = 0; s < sensors.size(); ++s) out.push_back({sensors[s].type, on_tool[s], given_poses[s], sensors[s].name});
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    out.push_back({sensors[s].type, on_tool[s], given_poses[s], sensors[s].name});
+    out.back().link_joints = link_joints[s];
+  }
   return out;
 }
 

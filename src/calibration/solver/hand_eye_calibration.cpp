@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <utility>
 
@@ -56,6 +57,34 @@ struct Mounting {
     if (board_on_tool) pose = base_from_tool * pose;
     if (sensor_on_tool) pose = base_from_tool.inverse() * pose;
     return pose;
+  }
+};
+
+// The rig an arm moves, as the solver sees it.
+struct ArmRig {
+  std::vector<HandEyeSensor> sensors;
+  bool board_on_tool = false;
+  int main_camera = -1;
+  Mounting mounting(int sensor) const { return {sensors[sensor].on_tool, board_on_tool}; }
+  // Where the frame a sensor moves with was at a station: the tool, or the link it sits on (a sensor on a
+  // link sees a board that is fixed, so Mounting's tool is that link).
+  const Eigen::Isometry3d& movingFrameAt(int sensor, const HandEyeStation& station) const {
+    const int link = sensors[sensor].link_joints;
+    return link > 0 ? station.base_from_link.at(link) : station.base_from_tool;
+  }
+  std::string name(int sensor) const {
+    return sensors[sensor].name.empty() ? "sensor " + std::to_string(sensor) : "'" + sensors[sensor].name + "'";
+  }
+  // The first sensor on the tool (or fixed) held at a given pose that sees the board at some station, or
+  // -1: what ties that side's frame down.
+  int heldOn(bool tool_side, const std::vector<HandEyeStation>& stations) const {
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      if (sensors[s].on_tool != tool_side || !sensors[s].given_pose || sensors[s].link_joints > 0) continue;
+      for (const HandEyeStation& station : stations)
+        for (const HandEyeView& view : station.views)
+          if (view.sensor == static_cast<int>(s)) return static_cast<int>(s);
+    }
+    return -1;
   }
 };
 
@@ -171,15 +200,17 @@ struct ToolPoseResidual {
 // The tool's pose block tied to the arm's joints (ArmJoints): the chain's pose at the station's readings
 // plus the offsets (blocks 2...) plus the station's corrections (the next blocks), held within 10 um / 10
 // urad (the tool block is the chain's pose, kept as a block so the views' residuals stay as they are).
+// The same for a link before the tool with `chain` the joints before it.
 struct ToolFromJointsResidual {
   const ArmJoints* arm;
-  std::vector<double> readings;
+  std::vector<int> chain;        // the arm's chain, or its first joints
+  std::vector<double> readings;  // per joint of `chain`
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
     Eigen::Quaternion<T> q;
     Eigen::Matrix<T, 3, 1> t;
-    correctedChainTransform<T>(arm->joints, arm->chain, readings.data(), blocks + 2, blocks + 2 + arm->chain.size(), &q, &t);
+    correctedChainTransform<T>(arm->joints, chain, readings.data(), blocks + 2, blocks + 2 + chain.size(), &q, &t);
     const Eigen::Map<const Eigen::Quaternion<T>> tool_q(blocks[0]);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tool_t(blocks[1]);
     constexpr double kTight = 1e-5;
@@ -278,15 +309,16 @@ int numberCornersAlike(std::vector<HandEyeStation>* stations, int camera) {
 // Another camera's views numbered as the main camera numbers the board: its pose from its first view as
 // found or turned halfway, whichever predicts its other views better (each as found or turned), then
 // each view turned where the prediction says it was found the other way.
-int turnLikePredicted(std::vector<HandEyeStation>* stations, int camera, const Mounting& mounting, const Eigen::Isometry3d& board) {
+int turnLikePredicted(std::vector<HandEyeStation>* stations, const ArmRig& rig, int camera, const Eigen::Isometry3d& board) {
+  const Mounting mounting = rig.mounting(camera);
   const HandEyeStation* first = nullptr;
   for (const HandEyeStation& s : *stations)
     if (!first && firstView(s, camera)) first = &s;
   if (!first) return 0;
   const PlaneMeasurement& first_view = *firstView(*first, camera);
-  const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, first->base_from_tool);
-  const auto disagreement = [&](const Eigen::Isometry3d& pose, const PlaneMeasurement& view, const Eigen::Isometry3d& base_from_tool, bool* turn) {
-    const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, base_from_tool);
+  const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, rig.movingFrameAt(camera, *first));
+  const auto disagreement = [&](const Eigen::Isometry3d& pose, const PlaneMeasurement& view, const Eigen::Isometry3d& moving, bool* turn) {
+    const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, moving);
     const double as_found = rotationAngle(view.sensor_from_pattern.inverse() * predicted);
     const double as_turned = rotationAngle(turnedHalfway(view).sensor_from_pattern.inverse() * predicted);
     if (turn) *turn = as_turned < as_found;
@@ -298,14 +330,14 @@ int turnLikePredicted(std::vector<HandEyeStation>* stations, int camera, const M
   for (int c = 0; c < 2; ++c)
     for (const HandEyeStation& s : *stations)
       for (const HandEyeView& v : s.views)
-        if (v.sensor == camera) total[c] += disagreement(candidates[c], v.pattern, s.base_from_tool, nullptr);
+        if (v.sensor == camera) total[c] += disagreement(candidates[c], v.pattern, rig.movingFrameAt(camera, s), nullptr);
   const Eigen::Isometry3d& pose = candidates[total[1] < total[0] ? 1 : 0];
   int flipped = 0;
   for (HandEyeStation& station : *stations) {
     for (HandEyeView& view : station.views) {
       bool turn = false;
       if (view.sensor != camera) continue;
-      disagreement(pose, view.pattern, station.base_from_tool, &turn);
+      disagreement(pose, view.pattern, rig.movingFrameAt(camera, station), &turn);
       if (turn) {
         view.pattern = turnedHalfway(view.pattern);
         ++flipped;
@@ -346,11 +378,11 @@ Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int
   return pose;
 }
 
-// A camera view's error against the sensor and board poses with the tool where the arm reported it, as
-// (w, dt) of the view's perturbation.
-Eigen::Matrix<double, 6, 1> viewError(const HandEyeStation& station, const PlaneMeasurement& view, const Mounting& mounting,
+// A camera view's error against the sensor and board poses with the tool (or the link the camera sits on)
+// where the arm reported it, `moving`, as (w, dt) of the view's perturbation.
+Eigen::Matrix<double, 6, 1> viewError(const Eigen::Isometry3d& moving, const PlaneMeasurement& view, const Mounting& mounting,
                                       const Eigen::Isometry3d& pose, const Eigen::Isometry3d& board) {
-  const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, station.base_from_tool);
+  const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, moving);
   Eigen::Matrix<double, 6, 1> error;
   const Eigen::AngleAxisd turn(view.sensor_from_pattern.linear().transpose() * predicted.linear());
   error.head<3>() = turn.angle() * turn.axis();
@@ -369,28 +401,6 @@ Eigen::Matrix<double, 6, 1> sigmasOf(ceres::Covariance& covariance, PoseState& s
   sigma.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
   return sigma;
 }
-
-// The rig an arm moves, as the solver sees it.
-struct ArmRig {
-  std::vector<HandEyeSensor> sensors;
-  bool board_on_tool = false;
-  int main_camera = -1;
-  Mounting mounting(int sensor) const { return {sensors[sensor].on_tool, board_on_tool}; }
-  std::string name(int sensor) const {
-    return sensors[sensor].name.empty() ? "sensor " + std::to_string(sensor) : "'" + sensors[sensor].name + "'";
-  }
-  // The first sensor on the tool (or fixed) held at a given pose that sees the board at some station, or
-  // -1: what ties that side's frame down.
-  int heldOn(bool tool_side, const std::vector<HandEyeStation>& stations) const {
-    for (std::size_t s = 0; s < sensors.size(); ++s) {
-      if (sensors[s].on_tool != tool_side || !sensors[s].given_pose) continue;
-      for (const HandEyeStation& station : stations)
-        for (const HandEyeView& view : station.views)
-          if (view.sensor == static_cast<int>(s)) return static_cast<int>(s);
-    }
-    return -1;
-  }
-};
 
 // What the cameras' views disagree by beyond their PnP covariance and the arm's repeatability: a real
 // arm's kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either,
@@ -413,7 +423,7 @@ std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector
       int n = 0;
       for (const HandEyeView& view : s.views) {
         if (view.sensor != static_cast<int>(camera)) continue;
-        mean += viewError(s, view.pattern, mounting, poses[camera], board);
+        mean += viewError(rig.movingFrameAt(static_cast<int>(camera), s), view.pattern, mounting, poses[camera], board);
         covariance += view.pattern.pose_covariance;
         // The tool's turn moves the board seen by its lever: from the tool to the board.
         lever = mounting.board_on_tool ? board.translation().norm()
@@ -446,17 +456,29 @@ struct ArmGraph {
   std::vector<PoseState> sensors;
   PoseState board;
   std::vector<PoseState> tools;
+  std::map<int, std::vector<PoseState>> links;   // per link sensors sit on (HandEyeSensor::link_joints): per station
   std::vector<double> offsets;                   // arm_joints: per joint of the chain
   std::vector<std::vector<double>> corrections;  // ... per station and joint of the chain
   std::unique_ptr<ceres::Problem> problem;
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
 
-// The tool at a station's readings plus `offsets` (one per joint of the chain).
-Eigen::Isometry3d armTool(const ArmJoints& arm, const std::vector<double>& readings, const std::vector<double>& offsets) {
+// The tool at a station's readings plus `offsets` (one per joint of the chain); with `joints` set, the
+// link after the chain's first `joints` joints instead.
+Eigen::Isometry3d armTool(const ArmJoints& arm, const std::vector<double>& readings, const std::vector<double>& offsets, int joints = -1) {
   std::vector<double> all(arm.joints.size(), 0.0);
   for (std::size_t i = 0; i < arm.chain.size(); ++i) all[arm.chain[i]] = offsets[i];
-  return chainPose(arm.joints, arm.chain, readings, all);
+  if (joints < 0) return chainPose(arm.joints, arm.chain, readings, all);
+  return chainPose(arm.joints, std::vector<int>(arm.chain.begin(), arm.chain.begin() + joints),
+                   std::vector<double>(readings.begin(), readings.begin() + joints), all);
+}
+
+// Each station's links that sensors sit on (HandEyeStation::base_from_link) at its readings plus `offsets`.
+void placeLinks(const ArmRig& rig, const ArmJoints& arm, const std::vector<double>& offsets, std::vector<HandEyeStation>* stations) {
+  for (const HandEyeSensor& sensor : rig.sensors) {
+    if (sensor.link_joints <= 0) continue;
+    for (HandEyeStation& s : *stations) s.base_from_link[sensor.link_joints] = armTool(arm, s.joint_positions, offsets, sensor.link_joints);
+  }
 }
 
 // Per joint of the arm's chain: the range its readings covered, and whether its offset can be solved and
@@ -517,10 +539,18 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   for (const Eigen::Isometry3d& start : sensor_starts) graph->sensors.emplace_back(start);
   graph->tools.reserve(stations.size());
   for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
+  for (const HandEyeSensor& sensor : rig.sensors) {
+    if (sensor.link_joints <= 0 || graph->links.count(sensor.link_joints)) continue;
+    std::vector<PoseState>& links = graph->links[sensor.link_joints];
+    links.reserve(stations.size());
+    for (const HandEyeStation& s : stations) links.emplace_back(s.base_from_link.at(sensor.link_joints));
+  }
   for (std::size_t k = 0; k < stations.size(); ++k) {
-    PoseState& tool = graph->tools[k];
     for (const HandEyeView& view : stations[k].views) {
       PoseState& sensor = graph->sensors[view.sensor];
+      // The frame the sensor moves with at this station: the tool, or the link it sits on.
+      const int link = rig.sensors[view.sensor].link_joints;
+      PoseState& tool = link > 0 ? graph->links.at(link)[k] : graph->tools[k];
       const bool laser = rig.sensors[view.sensor].type == SensorType::kLaser2d;
       ceres::CostFunction* cost =
           laser ? beamRangeCost(view.points, estimatedPointSigma(view.points, SensorType::kLaser2d), rig.mounting(view.sensor))
@@ -540,6 +570,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
                                  tool.translation.data());
       }
     }
+    PoseState& tool = graph->tools[k];
     if (!options.arm_joints) {
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
                                new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
@@ -558,14 +589,24 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
         throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
                          " joint readings, the arm's chain " + std::to_string(n) + " joints");
       }
-      auto* tie = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{&*arm, stations[k].joint_positions});
-      std::vector<double*> blocks = {graph->tools[k].rotation.coeffs().data(), graph->tools[k].translation.data()};
-      tie->AddParameterBlock(4);
-      tie->AddParameterBlock(3);
-      for (double& offset : graph->offsets) tie->AddParameterBlock(1), blocks.push_back(&offset);
-      for (double& correction : graph->corrections[k]) tie->AddParameterBlock(1), blocks.push_back(&correction);
-      tie->SetNumResiduals(6);
-      problem.AddResidualBlock(tie, nullptr, blocks);
+      // The tool, and each link a sensor sits on, where the chain's first `joints` joints put it.
+      const auto tie = [&](PoseState& frame, std::size_t joints) {
+        auto* cost = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{
+            &*arm, std::vector<int>(arm->chain.begin(), arm->chain.begin() + joints),
+            std::vector<double>(stations[k].joint_positions.begin(), stations[k].joint_positions.begin() + joints)});
+        std::vector<double*> blocks = {frame.rotation.coeffs().data(), frame.translation.data()};
+        cost->AddParameterBlock(4);
+        cost->AddParameterBlock(3);
+        for (std::size_t i = 0; i < joints; ++i) cost->AddParameterBlock(1), blocks.push_back(&graph->offsets[i]);
+        for (std::size_t i = 0; i < joints; ++i) cost->AddParameterBlock(1), blocks.push_back(&graph->corrections[k][i]);
+        cost->SetNumResiduals(6);
+        problem.AddResidualBlock(cost, nullptr, blocks);
+      };
+      tie(graph->tools[k], n);
+      for (auto& [joints, links] : graph->links) {
+        tie(links[k], static_cast<std::size_t>(joints));
+        problem.SetManifold(links[k].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+      }
       auto* prior = new ceres::DynamicAutoDiffCostFunction<ReadingCorrectionsResidual, 4>(new ReadingCorrectionsResidual{sigmas});
       std::vector<double*> corrections;
       for (double& correction : graph->corrections[k]) prior->AddParameterBlock(1), corrections.push_back(&correction);
@@ -610,7 +651,7 @@ Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandE
   std::vector<Plane> in_parent, in_sensor;
   std::vector<std::vector<Eigen::Vector3d>> scans;
   for (const HandEyeStation& s : stations) {
-    const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, s.base_from_tool);
+    const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, rig.movingFrameAt(sensor, s));
     for (const HandEyeView& view : s.views) {
       if (view.sensor != sensor) continue;
       if (rig.sensors[sensor].type == SensorType::kCamera) {
@@ -677,7 +718,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   for (std::size_t sensor = 0; sensor < rig.sensors.size(); ++sensor) {
     const int s = static_cast<int>(sensor);
     if (s == rig.main_camera) continue;
-    if (rig.sensors[sensor].type == SensorType::kCamera) result.flipped_views += turnLikePredicted(&stations, s, rig.mounting(s), board_start);
+    if (rig.sensors[sensor].type == SensorType::kCamera) result.flipped_views += turnLikePredicted(&stations, rig, s, board_start);
     starts[sensor] = rig.sensors[sensor].given_pose.value_or(startOf(rig, s, stations, board_start));
   }
 
@@ -689,6 +730,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   const auto calibratedTools = [&] {
     if (!options.arm_joints) return;
     for (HandEyeStation& s : stations) s.base_from_tool = armTool(*options.arm_joints, s.joint_positions, graph->offsets);
+    placeLinks(rig, *options.arm_joints, graph->offsets, &stations);
   };
   calibratedTools();
   std::vector<Eigen::Isometry3d> solved;
@@ -779,7 +821,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     int seen = 0;
     for (const HandEyeView& view : stations[k].views) {
       if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
-      const Eigen::Matrix<double, 6, 1> e = viewError(stations[k], view.pattern, rig.mounting(view.sensor), result.sensors[view.sensor], result.board);
+      const Eigen::Matrix<double, 6, 1> e =
+          viewError(rig.movingFrameAt(view.sensor, stations[k]), view.pattern, rig.mounting(view.sensor), result.sensors[view.sensor], result.board);
       distance += e.tail<3>().norm();
       angle += e.head<3>().norm();
       squared_distance += e.tail<3>().squaredNorm();
@@ -874,8 +917,26 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
                               const HandEyeOptions& options) {
   ArmRig rig{sensors, board_on_tool, -1};
   for (std::size_t s = 0; s < sensors.size(); ++s) {
-    const bool other_side = sensors[s].on_tool != board_on_tool;
-    if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0) rig.main_camera = static_cast<int>(s);
+    if (const int link = sensors[s].link_joints) {
+      const int chain = options.arm_joints ? static_cast<int>(options.arm_joints->chain.size()) : 0;
+      if (!options.arm_joints) {
+        throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) +
+                         " sits on a link of the arm before the tool, which needs the arm's joints (their readings and chain)");
+      }
+      if (link < 0 || link >= chain) {
+        throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) + " sits behind " + std::to_string(link) +
+                         " of the arm's joints; a link before the tool is behind 1 to " + std::to_string(chain - 1) + " of its " +
+                         std::to_string(chain));
+      }
+      if (board_on_tool) {
+        throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) +
+                         " sits on a link of the arm before the tool while the board is on the tool: not supported yet; "
+                         "fix the board (eye-in-hand) for a sensor on the arm's links");
+      }
+      rig.sensors[s].on_tool = true;  // it moves with the arm
+    }
+    const bool other_side = rig.sensors[s].on_tool != board_on_tool;
+    if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0 && sensors[s].link_joints == 0) rig.main_camera = static_cast<int>(s);
     if (sensors[s].type != SensorType::kCamera && !other_side) {
       throw InputError("hand-eye calibration: sensor " + std::to_string(s) + " (a " + sensorTypeName(sensors[s].type) + ") is " +
                        (board_on_tool ? "on the tool with the board" : "fixed like the board") +
@@ -900,6 +961,17 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
       main_seen |= view.sensor == rig.main_camera;
     }
     if (main_seen) stations.push_back(s);  // the main camera pins every station's board
+  }
+  if (options.arm_joints) {
+    std::vector<double> initial;
+    for (const int j : options.arm_joints->chain) initial.push_back(options.arm_joints->joints[j].offset);
+    for (const HandEyeStation& s : stations) {
+      if (s.joint_positions.size() != initial.size()) {
+        throw InputError("hand-eye calibration: an arm pose has " + std::to_string(s.joint_positions.size()) + " joint readings, the arm's chain " +
+                         std::to_string(initial.size()) + " joints");
+      }
+    }
+    placeLinks(rig, *options.arm_joints, initial, &stations);
   }
   const std::string problem = handEyeMotionProblem(stations, options);
   if (!problem.empty()) {

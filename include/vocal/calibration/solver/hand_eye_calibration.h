@@ -5,7 +5,8 @@
 //      covariance, a range sensor's board points).
 // Out: the camera's pose on the tool and the board's in the base frame (eye-in-hand), or the camera's
 //      in the base frame and the board's on the tool (eye-to-hand), and every other sensor's in its
-//      parent (the tool or the base frame), with standard deviations; how far
+//      parent (the tool, the base frame, or with the arm's joints a link before the tool: a forearm
+//      camera), with standard deviations; how far
 //      each arm pose had to move to fit (a poor pose is named, not followed); OpenCV's closed forms on
 //      the same poses, side by side.
 //
@@ -18,6 +19,7 @@
 // its given pose), after the board's 180-degree symmetry is resolved (a chessboard's corners may be
 // found in either order).
 
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -50,6 +52,11 @@ struct HandEyeSensor {
   // same for the last joint's.
   std::optional<Eigen::Isometry3d> given_pose;
   std::string name;  // for messages; empty: "sensor N"
+  // On a link of the arm before the tool (a camera on the forearm; needs HandEyeOptions::arm_joints): how
+  // many of the arm chain's joints lie between the base and that link, 1 to the chain's length less one.
+  // Zero: on the tool or fixed (`on_tool`). Its pose is then in that link, which moves with the joints
+  // before it only.
+  int link_joints = 0;
 };
 
 // One sensor's view of the board at one still pose of the arm.
@@ -66,6 +73,9 @@ struct HandEyeStation {
   // With HandEyeOptions::arm_joints: each joint of its chain's reading there (base_from_tool is then the
   // chain's pose at them plus the initial offsets).
   std::vector<double> joint_positions;
+  // ... and where they put the links sensors sit on (HandEyeSensor::link_joints, by that count): filled in
+  // by the solver.
+  std::map<int, Eigen::Isometry3d> base_from_link;
   std::vector<HandEyeView> views;  // every sensor's views of the board while the arm stood there
   double first_stamp = 0.0, last_stamp = 0.0;  // seconds, to find it again in the recording
 };
@@ -152,8 +162,10 @@ HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, Hand
 // first camera on the other side from the board (on the tool when the board is fixed, fixed when it is
 // on the tool) is the main camera, started from OpenCV's closed form; every other sensor is started
 // from the board's poses that solution gives (a camera's views; a range sensor's planes, which must turn
-// about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Throws InputError as calibrateHandEye, for no such camera, and for a sensor
-// on the board's side that is not a camera (it would see the board in one place only).
+// about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Throws InputError as calibrateHandEye, for no such camera, for a sensor
+// on the board's side that is not a camera (it would see the board in one place only), and for a sensor on
+// a link before the tool (HandEyeSensor::link_joints) without the arm's joints, beyond its chain, or with
+// the board on the tool (not supported yet). The main camera is never one on such a link.
 HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& stations,
                               const HandEyeOptions& options = {});
 
