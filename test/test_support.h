@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -71,6 +72,10 @@ inline bool waitUntil(std::mutex& mutex, double seconds, const std::function<boo
 }
 
 inline void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+inline std::string readText(const std::string& path) {
+  std::ifstream file(path);
+  return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
 
 inline vocal::SyntheticSequenceOptions smallSequenceOptions(int frames = 8) {
   vocal::SyntheticSequenceOptions options;

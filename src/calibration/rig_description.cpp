@@ -250,16 +250,12 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
                        (arm.from_joints ? " and no link of the arm's chain to it" : "") + "; one moving frame per rig" +
                        (arm.from_joints ? "" : " (a sensor on an arm's other links needs the arm's joints: 'joints:' or 'urdf:')"));
     }
-    if (arm.link_joints[s] > 0 && board_on_tool) {
-      throw InputError(where + ": it is on the arm's link '" + sensor.parent + "' while the board is on the tool '" + arm.tool_frame +
-                       "': not supported yet; fix the board (target 'parent: " + rig.reference_frame + "') for a sensor on the arm's links");
-    }
     const bool on_tool = !sensor.parent.empty();
     if (on_tool && rig.target.parent.empty()) {
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
                        "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
     }
-    if (on_tool && board_on_tool && sensor.spec.type != SensorType::kCamera) {
+    if (on_tool && board_on_tool && sensor.spec.type != SensorType::kCamera && arm.link_joints[s] == 0) {
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' with the board, so it sees the board in one place "
                        "only, which fixes no " + sensorTypeName(sensor.spec.type));
     }

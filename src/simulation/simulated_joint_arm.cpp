@@ -104,20 +104,22 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
     out.arm.true_tool[k] = chainPose(out.joints, out.chain, angles, zero);
     out.arm.reported_tool[k] = chainPose(out.joints, out.chain, readings, zero);  // robot_state_publisher's, uncalibrated
   }
-  // The forearm camera: 10 cm behind where the wrist camera was at one still pose, that pose chosen so the
-  // board's centre lies within 8 degrees of its optical axis at the most still poses.
-  if (out.arm.setup == HandEyeSetup::kEyeInHand) {
-    int most = -1;
-    for (std::size_t candidate = 0; candidate < out.angles.size(); ++candidate) {
-      const Eigen::Isometry3d camera = out.arm.true_tool[candidate] * out.arm.camera * Eigen::Translation3d(0.0, 0.0, -0.1);
-      const Eigen::Isometry3d mount = out.forearmAt(out.angles[candidate]).inverse() * camera;
-      int seen = 0;
-      for (const std::vector<double>& angles : out.angles) {
-        const Eigen::Vector3d centre = (out.forearmAt(angles) * mount).inverse() * out.arm.board.translation();
-        seen += centre.z() > 0.2 && centre.normalized().z() > std::cos(8.0 * M_PI / 180.0);
-      }
-      if (seen > most) most = seen, out.arm.forearm_camera = mount;
+  // The forearm camera: where the main camera was at one still pose, 10 cm behind the wrist camera
+  // (eye-in-hand) or 30 cm ahead of the post camera (eye-to-hand), that pose chosen so the board's centre
+  // lies within 8 degrees of its optical axis at the most still poses.
+  const bool in_hand = out.arm.setup == HandEyeSetup::kEyeInHand;
+  int most = -1;
+  for (std::size_t candidate = 0; candidate < out.angles.size(); ++candidate) {
+    const Eigen::Isometry3d camera = (in_hand ? out.arm.true_tool[candidate] * out.arm.camera * Eigen::Translation3d(0.0, 0.0, -0.1)
+                                              : out.arm.camera * Eigen::Translation3d(0.0, 0.0, 0.3));
+    const Eigen::Isometry3d mount = out.forearmAt(out.angles[candidate]).inverse() * camera;
+    int seen = 0;
+    for (std::size_t k = 0; k < out.angles.size(); ++k) {
+      const Eigen::Vector3d board = in_hand ? out.arm.board.translation() : out.arm.true_tool[k] * out.arm.board.translation();
+      const Eigen::Vector3d centre = (out.forearmAt(out.angles[k]) * mount).inverse() * board;
+      seen += centre.z() > 0.2 && centre.normalized().z() > std::cos(8.0 * M_PI / 180.0);
     }
+    if (seen > most) most = seen, out.arm.forearm_camera = mount;
   }
   return out;
 }

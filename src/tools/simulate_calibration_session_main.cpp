@@ -88,8 +88,8 @@ const char kUsage[] =
     "                      (each joint's zero off by up to --joint-offsets, default 0.005 rad; 16-bit encoders;\n"
     "                      --joint-noise R per reading at a pose, default 0.0002 rad), /tf from the readings as\n"
     "                      robot_state_publisher gives it; rig.yaml names the joints (offsets unknown)\n"
-    "  --forearm           (--arm --eye-in-hand) a second camera on the arm's forearm_link, 10 cm behind where\n"
-    "                      the wrist camera was at one pose\n"
+    "  --forearm           (--arm) a second camera on the arm's forearm_link, where the main camera was at one\n"
+    "                      pose (10 cm behind the wrist camera, or 30 cm ahead of the post camera)\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n";
@@ -116,9 +116,8 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   if (args.has("beside") && arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
     throw vocal::InputError("option --beside: with --eye-to-hand (a fixed lidar sees a fixed board in one place only)");
   }
-  if (args.has("forearm") && !(args.has("arm") && arm_options.setup == vocal::HandEyeSetup::kEyeInHand)) {
-    throw vocal::InputError("option --forearm: with --arm --eye-in-hand (a camera on the forearm moves with the arm's first joints "
-                            "over the fixed board)");
+  if (args.has("forearm") && !args.has("arm")) {
+    throw vocal::InputError("option --forearm: with --arm (a camera on the forearm moves with the arm's first joints)");
   }
   // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
   std::optional<vocal::SimulatedJointArm> joint_arm;

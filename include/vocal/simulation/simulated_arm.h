@@ -41,8 +41,8 @@ struct SimulatedArm {
   Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d rgbd = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d laser = Eigen::Isometry3d::Identity();
-  // With joints, eye-in-hand (simulated_joint_arm.h): a second camera on the arm's forearm link
-  // (forearm_link <- camera) that sees the fixed board at most still poses.
+  // With joints (simulated_joint_arm.h): a second camera on the arm's forearm link (forearm_link <-
+  // camera) that sees the board, fixed or in the gripper, at most still poses.
   Eigen::Isometry3d forearm_camera = Eigen::Isometry3d::Identity();
 
   // Camera <- board at pose k (the truth).

@@ -38,8 +38,8 @@ struct HandEyeBagOptions {
 RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false, bool beside = false);
 
 // `joint_arm`: the rig names the arm's joints (offsets unknown: 0) down to the tool, the tool's pose then
-// comes from /joint_states rather than tf. `forearm` (eye-in-hand): a second camera on the arm's
-// forearm_link (SimulatedArm::forearm_camera).
+// comes from /joint_states rather than tf. `forearm`: a second camera on the arm's forearm_link
+// (SimulatedArm::forearm_camera).
 RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside = false,
                                     bool forearm = false);
 

@@ -29,33 +29,38 @@ std::string handEyeSetupName(HandEyeSetup setup) { return setup == HandEyeSetup:
 namespace {
 constexpr double kDegrees = 180.0 / M_PI;
 
-// Where a sensor and the board are mounted: each on the tool (moving with it) or fixed in the base frame.
+// Where a sensor and the board are mounted: each fixed in the base frame or on a frame that moves with the
+// arm - the tool, or for a sensor a link before it - whose pose at each still pose is known to the graph.
 struct Mounting {
-  bool sensor_on_tool = true;
-  bool board_on_tool = false;
+  bool sensor_moves = true;
+  bool board_moves = false;
 
-  // The board in the sensor's parent frame, given the board in its own parent and the tool's pose.
+  // The board in the sensor's parent frame, given the board in its own parent and the poses of the frames
+  // the sensor and the board move with (each unused when it is fixed).
   template <typename T>
-  void boardInSensorParent(const Eigen::Quaternion<T>& board_q, const Eigen::Matrix<T, 3, 1>& board_t, const Eigen::Quaternion<T>& tool_q,
-                           const Eigen::Matrix<T, 3, 1>& tool_t, Eigen::Quaternion<T>* q, Eigen::Matrix<T, 3, 1>* t) const {
+  void boardInSensorParent(const Eigen::Quaternion<T>& board_q, const Eigen::Matrix<T, 3, 1>& board_t, const Eigen::Quaternion<T>& sensor_frame_q,
+                           const Eigen::Matrix<T, 3, 1>& sensor_frame_t, const Eigen::Quaternion<T>& board_frame_q,
+                           const Eigen::Matrix<T, 3, 1>& board_frame_t, Eigen::Quaternion<T>* q, Eigen::Matrix<T, 3, 1>* t) const {
     *q = board_q;
     *t = board_t;
-    if (board_on_tool) *t = tool_q * *t + tool_t, *q = tool_q * *q;
-    if (sensor_on_tool) *t = tool_q.conjugate() * (*t - tool_t), *q = tool_q.conjugate() * *q;
+    if (board_moves) *t = board_frame_q * *t + board_frame_t, *q = board_frame_q * *q;
+    if (sensor_moves) *t = sensor_frame_q.conjugate() * (*t - sensor_frame_t), *q = sensor_frame_q.conjugate() * *q;
   }
-  // ... from the graph's blocks (the board's rotation and translation, the tool's), as (q, t).
+  // ... from the graph's blocks (the board's rotation and translation, the sensor's frame's, the board's
+  // frame's), as (q, t).
   template <typename T>
-  std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> boardInSensorParent(const T* board_q, const T* board_t, const T* tool_q,
-                                                                             const T* tool_t) const {
+  std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> boardInSensorParent(T const* const* blocks) const {
     std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> pose;
-    boardInSensorParent(Eigen::Quaternion<T>(board_q), Eigen::Matrix<T, 3, 1>(board_t), Eigen::Quaternion<T>(tool_q),
-                        Eigen::Matrix<T, 3, 1>(tool_t), &pose.first, &pose.second);
+    boardInSensorParent(Eigen::Quaternion<T>(blocks[0]), Eigen::Matrix<T, 3, 1>(blocks[1]), Eigen::Quaternion<T>(blocks[2]),
+                        Eigen::Matrix<T, 3, 1>(blocks[3]), Eigen::Quaternion<T>(blocks[4]), Eigen::Matrix<T, 3, 1>(blocks[5]), &pose.first,
+                        &pose.second);
     return pose;
   }
-  Eigen::Isometry3d boardInSensorParent(const Eigen::Isometry3d& board, const Eigen::Isometry3d& base_from_tool) const {
+  Eigen::Isometry3d boardInSensorParent(const Eigen::Isometry3d& board, const Eigen::Isometry3d& sensor_frame,
+                                        const Eigen::Isometry3d& board_frame) const {
     Eigen::Isometry3d pose = board;
-    if (board_on_tool) pose = base_from_tool * pose;
-    if (sensor_on_tool) pose = base_from_tool.inverse() * pose;
+    if (board_moves) pose = board_frame * pose;
+    if (sensor_moves) pose = sensor_frame.inverse() * pose;
     return pose;
   }
 };
@@ -65,12 +70,19 @@ struct ArmRig {
   std::vector<HandEyeSensor> sensors;
   bool board_on_tool = false;
   int main_camera = -1;
-  Mounting mounting(int sensor) const { return {sensors[sensor].on_tool, board_on_tool}; }
-  // Where the frame a sensor moves with was at a station: the tool, or the link it sits on (a sensor on a
-  // link sees a board that is fixed, so Mounting's tool is that link).
+  // A sensor on the tool with the board on the tool too sees it through no frame that moves.
+  Mounting mounting(int sensor) const {
+    const bool same_frame = sensors[sensor].on_tool && board_on_tool && sensors[sensor].link_joints == 0;
+    return {sensors[sensor].on_tool && !same_frame, board_on_tool && !same_frame};
+  }
+  // Where the frame a sensor moves with was at a station: the tool, or the link it sits on.
   const Eigen::Isometry3d& movingFrameAt(int sensor, const HandEyeStation& station) const {
     const int link = sensors[sensor].link_joints;
     return link > 0 ? station.base_from_link.at(link) : station.base_from_tool;
+  }
+  // The board in a sensor's parent frame at a station, the board at `board` in its own parent.
+  Eigen::Isometry3d boardInSensorParent(int sensor, const Eigen::Isometry3d& board, const HandEyeStation& station) const {
+    return mounting(sensor).boardInSensorParent(board, movingFrameAt(sensor, station), station.base_from_tool);
   }
   std::string name(int sensor) const {
     return sensors[sensor].name.empty() ? "sensor " + std::to_string(sensor) : "'" + sensors[sensor].name + "'";
@@ -107,12 +119,13 @@ struct CameraViewResidual {
   }
 
   template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
     using Quaternion = Eigen::Quaternion<T>;
     using Vector = Eigen::Matrix<T, 3, 1>;
     const Eigen::Map<const Quaternion> camera_q(xq);
     const Eigen::Map<const Vector> camera_t(xt);
-    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
+    const T* board[] = {yq, yt, sq, st, bq, bt};
+    const auto [q, t] = mounting.boardInSensorParent(board);
     Eigen::Matrix<T, 6, 1> r;
     r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), Quaternion(camera_q.conjugate() * q));
     r.template tail<3>() = camera_q.conjugate() * (t - camera_t) - translation.cast<T>();
@@ -134,8 +147,9 @@ struct RangeViewResidual {
       : on_plane(points, point_sigma), mounting(mounting) {}
 
   template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
-    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
+    const T* board[] = {yq, yt, sq, st, bq, bt};
+    const auto [q, t] = mounting.boardInSensorParent(board);
     const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
     const T offset = -normal.dot(t);
     return on_plane(xq, xt, normal.data(), &offset, residual);
@@ -155,7 +169,7 @@ struct BeamRangeViewResidual {
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
-    const auto [q, t] = mounting.boardInSensorParent(blocks[2], blocks[3], blocks[4], blocks[5]);
+    const auto [q, t] = mounting.boardInSensorParent(blocks + 2);
     const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
     beamRangeResiduals(points, sigma, Eigen::Quaternion<T>(blocks[0]), Eigen::Matrix<T, 3, 1>(blocks[1]), normal, T(-normal.dot(t)), residuals);
     return true;
@@ -169,8 +183,9 @@ struct RangeOutlineResidual {
   Mounting mounting;
 
   template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* tq, const T* tt, T* residual) const {
-    const auto [q, t] = mounting.boardInSensorParent(yq, yt, tq, tt);
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
+    const T* board[] = {yq, yt, sq, st, bq, bt};
+    const auto [q, t] = mounting.boardInSensorParent(board);
     return on_outline(xq, xt, q.coeffs().data(), t.data(), residual);
   }
 };
@@ -310,15 +325,14 @@ int numberCornersAlike(std::vector<HandEyeStation>* stations, int camera) {
 // found or turned halfway, whichever predicts its other views better (each as found or turned), then
 // each view turned where the prediction says it was found the other way.
 int turnLikePredicted(std::vector<HandEyeStation>* stations, const ArmRig& rig, int camera, const Eigen::Isometry3d& board) {
-  const Mounting mounting = rig.mounting(camera);
   const HandEyeStation* first = nullptr;
   for (const HandEyeStation& s : *stations)
     if (!first && firstView(s, camera)) first = &s;
   if (!first) return 0;
   const PlaneMeasurement& first_view = *firstView(*first, camera);
-  const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, rig.movingFrameAt(camera, *first));
-  const auto disagreement = [&](const Eigen::Isometry3d& pose, const PlaneMeasurement& view, const Eigen::Isometry3d& moving, bool* turn) {
-    const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, moving);
+  const Eigen::Isometry3d seen = rig.boardInSensorParent(camera, board, *first);
+  const auto disagreement = [&](const Eigen::Isometry3d& pose, const PlaneMeasurement& view, const HandEyeStation& station, bool* turn) {
+    const Eigen::Isometry3d predicted = pose.inverse() * rig.boardInSensorParent(camera, board, station);
     const double as_found = rotationAngle(view.sensor_from_pattern.inverse() * predicted);
     const double as_turned = rotationAngle(turnedHalfway(view).sensor_from_pattern.inverse() * predicted);
     if (turn) *turn = as_turned < as_found;
@@ -330,14 +344,14 @@ int turnLikePredicted(std::vector<HandEyeStation>* stations, const ArmRig& rig, 
   for (int c = 0; c < 2; ++c)
     for (const HandEyeStation& s : *stations)
       for (const HandEyeView& v : s.views)
-        if (v.sensor == camera) total[c] += disagreement(candidates[c], v.pattern, rig.movingFrameAt(camera, s), nullptr);
+        if (v.sensor == camera) total[c] += disagreement(candidates[c], v.pattern, s, nullptr);
   const Eigen::Isometry3d& pose = candidates[total[1] < total[0] ? 1 : 0];
   int flipped = 0;
   for (HandEyeStation& station : *stations) {
     for (HandEyeView& view : station.views) {
       bool turn = false;
       if (view.sensor != camera) continue;
-      disagreement(pose, view.pattern, rig.movingFrameAt(camera, station), &turn);
+      disagreement(pose, view.pattern, station, &turn);
       if (turn) {
         view.pattern = turnedHalfway(view.pattern);
         ++flipped;
@@ -378,11 +392,10 @@ Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int
   return pose;
 }
 
-// A camera view's error against the sensor and board poses with the tool (or the link the camera sits on)
-// where the arm reported it, `moving`, as (w, dt) of the view's perturbation.
-Eigen::Matrix<double, 6, 1> viewError(const Eigen::Isometry3d& moving, const PlaneMeasurement& view, const Mounting& mounting,
-                                      const Eigen::Isometry3d& pose, const Eigen::Isometry3d& board) {
-  const Eigen::Isometry3d predicted = pose.inverse() * mounting.boardInSensorParent(board, moving);
+// A camera view's error against the camera's pose and the board in its parent frame where the arm
+// reported the frames they move with (ArmRig::boardInSensorParent), as (w, dt) of the view's perturbation.
+Eigen::Matrix<double, 6, 1> viewError(const Eigen::Isometry3d& board_in_parent, const PlaneMeasurement& view, const Eigen::Isometry3d& pose) {
+  const Eigen::Isometry3d predicted = pose.inverse() * board_in_parent;
   Eigen::Matrix<double, 6, 1> error;
   const Eigen::AngleAxisd turn(view.sensor_from_pattern.linear().transpose() * predicted.linear());
   error.head<3>() = turn.angle() * turn.axis();
@@ -423,10 +436,10 @@ std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector
       int n = 0;
       for (const HandEyeView& view : s.views) {
         if (view.sensor != static_cast<int>(camera)) continue;
-        mean += viewError(rig.movingFrameAt(static_cast<int>(camera), s), view.pattern, mounting, poses[camera], board);
+        mean += viewError(rig.boardInSensorParent(static_cast<int>(camera), board, s), view.pattern, poses[camera]);
         covariance += view.pattern.pose_covariance;
         // The tool's turn moves the board seen by its lever: from the tool to the board.
-        lever = mounting.board_on_tool ? board.translation().norm()
+        lever = mounting.board_moves ? board.translation().norm()
                                        : poses[camera].translation().norm() + view.pattern.sensor_from_pattern.translation().norm();
         ++n;
       }
@@ -457,6 +470,7 @@ struct ArmGraph {
   PoseState board;
   std::vector<PoseState> tools;
   std::map<int, std::vector<PoseState>> links;   // per link sensors sit on (HandEyeSensor::link_joints): per station
+  PoseState base{Eigen::Isometry3d::Identity()};  // the base frame, constant: the frame of what is fixed
   std::vector<double> offsets;                   // arm_joints: per joint of the chain
   std::vector<std::vector<double>> corrections;  // ... per station and joint of the chain
   std::unique_ptr<ceres::Problem> problem;
@@ -520,10 +534,10 @@ std::vector<JointCalibration> armJointsSolvable(const ArmRig& rig, const ArmJoin
   return joints;
 }
 
-// BeamRangeViewResidual's cost: a residual per point, over the sensor's, the board's and the tool's pose.
+// BeamRangeViewResidual's cost: a residual per point, over the sensor's, the board's and their frames' poses.
 ceres::CostFunction* beamRangeCost(const std::vector<Eigen::Vector3d>& points, double sigma, Mounting mounting) {
   auto* cost = new ceres::DynamicAutoDiffCostFunction<BeamRangeViewResidual, 4>(new BeamRangeViewResidual{points, sigma, mounting});
-  for (int block = 0; block < 3; ++block) cost->AddParameterBlock(4), cost->AddParameterBlock(3);
+  for (int block = 0; block < 4; ++block) cost->AddParameterBlock(4), cost->AddParameterBlock(3);
   cost->SetNumResiduals(static_cast<int>(points.size()));
   return cost;
 }
@@ -548,26 +562,30 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   for (std::size_t k = 0; k < stations.size(); ++k) {
     for (const HandEyeView& view : stations[k].views) {
       PoseState& sensor = graph->sensors[view.sensor];
-      // The frame the sensor moves with at this station: the tool, or the link it sits on.
+      const Mounting mounting = rig.mounting(view.sensor);
+      // The frames the sensor and the board move with at this station (the tool, the link the sensor sits
+      // on), or the base frame's constant block where one is fixed.
       const int link = rig.sensors[view.sensor].link_joints;
-      PoseState& tool = link > 0 ? graph->links.at(link)[k] : graph->tools[k];
+      PoseState& sensor_frame = link > 0 ? graph->links.at(link)[k] : mounting.sensor_moves ? graph->tools[k] : graph->base;
+      PoseState& board_frame = mounting.board_moves ? graph->tools[k] : graph->base;
+      const std::vector<double*> blocks = {sensor.rotation.coeffs().data(),       sensor.translation.data(),
+                                           graph->board.rotation.coeffs().data(), graph->board.translation.data(),
+                                           sensor_frame.rotation.coeffs().data(), sensor_frame.translation.data(),
+                                           board_frame.rotation.coeffs().data(),  board_frame.translation.data()};
       const bool laser = rig.sensors[view.sensor].type == SensorType::kLaser2d;
       ceres::CostFunction* cost =
-          laser ? beamRangeCost(view.points, estimatedPointSigma(view.points, SensorType::kLaser2d), rig.mounting(view.sensor))
+          laser ? beamRangeCost(view.points, estimatedPointSigma(view.points, SensorType::kLaser2d), mounting)
           : rig.sensors[view.sensor].type == SensorType::kCamera
-              ? static_cast<ceres::CostFunction*>(new ceres::AutoDiffCostFunction<CameraViewResidual, 6, 4, 3, 4, 3, 4, 3>(
-                    new CameraViewResidual(view.pattern, rig.mounting(view.sensor))))
-              : new ceres::AutoDiffCostFunction<RangeViewResidual, 4, 4, 3, 4, 3, 4, 3>(new RangeViewResidual(
-                    view.points, estimatedPointSigma(view.points, rig.sensors[view.sensor].type), rig.mounting(view.sensor)));
-      problem.AddResidualBlock(cost, nullptr, sensor.rotation.coeffs().data(), sensor.translation.data(), graph->board.rotation.coeffs().data(),
-                               graph->board.translation.data(), tool.rotation.coeffs().data(), tool.translation.data());
+              ? static_cast<ceres::CostFunction*>(new ceres::AutoDiffCostFunction<CameraViewResidual, 6, 4, 3, 4, 3, 4, 3, 4, 3>(
+                    new CameraViewResidual(view.pattern, mounting)))
+              : new ceres::AutoDiffCostFunction<RangeViewResidual, 4, 4, 3, 4, 3, 4, 3, 4, 3>(
+                    new RangeViewResidual(view.points, estimatedPointSigma(view.points, rig.sensors[view.sensor].type), mounting));
+      problem.AddResidualBlock(cost, nullptr, blocks);
       if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
       for (const Eigen::Vector3d& end : view.outline) {
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RangeOutlineResidual, 1, 4, 3, 4, 3, 4, 3>(new RangeOutlineResidual{
-                                     {end, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height}, rig.mounting(view.sensor)}),
-                                 new ceres::CauchyLoss(options.edge_loss_sigmas), sensor.rotation.coeffs().data(), sensor.translation.data(),
-                                 graph->board.rotation.coeffs().data(), graph->board.translation.data(), tool.rotation.coeffs().data(),
-                                 tool.translation.data());
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RangeOutlineResidual, 1, 4, 3, 4, 3, 4, 3, 4, 3>(new RangeOutlineResidual{
+                                     {end, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height}, mounting}),
+                                 new ceres::CauchyLoss(options.edge_loss_sigmas), blocks);
       }
     }
     PoseState& tool = graph->tools[k];
@@ -629,6 +647,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     }
   }
   problem.SetManifold(graph->board.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  if (problem.HasParameterBlock(graph->base.translation.data())) {
+    problem.SetParameterBlockConstant(graph->base.rotation.coeffs().data());
+    problem.SetParameterBlockConstant(graph->base.translation.data());
+  }
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_SCHUR;
   solver_options.max_num_iterations = options.max_iterations;
@@ -645,13 +667,12 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
 // camera from its views (numbered alike first: turnLikePredicted), a range sensor from its board planes (alignPlanes; its fitted normals face it, so the board's normal is taken facing
 // it too, from whichever side fits).
 Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandEyeStation>& stations, const Eigen::Isometry3d& board) {
-  const Mounting mounting = rig.mounting(sensor);
   const bool laser = rig.sensors[sensor].type == SensorType::kLaser2d;
   std::vector<Eigen::Isometry3d> poses;
   std::vector<Plane> in_parent, in_sensor;
   std::vector<std::vector<Eigen::Vector3d>> scans;
   for (const HandEyeStation& s : stations) {
-    const Eigen::Isometry3d seen = mounting.boardInSensorParent(board, rig.movingFrameAt(sensor, s));
+    const Eigen::Isometry3d seen = rig.boardInSensorParent(sensor, board, s);
     for (const HandEyeView& view : s.views) {
       if (view.sensor != sensor) continue;
       if (rig.sensors[sensor].type == SensorType::kCamera) {
@@ -679,6 +700,30 @@ Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandE
     return sum;
   };
   return misfit(front, in_parent) <= misfit(back, flipped) ? front : back;
+}
+
+// A camera view whose board lies farther than this from where the started rig puts it (every sensor's
+// start and the board's): a pattern found shifted by a square, or a view of something else. The started
+// rig is within millimetres (the closed form, the chordal means, the uncalibrated joints); a view held
+// at its PnP covariance (tens of micrometres) that far off would pull every unknown towards it.
+constexpr double kMisdetectedDistance = 0.015;  // metres
+constexpr double kMisdetectedAngle = 0.05;      // radians
+
+// Drops the camera views over those bounds from `stations`; how many.
+int dropMisdetectedViews(const ArmRig& rig, const std::vector<Eigen::Isometry3d>& starts, const Eigen::Isometry3d& board,
+                         std::vector<HandEyeStation>* stations) {
+  int dropped = 0;
+  for (HandEyeStation& s : *stations) {
+    const auto misdetected = [&](const HandEyeView& view) {
+      if (rig.sensors[view.sensor].type != SensorType::kCamera) return false;
+      const Eigen::Matrix<double, 6, 1> e = viewError(rig.boardInSensorParent(view.sensor, board, s), view.pattern, starts[view.sensor]);
+      return e.tail<3>().norm() > kMisdetectedDistance || e.head<3>().norm() > kMisdetectedAngle;
+    };
+    const auto end = std::remove_if(s.views.begin(), s.views.end(), misdetected);
+    dropped += static_cast<int>(s.views.end() - end);
+    s.views.erase(end, s.views.end());
+  }
+  return dropped;
 }
 
 // `all_closed_forms`: every OpenCV method for the user to compare (the answer), or only Park and Martin's,
@@ -709,8 +754,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       if (view.sensor != rig.main_camera) continue;
       // board in its parent = (its parent <- the camera's parent) X C
       Eigen::Isometry3d seen = starts[rig.main_camera] * view.pattern.sensor_from_pattern;
-      if (main_mounting.sensor_on_tool) seen = s.base_from_tool * seen;
-      if (main_mounting.board_on_tool) seen = s.base_from_tool.inverse() * seen;
+      if (main_mounting.sensor_moves) seen = s.base_from_tool * seen;
+      if (main_mounting.board_moves) seen = s.base_from_tool.inverse() * seen;
       boards.push_back(seen);
     }
   }
@@ -724,6 +769,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
 
   // Solved with the views' and the arm's own noise; when the cameras' views then disagree far beyond it
   // (a real arm's kinematics, a real camera's intrinsics), solved again with that scatter added.
+  result.misdetected_views = dropMisdetectedViews(rig, starts, board_start, &stations);
   std::unique_ptr<ArmGraph> graph = solveGraph(rig, stations, options, starts, board_start);
   // An arm from its joints: from here on each station's tool is where its readings put it with the offsets
   // as solved (what the scatter and the views are judged against; the closed forms above had the readings alone).
@@ -822,7 +868,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     for (const HandEyeView& view : stations[k].views) {
       if (rig.sensors[view.sensor].type != SensorType::kCamera) continue;
       const Eigen::Matrix<double, 6, 1> e =
-          viewError(rig.movingFrameAt(view.sensor, stations[k]), view.pattern, rig.mounting(view.sensor), result.sensors[view.sensor], result.board);
+          viewError(rig.boardInSensorParent(view.sensor, result.board, stations[k]), view.pattern, result.sensors[view.sensor]);
       distance += e.tail<3>().norm();
       angle += e.head<3>().norm();
       squared_distance += e.tail<3>().squaredNorm();
@@ -928,16 +974,12 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
                          " of the arm's joints; a link before the tool is behind 1 to " + std::to_string(chain - 1) + " of its " +
                          std::to_string(chain));
       }
-      if (board_on_tool) {
-        throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) +
-                         " sits on a link of the arm before the tool while the board is on the tool: not supported yet; "
-                         "fix the board (eye-in-hand) for a sensor on the arm's links");
-      }
       rig.sensors[s].on_tool = true;  // it moves with the arm
     }
     const bool other_side = rig.sensors[s].on_tool != board_on_tool;
     if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0 && sensors[s].link_joints == 0) rig.main_camera = static_cast<int>(s);
-    if (sensors[s].type != SensorType::kCamera && !other_side) {
+    // (A sensor on a link before the tool sees a board on the tool move with the joints after its link.)
+    if (sensors[s].type != SensorType::kCamera && !other_side && sensors[s].link_joints == 0) {
       throw InputError("hand-eye calibration: sensor " + std::to_string(s) + " (a " + sensorTypeName(sensors[s].type) + ") is " +
                        (board_on_tool ? "on the tool with the board" : "fixed like the board") +
                        ": it sees the board in one place only, which fixes no range sensor");

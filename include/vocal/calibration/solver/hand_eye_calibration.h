@@ -141,6 +141,9 @@ struct HandEyeResult {
   // the final solve (zero when the model explained them).
   double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
   int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
+  // Camera views left out: their board over 15 mm / 50 mrad from where the started rig put it (a pattern
+  // found shifted by a square, a view of something else).
+  int misdetected_views = 0;
   std::vector<HandEyeClosedForm> closed_forms;
   // With HandEyeOptions::arm_joints: per joint of its chain, the offset as solved (and what fixed it) or
   // held and why.
@@ -164,8 +167,8 @@ HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, Hand
 // from the board's poses that solution gives (a camera's views; a range sensor's planes, which must turn
 // about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Throws InputError as calibrateHandEye, for no such camera, for a sensor
 // on the board's side that is not a camera (it would see the board in one place only), and for a sensor on
-// a link before the tool (HandEyeSensor::link_joints) without the arm's joints, beyond its chain, or with
-// the board on the tool (not supported yet). The main camera is never one on such a link.
+// a link before the tool (HandEyeSensor::link_joints) without the arm's joints or beyond its chain. The
+// main camera is never one on such a link.
 HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& stations,
                               const HandEyeOptions& options = {});
 
