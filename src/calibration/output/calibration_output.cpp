@@ -246,10 +246,11 @@ HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
   if (arm.from_joints)
     for (const int j : arm.chain) frames.joint_names.push_back(rig.joints.at(j).name);
   bool reference_given = false;
-  for (const RigSensorDescription& d : rig.sensors) {
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const RigSensorDescription& d = rig.sensors[s];
     const bool on_tool = !d.parent.empty();
     frames.on_tool.push_back(on_tool);
-    const int link = arm.link_joints.empty() ? 0 : arm.link_joints[frames.parent_links.size()];
+    const int link = s < arm.link_joints.size() ? arm.link_joints[s] : 0;
     frames.link_joints.push_back(link);
     frames.parent_links.push_back(link > 0 ? d.parent : std::string());
     const bool reference = !on_tool && d.pose && !reference_given;
