@@ -73,15 +73,13 @@ std::optional<HandEyeRig> RigDescription::handEye() const {
       return std::vector<int>();
     }
   };
-  if (arm.from_joints) {
-    // Sensors on an arm's links before the tool (a forearm camera) beside the board fixed: the tool is the
-    // link furthest along the chain.
-    arm.chain = chainTo(arm.tool_frame);
-    for (std::size_t s = 0; s < sensors.size() && arm.eye_in_hand; ++s) {
-      if (!behindJoints(static_cast<int>(s))) continue;
-      std::vector<int> chain = chainTo(sensors[s].parent);
-      if (chain.size() > arm.chain.size()) arm.tool_frame = sensors[s].parent, arm.chain = std::move(chain);
-    }
+  if (arm.from_joints) arm.chain = chainTo(arm.tool_frame);
+  // With the board fixed, sensors on an arm's links before the tool (a forearm camera) beside those on
+  // it: the tool is the link furthest along the chain (with the board on the tool, the board's link).
+  for (std::size_t s = 0; s < sensors.size() && arm.from_joints && arm.eye_in_hand; ++s) {
+    if (!behindJoints(static_cast<int>(s))) continue;
+    std::vector<int> chain = chainTo(sensors[s].parent);
+    if (chain.size() > arm.chain.size()) arm.tool_frame = sensors[s].parent, arm.chain = std::move(chain);
   }
   arm.link_joints.assign(sensors.size(), 0);
   for (std::size_t s = 0; s < sensors.size() && arm.from_joints; ++s) {

@@ -274,8 +274,9 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   std::printf("spread across the arm's poses: %d re-solves, each without one pose\n", result.spread_solves);
   std::printf("each camera view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
   if (result.misdetected_views > 0) {
-    std::printf("  %d camera view%s left out: the board over 15 mm / 50 mrad from where the other views put it (a pattern found "
-                "shifted by a square, or something else seen)\n", result.misdetected_views, result.misdetected_views == 1 ? "" : "s");
+    std::printf("  %d camera view%s left out: the board over %.0f mm / %.0f mrad from where the other views put it (a pattern found "
+                "shifted by a square, or something else seen)\n", result.misdetected_views, result.misdetected_views == 1 ? "" : "s",
+                1000 * vocal::kMisdetectedViewDistance, 1000 * vocal::kMisdetectedViewAngle);
   }
   if (result.unmodelled_translation > 0.0) {
     std::printf("  beyond the corners' noise and the arm's repeatability by %.2f mm / %.2f mrad per axis (the arm's kinematics, the "

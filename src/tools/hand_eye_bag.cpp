@@ -137,15 +137,14 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& d = rig.sensors[s];
     SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
+    if (d.parent == kForearm && !options.joint_arm) throw InputError(bag_path + ": a camera on the forearm needs the arm's joints");
     for (double t = (0.5 + 0.3 * s) / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
       Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d);
-      if (d.parent == kForearm) {
-        if (!options.joint_arm) throw InputError(bag_path + ": a camera on the forearm needs the arm's joints");
+      if (d.parent == kForearm)
         base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) * arm.forearm_camera;
-      }
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;

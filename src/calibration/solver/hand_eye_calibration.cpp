@@ -603,10 +603,6 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     std::vector<double> sigmas;
     for (const int j : arm->chain) sigmas.push_back(arm->tolerances.readingSigma(arm->joints[j]));
     for (std::size_t k = 0; k < stations.size(); ++k) {
-      if (stations[k].joint_positions.size() != n) {
-        throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
-                         " joint readings, the arm's chain " + std::to_string(n) + " joints");
-      }
       // The tool, and each link a sensor sits on, where the chain's first `joints` joints put it.
       const auto tie = [&](PoseState& frame, std::size_t joints) {
         auto* cost = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{
@@ -702,14 +698,10 @@ Eigen::Isometry3d startOf(const ArmRig& rig, int sensor, const std::vector<HandE
   return misfit(front, in_parent) <= misfit(back, flipped) ? front : back;
 }
 
-// A camera view whose board lies farther than this from where the started rig puts it (every sensor's
-// start and the board's): a pattern found shifted by a square, or a view of something else. The started
-// rig is within millimetres (the closed form, the chordal means, the uncalibrated joints); a view held
-// at its PnP covariance (tens of micrometres) that far off would pull every unknown towards it.
-constexpr double kMisdetectedDistance = 0.015;  // metres
-constexpr double kMisdetectedAngle = 0.05;      // radians
-
-// Drops the camera views over those bounds from `stations`; how many.
+// Drops the camera views over kMisdetectedViewDistance / kMisdetectedViewAngle from the started rig
+// (every sensor's start and the board's) from `stations`; how many. The started rig is within millimetres
+// (the closed form, the chordal means, the uncalibrated joints); a view held at its PnP covariance (tens
+// of micrometres) that far off would pull every unknown towards it.
 int dropMisdetectedViews(const ArmRig& rig, const std::vector<Eigen::Isometry3d>& starts, const Eigen::Isometry3d& board,
                          std::vector<HandEyeStation>* stations) {
   int dropped = 0;
@@ -717,7 +709,7 @@ int dropMisdetectedViews(const ArmRig& rig, const std::vector<Eigen::Isometry3d>
     const auto misdetected = [&](const HandEyeView& view) {
       if (rig.sensors[view.sensor].type != SensorType::kCamera) return false;
       const Eigen::Matrix<double, 6, 1> e = viewError(rig.boardInSensorParent(view.sensor, board, s), view.pattern, starts[view.sensor]);
-      return e.tail<3>().norm() > kMisdetectedDistance || e.head<3>().norm() > kMisdetectedAngle;
+      return e.tail<3>().norm() > kMisdetectedViewDistance || e.head<3>().norm() > kMisdetectedViewAngle;
     };
     const auto end = std::remove_if(s.views.begin(), s.views.end(), misdetected);
     dropped += static_cast<int>(s.views.end() - end);
@@ -1007,10 +999,10 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
   if (options.arm_joints) {
     std::vector<double> initial;
     for (const int j : options.arm_joints->chain) initial.push_back(options.arm_joints->joints[j].offset);
-    for (const HandEyeStation& s : stations) {
-      if (s.joint_positions.size() != initial.size()) {
-        throw InputError("hand-eye calibration: an arm pose has " + std::to_string(s.joint_positions.size()) + " joint readings, the arm's chain " +
-                         std::to_string(initial.size()) + " joints");
+    for (std::size_t k = 0; k < stations.size(); ++k) {
+      if (stations[k].joint_positions.size() != initial.size()) {
+        throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
+                         " joint readings, the arm's chain " + std::to_string(initial.size()) + " joints");
       }
     }
     placeLinks(rig, *options.arm_joints, initial, &stations);

@@ -107,6 +107,11 @@ struct HandEyeOptions {
   std::optional<ArmJoints> arm_joints;
 };
 
+// How far a camera view's board may lie from where the started rig puts it before the view is taken for
+// a misdetection and left out (HandEyeResult::misdetected_views).
+constexpr double kMisdetectedViewDistance = 0.015;  // metres
+constexpr double kMisdetectedViewAngle = 0.05;      // radians
+
 // A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
 struct HandEyeClosedForm {
   std::string method;  // Tsai, Park, Horaud, Andreff, Daniilidis
@@ -141,7 +146,7 @@ struct HandEyeResult {
   // the final solve (zero when the model explained them).
   double unmodelled_rotation = 0.0, unmodelled_translation = 0.0;
   int flipped_views = 0;  // views whose corners were found in the other order (board turned 180 degrees)
-  // Camera views left out: their board over 15 mm / 50 mrad from where the started rig put it (a pattern
+  // Camera views left out: their board over kMisdetectedView* from where the started rig put it (a pattern
   // found shifted by a square, a view of something else).
   int misdetected_views = 0;
   std::vector<HandEyeClosedForm> closed_forms;
