@@ -3,10 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <random>
 
 #include <yaml-cpp/yaml.h>
@@ -434,7 +438,7 @@ struct JointArmSession {
   vocal::HandEyeOptions options;
 };
 
-JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, double reading_noise) {
+JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, double reading_noise, bool head = false) {
   JointArmSession session;
   vocal::SimulatedArmOptions arm_options;
   arm_options.setup = setup;
@@ -443,14 +447,16 @@ JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, d
   vocal::SimulatedJointArmOptions joint_options;
   joint_options.seed = seed;
   joint_options.reading_noise = reading_noise;
+  joint_options.head = head;
   session.arm = vocal::simulateJointArm(arm_options, joint_options);
   std::mt19937 rng(seed);
   session.stations = vocal::simulateHandEyeStations(session.arm.arm, {7, 10, 0.03}, vocal::defaultKinectCamera(640, 480), 3, 0.2, &rng);
-  for (std::size_t k = 0; k < session.stations.size(); ++k) session.stations[k].joint_positions = session.arm.readings[k];
+  for (std::size_t k = 0; k < session.stations.size(); ++k) session.stations[k].joint_positions = session.arm.allReadings(k);
   vocal::ArmJoints arm;
   arm.joints = session.arm.joints;
   for (vocal::JointDescription& joint : arm.joints) joint.offset = 0.0;  // unknown
   arm.chain = session.arm.chain;
+  if (head) arm.read = vocal::jointsOfChains(arm.chain, {session.arm.head_chain});
   session.options.arm_joints = arm;
   return session;
 }
@@ -626,7 +632,7 @@ TEST(JointedCalibration, ACameraOnTheForearmBesideTheMainCamera) {
       }
       ASSERT_GE(seen, 4);
       vocal::HandEyeSensor forearm(vocal::SensorType::kCamera, true, std::nullopt, "forearm_camera");
-      forearm.link_joints = kForearm;
+      forearm.link_chain.assign(session.arm.chain.begin(), session.arm.chain.begin() + kForearm);
       const vocal::HandEyeSensor main_camera(vocal::SensorType::kCamera, in_hand, std::nullopt, "main_camera");
       const vocal::HandEyeResult result = vocal::calibrateArmRig({main_camera, forearm}, !in_hand, session.stations, session.options);
       const vocal::HandEyeResult main_alone = vocal::calibrateArmRig({main_camera}, !in_hand, main_stations, session.options);
@@ -666,6 +672,132 @@ TEST(JointedCalibration, ACameraOnTheForearmBesideTheMainCamera) {
       } catch (const vocal::InputError& e) {
         EXPECT_STREQ(e.what(), "hand-eye calibration: 'forearm_camera' sits on a link of the arm before the tool, which needs the arm's joints "
                                "(their readings and chain)");
+      }
+    }
+  }
+}
+
+namespace {
+// A camera's views of the board at each still pose where the whole pattern is in view: three images each,
+// 0.2 px of noise, as sensor `sensor`; how many poses saw it.
+int addCameraViews(JointArmSession* session, int sensor, const std::function<Eigen::Isometry3d(std::size_t)>& base_from_camera,
+                   std::uint32_t seed) {
+  const vocal::PinholeCamera lens = vocal::defaultKinectCamera(640, 480);
+  const vocal::TargetPattern pattern{7, 10, 0.03};
+  const std::vector<Eigen::Vector3d> corners = pattern.corners();
+  const bool in_hand = session->arm.arm.setup == vocal::HandEyeSetup::kEyeInHand;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  int seen = 0;
+  for (std::size_t k = 0; k < session->stations.size(); ++k) {
+    const Eigen::Isometry3d board = in_hand ? session->arm.arm.board : session->arm.arm.true_tool[k] * session->arm.arm.board;
+    const Eigen::Isometry3d camera_from_board = base_from_camera(k).inverse() * board;
+    const bool in_view = std::all_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& c) {
+      const Eigen::Vector3d p = camera_from_board * c;
+      const Eigen::Vector2d uv = lens.project(p);
+      return p.z() > 0.1 && lens.contains(uv.x(), uv.y());
+    });
+    if (!in_view) continue;
+    ++seen;
+    for (int v = 0; v < 3; ++v) {
+      std::vector<Eigen::Vector2d> pixels;
+      for (const Eigen::Vector3d& c : corners) pixels.push_back(lens.project(camera_from_board * c) + Eigen::Vector2d(noise(rng), noise(rng)));
+      session->stations[k].views.push_back({sensor, vocal::observePattern(pixels, pattern, lens, "camera").plane, {}, {}});
+    }
+  }
+  return seen;
+}
+
+// The worst distance and angle (m, rad) over 20 configurations of the joints drawn within the ranges the
+// still poses covered (none of them visited) between the truth and a calibration (its offsets per joint
+// read) of where `chain`'s link puts something at `mount` in it (true: `true_mount`); chain empty: fixed.
+std::pair<double, double> errorAtUnvisitedConfigurations(const JointArmSession& session, const std::vector<int>& read,
+                                                         const vocal::HandEyeResult& result, const std::vector<int>& chain,
+                                                         const Eigen::Isometry3d& mount, const Eigen::Isometry3d& true_mount) {
+  std::vector<double> solved(session.arm.joints.size(), 0.0), zero(session.arm.joints.size(), 0.0);
+  for (std::size_t i = 0; i < read.size(); ++i) solved[read[i]] = result.joints[i].offset;
+  std::mt19937 rng(7);
+  double worst_translation = 0.0, worst_rotation = 0.0;
+  for (int n = 0; n < 20; ++n) {
+    std::vector<double> angles, readings;
+    for (const int j : chain) {
+      const std::size_t i = static_cast<std::size_t>(std::find(read.begin(), read.end(), j) - read.begin());
+      double low = 1e9, high = -1e9;
+      for (std::size_t k = 0; k < session.stations.size(); ++k) {
+        const std::vector<double> all = session.arm.allReadings(k);
+        low = std::min(low, all[i]), high = std::max(high, all[i]);
+      }
+      const double reading = std::uniform_real_distribution<double>(low, high)(rng);
+      readings.push_back(reading);
+      angles.push_back(reading + session.arm.joints[j].offset);
+    }
+    const Eigen::Isometry3d truth = vocal::chainPose(session.arm.joints, chain, angles, zero) * true_mount;
+    const Eigen::Isometry3d found = vocal::chainPose(session.arm.joints, chain, readings, solved) * mount;
+    worst_translation = std::max(worst_translation, (found.translation() - truth.translation()).norm());
+    worst_rotation = std::max(worst_rotation, vocal::rotationAngle(truth.inverse() * found));
+  }
+  return {worst_translation, worst_rotation};
+}
+}  // namespace
+
+// A robot with a pan-tilt head beside its arm (two branches from the base, both read on /joint_states):
+// the head's camera watches the board the arm holds beside a camera on a post, or alone (the main camera
+// then, its closed form over the tool's motion in the head's link), or watches the fixed board beside a
+// camera on the wrist. Each camera, in the base frame at joint configurations the session never visited,
+// within 2 mm / 2 mrad of the truth; the head's and the arm's first joints fix each other's offset (a turn
+// of either moves one branch against the other) within their standard deviations, the tilt's is taken up
+// by the head camera's mount.
+TEST(JointedCalibration, AHeadAndAnArmInOneSession) {
+  for (const vocal::HandEyeSetup setup : {vocal::HandEyeSetup::kEyeInHand, vocal::HandEyeSetup::kEyeToHand}) {
+    for (const std::uint32_t seed : {1u, 2u}) {
+      for (const bool head_alone : {false, true}) {
+        const bool in_hand = setup == vocal::HandEyeSetup::kEyeInHand;
+        if (in_hand && head_alone) continue;  // a head alone over a fixed board is a head's rig (graph_calibration.h)
+        SCOPED_TRACE(vocal::handEyeSetupName(setup) + ", seed " + std::to_string(seed) + (head_alone ? ", the head camera alone" : ""));
+        JointArmSession session = jointArmSession(setup, seed, 0.0002, true);
+        const std::vector<int>& head = session.arm.head_chain;
+        if (head_alone)
+          for (vocal::HandEyeStation& s : session.stations) s.views.clear();
+        const int head_sensor = head_alone ? 0 : 1;
+        const int seen = addCameraViews(&session, head_sensor, [&](std::size_t k) { return session.arm.headAt(session.arm.head_angles[k]) * session.arm.arm.head_camera; },
+                                        seed + 100);
+        ASSERT_GE(seen, 10);
+        vocal::HandEyeSensor head_camera(vocal::SensorType::kCamera, true, std::nullopt, "head_camera");
+        head_camera.link_chain = head;
+        std::vector<vocal::HandEyeSensor> sensors = {head_camera};
+        if (!head_alone) sensors.insert(sensors.begin(), vocal::HandEyeSensor(vocal::SensorType::kCamera, in_hand, std::nullopt, "main_camera"));
+        const vocal::HandEyeResult result = vocal::calibrateArmRig(sensors, !in_hand, session.stations, session.options);
+        EXPECT_EQ(result.main_camera, 0);
+        const std::vector<int>& read = session.options.arm_joints->readJoints();
+        ASSERT_EQ(result.joints.size(), 8u);
+        const auto [head_t, head_r] = errorAtUnvisitedConfigurations(session, read, result, head, result.sensors[head_sensor], session.arm.arm.head_camera);
+        std::printf("%s%s, seed %u, head camera saw %d of %zu poses: in the base frame within %.2f mm / %.2f mrad at 20 unvisited head "
+                    "configurations; first joints: arm %+.2f mrad (truth %+.2f, %s), head %+.2f (truth %+.2f, %s)\n",
+                    vocal::handEyeSetupName(setup).c_str(), head_alone ? " (head camera alone)" : "", seed, seen, session.stations.size(),
+                    1000 * head_t, 1000 * head_r, 1000 * result.joints[0].offset, 1000 * session.arm.joints[0].offset,
+                    result.joints[0].held.empty() ? "solved" : "held", 1000 * result.joints[6].offset,
+                    1000 * session.arm.joints[head[0]].offset, result.joints[6].held.empty() ? "solved" : "held");
+        EXPECT_LT(head_t, 0.002);
+        EXPECT_LT(head_r, 0.002);
+        // The first joints solved, each by the other branch, within what they state of themselves (1-4 mrad:
+        // the two branches' first axes are parallel, a metre apart); the tilt's offset left to the head
+        // camera's mount.
+        for (const int i : {0, 6}) {
+          EXPECT_TRUE(result.joints[i].held.empty()) << result.joints[i].held;
+          EXPECT_GT(result.joints[i].standard_deviation, 0.0);
+          EXPECT_LT(std::abs(result.joints[i].offset - session.arm.joints[read[i]].offset), 3 * result.joints[i].standard_deviation)
+              << session.arm.joints[read[i]].name;
+        }
+        EXPECT_NE(result.joints[0].fixed_by.find("'head_pan_joint' that moved on another branch"), std::string::npos)
+            << result.joints[0].fixed_by;
+        EXPECT_EQ(result.joints[7].held, "no joint after it moved, so the poses of the sensors on 'head_tilt_link' take up its offset");
+        if (head_alone) continue;
+        const auto [main_t, main_r] =
+            in_hand ? errorAtUnvisitedConfigurations(session, read, result, session.arm.chain, result.camera(), session.arm.arm.camera)
+                    : errorAtUnvisitedConfigurations(session, read, result, {}, result.camera(), session.arm.arm.camera);
+        std::printf("  the %s camera within %.2f mm / %.2f mrad\n", in_hand ? "wrist" : "post", 1000 * main_t, 1000 * main_r);
+        EXPECT_LT(main_t, 0.002);
+        EXPECT_LT(main_r, 0.002);
       }
     }
   }
@@ -804,7 +936,7 @@ TEST(JointedCalibration, ForearmCameraThroughCalibrateRig) {
   ASSERT_TRUE(arm.has_value());
   EXPECT_EQ(arm->tool_frame, "arm_tool");
   EXPECT_EQ(arm->camera, 1);
-  EXPECT_EQ(arm->link_joints, std::vector<int>({3, 0}));
+  EXPECT_EQ(arm->link_chains, std::vector<std::vector<int>>({{0, 1, 2}, {}}));
 
   // Without the joints the forearm is a second frame tf would have to move: refused, saying what is needed.
   const std::size_t joints_at = rig_text.find("joints:\n"), sensors_at = rig_text.find("sensors:\n");
@@ -825,4 +957,59 @@ TEST(JointedCalibration, ForearmCameraThroughCalibrateRig) {
               1000 * to_hand_radians);
   EXPECT_LT(to_hand_metres, 0.002);
   EXPECT_LT(to_hand_radians, 0.002);
+}
+
+// A head beside the arm through the tools: simulate_calibration_session --eye-to-hand --arm --head, then
+// calibrate_rig. The head camera (in head_tilt_link, behind the head's joints as calibrated) in the base
+// frame at each still pose's true head angles read by noise-free encoders, and the post camera in the
+// base frame, within 2 mm / 2 mrad of the truth; each first joint fixed by the other branch.
+TEST(JointedCalibration, HeadAndArmThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_head_arm");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --eye-to-hand --arm --head --poses 12");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("head_camera in head_tilt_link"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fixed by 'head_pan_joint' that moved on another branch"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fixed by 'shoulder_pan_joint' that moved on another branch"), std::string::npos) << r.output;
+  const vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const auto poseOf = [](const YAML::Node& n) {
+    const std::vector<double> t = n["translation"].as<std::vector<double>>(), q = n["rotation"].as<std::vector<double>>();
+    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+  };
+  std::map<std::string, double> true_offsets, solved_offsets;
+  for (const YAML::Node& j : truth["joints"]) true_offsets[j["name"].as<std::string>()] = j["offset"].as<double>();
+  for (const YAML::Node& j : result["joints"]) solved_offsets[j["name"].as<std::string>()] = j["offset"].as<double>();
+  const std::vector<int> head = vocal::jointChain(rig.joints, rig.reference_frame, "head_tilt_link", "the head");
+  std::vector<double> by_joint_truth(rig.joints.size(), 0.0), by_joint_solved(rig.joints.size(), 0.0);
+  for (std::size_t j = 0; j < rig.joints.size(); ++j) {
+    by_joint_truth[j] = true_offsets.at(rig.joints[j].name);
+    by_joint_solved[j] = solved_offsets.at(rig.joints[j].name);
+  }
+  ASSERT_EQ(result["sensors"][1]["name"].as<std::string>(), "head_camera");
+  EXPECT_EQ(result["sensors"][1]["parent"].as<std::string>(), "head_tilt_link");
+  const Eigen::Isometry3d true_mount = poseOf(truth["sensors"]["head_camera"]["pose"]), mount = poseOf(result["sensors"][1]);
+  double worst_t = 0.0, worst_r = 0.0;
+  ASSERT_EQ(truth["head_angles"].size(), 12u);
+  for (const YAML::Node& at : truth["head_angles"]) {
+    const std::vector<double> angles = at.as<std::vector<double>>();
+    std::vector<double> readings = angles, zero(rig.joints.size(), 0.0);
+    for (std::size_t i = 0; i < head.size(); ++i) readings[i] -= by_joint_truth[head[i]];
+    const Eigen::Isometry3d expected = vocal::chainPose(rig.joints, head, angles, zero) * true_mount;
+    const Eigen::Isometry3d found = vocal::chainPose(rig.joints, head, readings, by_joint_solved) * mount;
+    worst_t = std::max(worst_t, (found.translation() - expected.translation()).norm());
+    worst_r = std::max(worst_r, vocal::rotationAngle(expected.inverse() * found));
+  }
+  const Eigen::Isometry3d post = poseOf(result["sensors"][0]), true_post = poseOf(truth["sensors"]["arm_camera"]["pose"]);
+  const double post_t = (post.translation() - true_post.translation()).norm(), post_r = vocal::rotationAngle(true_post.inverse() * post);
+  std::printf("head and arm through calibrate_rig: the head camera in arm_base within %.2f mm / %.2f mrad at the still poses, the post "
+              "camera %.2f mm / %.2f mrad\n", 1000 * worst_t, 1000 * worst_r, 1000 * post_t, 1000 * post_r);
+  EXPECT_LT(worst_t, 0.002);
+  EXPECT_LT(worst_r, 0.002);
+  EXPECT_LT(post_t, 0.002);
+  EXPECT_LT(post_r, 0.002);
+  const std::string urdf_text = vocal_test::readText(folder + "/calibration.urdf");
+  EXPECT_NE(urdf_text.find("<parent link=\"head_tilt_link\"/>"), std::string::npos) << urdf_text;
 }

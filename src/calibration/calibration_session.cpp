@@ -238,7 +238,7 @@ HandEyeAssociation CalibrationSession::handEyeAssociation(const ToolStillnessOpt
   // Each still pose's joint readings: their median over its views' span (the nearest within 0.05 s of it).
   JointedMounts arm;
   arm.joints = rig_.joints;
-  arm.chains = {arm_->chain};
+  arm.chains = {arm_->readJoints()};  // not a chain: every joint read, as ArmJoints::read lists them
   std::vector<TargetObservation> spans(association.stations.size());
   for (std::size_t k = 0; k < spans.size(); ++k) {
     spans[k].target_pose = static_cast<int>(k);
@@ -260,6 +260,7 @@ std::optional<ArmJoints> CalibrationSession::armJoints() const {
   ArmJoints arm;
   arm.joints = rig_.joints;
   arm.chain = arm_->chain;
+  arm.read = arm_->readJoints();
   arm.tolerances = mounts_.tolerances;
   return arm;
 }

@@ -1,5 +1,7 @@
 #include "vocal/calibration/joint_chain.h"
 
+#include <algorithm>
+
 #include "vocal/core/errors.h"
 
 namespace vocal {
@@ -64,6 +66,14 @@ Eigen::Isometry3d chainPose(const std::vector<JointDescription>& joints, const s
   std::vector<const double*> own_offsets;
   for (const int j : chain) own_offsets.push_back(&joints.at(j).offset);
   return chainPoseWith(joints, chain, positions, own_offsets);
+}
+
+std::vector<int> jointsOfChains(const std::vector<int>& chain, const std::vector<std::vector<int>>& others) {
+  std::vector<int> all = chain;
+  for (const std::vector<int>& other : others)
+    for (const int j : other)
+      if (std::find(all.begin(), all.end(), j) == all.end()) all.push_back(j);
+  return all;
 }
 
 const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {

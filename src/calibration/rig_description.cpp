@@ -81,18 +81,21 @@ std::optional<HandEyeRig> RigDescription::handEye() const {
     std::vector<int> chain = chainTo(sensors[s].parent);
     if (chain.size() > arm.chain.size()) arm.tool_frame = sensors[s].parent, arm.chain = std::move(chain);
   }
-  arm.link_joints.assign(sensors.size(), 0);
+  // Sensors on the other links the joints move: before the tool on its chain (a forearm camera), or on
+  // another chain from the reference frame (a head's).
+  arm.link_chains.assign(sensors.size(), {});
   for (std::size_t s = 0; s < sensors.size() && arm.from_joints; ++s) {
     if (sensors[s].parent.empty() || sensors[s].parent == arm.tool_frame || !behindJoints(static_cast<int>(s))) continue;
-    const std::vector<int> chain = chainTo(sensors[s].parent);
-    if (!chain.empty() && chain.size() < arm.chain.size() && std::equal(chain.begin(), chain.end(), arm.chain.begin()))
-      arm.link_joints[s] = static_cast<int>(chain.size());
+    arm.link_chains[s] = chainTo(sensors[s].parent);
   }
-  // The main camera: the first on the other side from the board (on the tool itself when the board is fixed).
+  // The main camera: the first on the other side from the board (on the tool itself when the board is
+  // fixed), else the first on a link (a head's watching the board on the tool).
   for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s) {
-    if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand && arm.link_joints[s] == 0)
+    if (sensors[s].spec.type == SensorType::kCamera && sensors[s].parent.empty() != arm.eye_in_hand && arm.link_chains[s].empty())
       arm.camera = static_cast<int>(s);
   }
+  for (std::size_t s = 0; s < sensors.size() && arm.camera < 0; ++s)
+    if (sensors[s].spec.type == SensorType::kCamera && !arm.link_chains[s].empty()) arm.camera = static_cast<int>(s);
   return arm;
 }
 
@@ -243,7 +246,7 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& sensor = rig.sensors[s];
     const std::string where = path + ": sensors[" + std::to_string(s) + "] '" + sensor.spec.name + "'";
-    if (!sensor.parent.empty() && sensor.parent != arm.tool_frame && arm.link_joints[s] == 0) {
+    if (!sensor.parent.empty() && sensor.parent != arm.tool_frame && arm.link_chains[s].empty()) {
       throw InputError(where + ": its parent '" + sensor.parent + "' is a second moving frame besides '" + arm.tool_frame + "'" +
                        (arm.from_joints ? " and no link of the arm's chain to it" : "") + "; one moving frame per rig" +
                        (arm.from_joints ? "" : " (a sensor on an arm's other links needs the arm's joints: 'joints:' or 'urdf:')"));
@@ -253,7 +256,7 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame +
                        "', so the board must stand still while the arm moves: give the target 'parent: " + rig.reference_frame + "'");
     }
-    if (on_tool && board_on_tool && sensor.spec.type != SensorType::kCamera && arm.link_joints[s] == 0) {
+    if (on_tool && board_on_tool && sensor.spec.type != SensorType::kCamera && arm.link_chains[s].empty()) {
       throw InputError(where + ": it is on the moving frame '" + arm.tool_frame + "' with the board, so it sees the board in one place "
                        "only, which fixes no " + sensorTypeName(sensor.spec.type));
     }

@@ -180,7 +180,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
             << ") from " << association.stations.size() << " still arm poses";
     for (std::size_t i = 0; i < result.joints.size() && options.arm_joints; ++i) {
       if (!result.joints[i].reported) continue;
-      const JointDescription& joint = options.arm_joints->joints[options.arm_joints->chain[i]];
+      const JointDescription& joint = options.arm_joints->joints[options.arm_joints->readJoints()[i]];
       summary << "; joint " << joint.name << " offset " << jointOffsetText(joint, result.joints[i]);
     }
     std::vector<std::string> withheld;

@@ -58,6 +58,44 @@ bool reach(const std::vector<JointDescription>& joints, const std::vector<int>& 
   }
   return poseError(target, chainPose(joints, chain, *angles, zero)).norm() < 1e-9;
 }
+// The head: a pan joint 0.9 m up at the arm's side (a metre from its first joint's axis, so that the two
+// first joints' offsets turn the arm and the head apart), a tilt joint 12 cm above it, the camera 6 cm ahead
+// of the tilt axis looking along the tilt link's x. At each still pose it turns towards the board's centre,
+// up to 0.25 rad off in pan and 0.18 in tilt (the board still in view): the board in a different part of
+// its image each time, as a calibration's head poses are chosen.
+void addHead(SimulatedJointArm* out, const SimulatedJointArmOptions& options, std::mt19937* rng) {
+  JointDescription pan, tilt;
+  pan.name = "head_pan_joint", pan.parent = "arm_base", pan.child = "head_pan_link";
+  pan.origin.translation() = Eigen::Vector3d(0.2, 0.8, 0.9);
+  pan.axis = Eigen::Vector3d::UnitZ();
+  tilt.name = "head_tilt_joint", tilt.parent = "head_pan_link", tilt.child = SimulatedJointArm::kHeadLink;
+  tilt.origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.12);
+  tilt.axis = Eigen::Vector3d::UnitY();
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, options.reading_noise);
+  for (JointDescription* joint : {&pan, &tilt}) joint->offset = options.offset_range * unit(*rng);
+  out->head_chain = {static_cast<int>(out->joints.size()), static_cast<int>(out->joints.size()) + 1};
+  out->joints.push_back(pan);
+  out->joints.push_back(tilt);
+  // Optical z along the link's x, x along its -y, y along its -z.
+  Eigen::Isometry3d& camera = out->arm.head_camera;
+  camera = Eigen::Isometry3d::Identity();
+  camera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  camera.translation() = Eigen::Vector3d(0.06, 0.0, 0.04);
+  const double step = 2.0 * M_PI / options.encoder_counts;
+  const bool in_hand = out->arm.setup == HandEyeSetup::kEyeInHand;
+  for (std::size_t k = 0; k < out->angles.size(); ++k) {
+    const Eigen::Vector3d board = in_hand ? out->arm.board.translation() : out->arm.true_tool[k] * out->arm.board.translation();
+    const Eigen::Vector3d from_tilt = board - (pan.origin.translation() + tilt.origin.translation());
+    const std::vector<double> angles = {std::atan2(from_tilt.y(), from_tilt.x()) + 0.25 * unit(*rng),
+                                        std::atan2(-from_tilt.z(), from_tilt.head<2>().norm()) + 0.18 * unit(*rng)};
+    std::vector<double> readings;
+    for (std::size_t j = 0; j < angles.size(); ++j)
+      readings.push_back(std::round((angles[j] - out->joints[out->head_chain[j]].offset + noise(*rng)) / step) * step);
+    out->head_angles.push_back(angles);
+    out->head_readings.push_back(readings);
+  }
+}
 }  // namespace
 
 std::vector<double> SimulatedJointArm::readingsAt(double time, double still, double moving) const {
@@ -66,6 +104,34 @@ std::vector<double> SimulatedJointArm::readingsAt(double time, double still, dou
 
 std::vector<double> SimulatedJointArm::anglesAt(double time, double still, double moving) const {
   return valuesAtTime(angles, time, still, moving);
+}
+
+Eigen::Isometry3d SimulatedJointArm::headAt(const std::vector<double>& at) const {
+  return chainPose(joints, head_chain, at, std::vector<double>(joints.size(), 0.0));
+}
+
+std::vector<double> SimulatedJointArm::allReadings(std::size_t pose) const {
+  std::vector<double> all = readings[pose];
+  if (!head_chain.empty()) all.insert(all.end(), head_readings[pose].begin(), head_readings[pose].end());
+  return all;
+}
+
+std::vector<double> SimulatedJointArm::allReadingsAt(double time, double still, double moving) const {
+  std::vector<double> all = readingsAt(time, still, moving);
+  if (head_chain.empty()) return all;
+  const std::vector<double> head = valuesAtTime(head_readings, time, still, moving);
+  all.insert(all.end(), head.begin(), head.end());
+  return all;
+}
+
+Eigen::Isometry3d SimulatedJointArm::headAt(double time, double still, double moving) const {
+  return headAt(valuesAtTime(head_angles, time, still, moving));
+}
+
+std::vector<int> SimulatedJointArm::allJoints() const {
+  std::vector<int> all = chain;
+  all.insert(all.end(), head_chain.begin(), head_chain.end());
+  return all;
 }
 
 Eigen::Isometry3d SimulatedJointArm::forearmAt(const std::vector<double>& at) const {
@@ -121,6 +187,7 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
     }
     if (seen > most) most = seen, out.arm.forearm_camera = mount;
   }
+  if (options.head) addHead(&out, options, &rng);
   return out;
 }
 

@@ -256,7 +256,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
       if (!result.joints[i].reported) continue;
-      const vocal::JointDescription& joint = options.arm_joints->joints[options.arm_joints->chain[i]];
+      const vocal::JointDescription& joint = options.arm_joints->joints[options.arm_joints->readJoints()[i]];
       std::printf("  %-20s %s\n", joint.name.c_str(), vocal::jointOffsetText(joint, result.joints[i], 8).c_str());
     }
   }

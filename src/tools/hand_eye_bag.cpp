@@ -24,6 +24,7 @@ const char kBase[] = "arm_base";
 const char kFlange[] = "arm_flange";
 const char kTool[] = "arm_tool";
 const char kForearm[] = "forearm_link";  // simulated_joint_arm.h's link after its first three joints
+const char* const kHead = SimulatedJointArm::kHeadLink;
 // The tool 10 cm past the flange (a gripper or an adapter plate), on /tf_static.
 Eigen::Isometry3d flangeFromTool() {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -47,6 +48,7 @@ sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std
 // others' by type.
 Eigen::Isometry3d sensorPoseInParent(const SimulatedArm& arm, const RigSensorDescription& sensor) {
   if (sensor.parent == kForearm) return arm.forearm_camera;
+  if (sensor.parent == kHead) return arm.head_camera;
   switch (sensor.spec.type) {
     case SensorType::kLidar3d: return arm.lidar;
     case SensorType::kRgbd: return arm.rgbd;
@@ -127,8 +129,8 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
     if (options.joint_arm) {
       sensor_msgs::JointState state;
       state.header.stamp = stamp;
-      for (const int j : options.joint_arm->chain) state.name.push_back(options.joint_arm->joints[j].name);
-      state.position = options.joint_arm->readingsAt(t, options.still_seconds, options.moving_seconds);
+      for (const int j : options.joint_arm->allJoints()) state.name.push_back(options.joint_arm->joints[j].name);
+      state.position = options.joint_arm->allReadingsAt(t, options.still_seconds, options.moving_seconds);
       bag.write("/joint_states", stamp, state);
     }
   }
@@ -137,7 +139,8 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& d = rig.sensors[s];
     SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
-    if (d.parent == kForearm && !options.joint_arm) throw InputError(bag_path + ": a camera on the forearm needs the arm's joints");
+    if ((d.parent == kForearm || d.parent == kHead) && !options.joint_arm)
+      throw InputError(bag_path + ": a camera on the " + d.parent + " needs the robot's joints");
     for (double t = (0.5 + 0.3 * s) / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
@@ -145,6 +148,7 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
       Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d);
       if (d.parent == kForearm)
         base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) * arm.forearm_camera;
+      if (d.parent == kHead) base_from_sensor = options.joint_arm->headAt(t, options.still_seconds, options.moving_seconds) * arm.head_camera;
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;
@@ -182,15 +186,17 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
 
 RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside,
                                     bool forearm) {
-  RigDescription rig = simulatedHandEyeRig(setup, target, false, beside);
-  if (forearm) {
+  const auto cameraOn = [](const std::string& name, const std::string& parent) {
     RigSensorDescription camera;
-    camera.spec = {"forearm_camera", SensorType::kCamera, "forearm_camera_optical"};
-    camera.image_topic = "/forearm_camera/image_raw";
-    camera.camera_info_topic = "/forearm_camera/camera_info";
-    camera.parent = kForearm;
-    rig.sensors.push_back(camera);
-  }
+    camera.spec = {name, SensorType::kCamera, name + "_optical"};
+    camera.image_topic = "/" + name + "/image_raw";
+    camera.camera_info_topic = "/" + name + "/camera_info";
+    camera.parent = parent;
+    return camera;
+  };
+  RigDescription rig = simulatedHandEyeRig(setup, target, false, beside);
+  if (forearm) rig.sensors.push_back(cameraOn("forearm_camera", kForearm));
+  if (!joint_arm.head_chain.empty()) rig.sensors.push_back(cameraOn("head_camera", kHead));
   rig.joints = joint_arm.joints;
   for (JointDescription& joint : rig.joints) joint.offset = 0.0;  // unknown
   return rig;
@@ -225,8 +231,12 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
     file << "  - {true: " << pose(arm.true_tool[k]) << ", reported: " << pose(arm.reported_tool[k]) << "}\n";
   }
   if (joint_arm) {
-    file << "joints:  # the arm's, with their true zero offsets (added to each reading)\n";
-    for (const int j : joint_arm->chain) file << "  - {name: " << joint_arm->joints[j].name << ", offset: " << joint_arm->joints[j].offset << "}\n";
+    file << "joints:  # the arm's (then the head's), with their true zero offsets (added to each reading)\n";
+    for (const int j : joint_arm->allJoints()) file << "  - {name: " << joint_arm->joints[j].name << ", offset: " << joint_arm->joints[j].offset << "}\n";
+    if (!joint_arm->head_angles.empty()) {
+      file << "head_angles:  # the head's true joint angles at each still pose (pan, tilt)\n";
+      for (const std::vector<double>& a : joint_arm->head_angles) file << "  - [" << a[0] << ", " << a[1] << "]\n";
+    }
   }
   if (!file) throw InputError(path + ": write failed");
 }

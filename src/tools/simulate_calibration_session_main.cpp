@@ -90,6 +90,9 @@ const char kUsage[] =
     "                      robot_state_publisher gives it; rig.yaml names the joints (offsets unknown)\n"
     "  --forearm           (--arm) a second camera on the arm's forearm_link, where the main camera was at one\n"
     "                      pose (10 cm behind the wrist camera, or 30 cm ahead of the post camera)\n"
+    "  --head              (--arm) a pan-tilt head beside the arm, a metre from its base, with a camera\n"
+    "                      (head_camera on head_tilt_link) turned towards the board at each still pose; its\n"
+    "                      joints on /joint_states with the arm's, their zeros off like the arm's\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n";
@@ -119,6 +122,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   if (args.has("forearm") && !args.has("arm")) {
     throw vocal::InputError("option --forearm: with --arm (a camera on the forearm moves with the arm's first joints)");
   }
+  if (args.has("head") && !args.has("arm")) throw vocal::InputError("option --head: with --arm (the head's joints are read with the arm's)");
   // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
   std::optional<vocal::SimulatedJointArm> joint_arm;
   if (args.has("arm")) {
@@ -127,6 +131,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     joint_options.seed = arm_options.seed;
     joint_options.reading_noise = args.number("joint-noise", joint_options.reading_noise);
     joint_options.offset_range = args.number("joint-offsets", joint_options.offset_range);
+    joint_options.head = args.has("head");
     if (!(joint_options.reading_noise >= 0.0)) throw vocal::InputError("option --joint-noise: must be >= 0");
     joint_arm = vocal::simulateJointArm(arm_options, joint_options);
   }
@@ -252,5 +257,5 @@ int main(int argc, char** argv) {
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm"}, 1);
+                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head"}, 1);
 }

@@ -147,6 +147,14 @@ struct ArmJoints {
   std::vector<JointDescription> joints;  // offset: the initial value
   std::vector<int> chain;                // base -> tool (jointChain)
   JointTolerances tolerances;
+  // The joints each still pose reads (HandEyeStation::joint_positions), in order: the chain's, then those
+  // of other links' chains sensors sit on (a head's). Empty: the chain's.
+  std::vector<int> read;
+  const std::vector<int>& readJoints() const { return read.empty() ? chain : read; }
 };
+
+// `chain` followed by each of `others`' joints not already listed: the joints a graph over several chains
+// from one base reads (ArmJoints::read).
+std::vector<int> jointsOfChains(const std::vector<int>& chain, const std::vector<std::vector<int>>& others);
 
 }  // namespace vocal

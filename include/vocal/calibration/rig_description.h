@@ -80,9 +80,11 @@ struct HandEyeRig {
   // through `chain` (jointChain from the reference frame), the joints' offsets calibrated with the rest.
   bool from_joints = false;
   std::vector<int> chain;
-  // Per sensor: on a link of that chain before the tool (a forearm camera), how many of its joints lie
-  // before that link; zero for the others (HandEyeSensor::link_joints).
-  std::vector<int> link_joints;
+  // Per sensor: on a link of the joints other than the tool (a forearm camera, a head's camera), the
+  // joints from the reference frame to it; empty for the others (HandEyeSensor::link_chain).
+  std::vector<std::vector<int>> link_chains;
+  // The joints each still pose reads: the tool's chain, then the links' (ArmJoints::read).
+  std::vector<int> readJoints() const { return jointsOfChains(chain, link_chains); }
 };
 
 struct RigDescription {

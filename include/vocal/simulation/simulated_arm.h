@@ -44,6 +44,8 @@ struct SimulatedArm {
   // With joints (simulated_joint_arm.h): a second camera on the arm's forearm link (forearm_link <-
   // camera) that sees the board, fixed or in the gripper, at most still poses.
   Eigen::Isometry3d forearm_camera = Eigen::Isometry3d::Identity();
+  // ... and with a head beside the arm (SimulatedJointArmOptions::head), its camera (head_tilt_link <- camera).
+  Eigen::Isometry3d head_camera = Eigen::Isometry3d::Identity();
 
   // Camera <- board at pose k (the truth).
   Eigen::Isometry3d cameraFromBoard(int k) const;

@@ -19,6 +19,9 @@ struct SimulatedJointArmOptions {
   double encoder_counts = 65536.0;  // per turn
   double reading_noise = 0.0002;    // radians per reading at a still pose (standard deviation)
   std::uint32_t seed = 1;
+  // A pan-tilt head beside the arm (a mobile manipulator's), its camera turned at each still pose towards
+  // the board: its two joints from arm_base, read like the arm's.
+  bool head = false;
 };
 
 struct SimulatedJointArm {
@@ -38,6 +41,21 @@ struct SimulatedJointArm {
   // base <- forearm_link (after the chain's first kForearmJoints joints) at the true `angles`.
   static constexpr int kForearmJoints = 3;
   Eigen::Isometry3d forearmAt(const std::vector<double>& angles) const;
+
+  // With a head (SimulatedJointArmOptions::head): its pan and tilt joints (in `joints` after the arm's)
+  // from arm_base to head_tilt_link, and per still pose their true angles and readings (the head camera's
+  // mount: arm.head_camera).
+  static constexpr char kHeadLink[] = "head_tilt_link";
+  std::vector<int> head_chain;
+  std::vector<std::vector<double>> head_angles, head_readings;
+  // base <- head_tilt_link at the head's true `angles`, and at `time` as readingsAt.
+  Eigen::Isometry3d headAt(const std::vector<double>& angles) const;
+  Eigen::Isometry3d headAt(double time, double still, double moving) const;
+  // The arm's joints then the head's (every joint read, as ArmJoints::read lists them): their indices in
+  // `joints`, and their readings at a still pose or, as readingsAt, at `time`.
+  std::vector<int> allJoints() const;
+  std::vector<double> allReadings(std::size_t pose) const;
+  std::vector<double> allReadingsAt(double time, double still, double moving) const;
 };
 
 // The still poses of simulateArm(arm_options) reached by the arm's joints. Throws InputError when a

@@ -39,7 +39,8 @@ RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& 
 
 // `joint_arm`: the rig names the arm's joints (offsets unknown: 0) down to the tool, the tool's pose then
 // comes from /joint_states rather than tf. `forearm`: a second camera on the arm's forearm_link
-// (SimulatedArm::forearm_camera).
+// (SimulatedArm::forearm_camera). With a head (SimulatedJointArm::head_chain): its camera on
+// head_tilt_link (SimulatedArm::head_camera), the head's joints named beside the arm's.
 RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription& target, const SimulatedJointArm& joint_arm, bool beside = false,
                                     bool forearm = false);
 

@@ -244,15 +244,14 @@ std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
 HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm) {
   HandEyeFrames frames{rig.reference_frame, arm.tool_frame, rig.specs(), {}, {}, {}, {}, {}};
   if (arm.from_joints)
-    for (const int j : arm.chain) frames.joint_names.push_back(rig.joints.at(j).name);
+    for (const int j : arm.readJoints()) frames.joint_names.push_back(rig.joints.at(j).name);
   bool reference_given = false;
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const RigSensorDescription& d = rig.sensors[s];
     const bool on_tool = !d.parent.empty();
     frames.on_tool.push_back(on_tool);
-    const int link = s < arm.link_joints.size() ? arm.link_joints[s] : 0;
-    frames.link_joints.push_back(link);
-    frames.parent_links.push_back(link > 0 ? d.parent : std::string());
+    frames.link_chains.push_back(s < arm.link_chains.size() ? arm.link_chains[s] : std::vector<int>());
+    frames.parent_links.push_back(frames.link_chains.back().empty() ? std::string() : d.parent);
     const bool reference = !on_tool && d.pose && !reference_given;
     reference_given = reference_given || reference;
     frames.given_poses.push_back(reference || (on_tool && d.pose_known) ? d.pose : std::nullopt);
@@ -264,7 +263,7 @@ std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
   std::vector<HandEyeSensor> out;
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     out.push_back({sensors[s].type, on_tool[s], given_poses[s], sensors[s].name});
-    out.back().link_joints = link_joints[s];
+    out.back().link_chain = link_chains[s];
   }
   return out;
 }
@@ -336,7 +335,7 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << q.y() << ", " << q.z() << ", " << q.w() << "]}\n";
   }
   if (!result.joints.empty() && result.joints.size() == frames.joint_names.size()) {
-    file << "joints:  # the arm's, offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
+    file << "joints:  # the arm's chain, then other links' (a head's): offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
       const JointCalibration& joint = result.joints[i];
       if (!joint.reported) continue;

@@ -72,13 +72,12 @@ struct ArmRig {
   int main_camera = -1;
   // A sensor on the tool with the board on the tool too sees it through no frame that moves.
   Mounting mounting(int sensor) const {
-    const bool same_frame = sensors[sensor].on_tool && board_on_tool && sensors[sensor].link_joints == 0;
+    const bool same_frame = sensors[sensor].on_tool && board_on_tool && !sensors[sensor].onLink();
     return {sensors[sensor].on_tool && !same_frame, board_on_tool && !same_frame};
   }
   // Where the frame a sensor moves with was at a station: the tool, or the link it sits on.
   const Eigen::Isometry3d& movingFrameAt(int sensor, const HandEyeStation& station) const {
-    const int link = sensors[sensor].link_joints;
-    return link > 0 ? station.base_from_link.at(link) : station.base_from_tool;
+    return sensors[sensor].onLink() ? station.base_from_link.at(sensors[sensor].link_chain) : station.base_from_tool;
   }
   // The board in a sensor's parent frame at a station, the board at `board` in its own parent.
   Eigen::Isometry3d boardInSensorParent(int sensor, const Eigen::Isometry3d& board, const HandEyeStation& station) const {
@@ -91,12 +90,28 @@ struct ArmRig {
   // -1: what ties that side's frame down.
   int heldOn(bool tool_side, const std::vector<HandEyeStation>& stations) const {
     for (std::size_t s = 0; s < sensors.size(); ++s) {
-      if (sensors[s].on_tool != tool_side || !sensors[s].given_pose || sensors[s].link_joints > 0) continue;
-      for (const HandEyeStation& station : stations)
-        for (const HandEyeView& view : station.views)
-          if (view.sensor == static_cast<int>(s)) return static_cast<int>(s);
+      if (sensors[s].on_tool != tool_side || !sensors[s].given_pose || sensors[s].onLink()) continue;
+      if (seen(static_cast<int>(s), stations)) return static_cast<int>(s);
     }
     return -1;
+  }
+  static bool seen(int sensor, const std::vector<HandEyeStation>& stations) {
+    for (const HandEyeStation& station : stations)
+      for (const HandEyeView& view : station.views)
+        if (view.sensor == sensor) return true;
+    return false;
+  }
+  // The stations as the main camera's closed form sees them: as they are for a camera on the tool or
+  // fixed; for one on a link (a head's), its link as the base frame under the board on the tool, or as
+  // the tool over the fixed board.
+  std::vector<HandEyeStation> mainCameraMotion(const std::vector<HandEyeStation>& stations) const {
+    std::vector<HandEyeStation> seen_from = stations;
+    if (!sensors[main_camera].onLink()) return seen_from;
+    for (HandEyeStation& s : seen_from) {
+      const Eigen::Isometry3d& link = movingFrameAt(main_camera, s);
+      s.base_from_tool = board_on_tool ? link.inverse() * s.base_from_tool : link;
+    }
+    return seen_from;
   }
 };
 
@@ -469,66 +484,112 @@ struct ArmGraph {
   std::vector<PoseState> sensors;
   PoseState board;
   std::vector<PoseState> tools;
-  std::map<int, std::vector<PoseState>> links;   // per link sensors sit on (HandEyeSensor::link_joints): per station
+  std::map<std::vector<int>, std::vector<PoseState>> links;  // per link sensors sit on (HandEyeSensor::link_chain): per station
   PoseState base{Eigen::Isometry3d::Identity()};  // the base frame, constant: the frame of what is fixed
-  std::vector<double> offsets;                   // arm_joints: per joint of the chain
-  std::vector<std::vector<double>> corrections;  // ... per station and joint of the chain
+  std::vector<double> offsets;                   // arm_joints: per joint of readJoints()
+  std::vector<std::vector<double>> corrections;  // ... per station and joint of readJoints()
   std::unique_ptr<ceres::Problem> problem;
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
 
-// The tool at a station's readings plus `offsets` (one per joint of the chain); with `joints` set, the
-// link after the chain's first `joints` joints instead.
-Eigen::Isometry3d armTool(const ArmJoints& arm, const std::vector<double>& readings, const std::vector<double>& offsets, int joints = -1) {
-  std::vector<double> all(arm.joints.size(), 0.0);
-  for (std::size_t i = 0; i < arm.chain.size(); ++i) all[arm.chain[i]] = offsets[i];
-  if (joints < 0) return chainPose(arm.joints, arm.chain, readings, all);
-  return chainPose(arm.joints, std::vector<int>(arm.chain.begin(), arm.chain.begin() + joints),
-                   std::vector<double>(readings.begin(), readings.begin() + joints), all);
+// Where joint `joint` (of ArmJoints::joints) is in readJoints(): its reading's, offset's and corrections' index.
+std::size_t readIndex(const ArmJoints& arm, int joint) {
+  const std::vector<int>& read = arm.readJoints();
+  return static_cast<std::size_t>(std::find(read.begin(), read.end(), joint) - read.begin());
+}
+
+// base <- the end of `chain` (the tool's when empty) at a station's readings plus `offsets`, both per joint
+// of readJoints().
+Eigen::Isometry3d armLink(const ArmJoints& arm, const std::vector<double>& readings, const std::vector<double>& offsets,
+                          const std::vector<int>& chain = {}) {
+  const std::vector<int>& links = chain.empty() ? arm.chain : chain;
+  const std::vector<int>& read = arm.readJoints();
+  std::vector<double> all(arm.joints.size(), 0.0), positions;
+  for (std::size_t i = 0; i < read.size(); ++i) all[read[i]] = offsets[i];
+  for (const int j : links) positions.push_back(readings[readIndex(arm, j)]);
+  return chainPose(arm.joints, links, positions, all);
 }
 
 // Each station's links that sensors sit on (HandEyeStation::base_from_link) at its readings plus `offsets`.
 void placeLinks(const ArmRig& rig, const ArmJoints& arm, const std::vector<double>& offsets, std::vector<HandEyeStation>* stations) {
   for (const HandEyeSensor& sensor : rig.sensors) {
-    if (sensor.link_joints <= 0) continue;
-    for (HandEyeStation& s : *stations) s.base_from_link[sensor.link_joints] = armTool(arm, s.joint_positions, offsets, sensor.link_joints);
+    if (!sensor.onLink()) continue;
+    for (HandEyeStation& s : *stations) s.base_from_link[sensor.link_chain] = armLink(arm, s.joint_positions, offsets, sensor.link_chain);
   }
 }
 
-// Per joint of the arm's chain: the range its readings covered, and whether its offset can be solved and
-// what fixes it: on the base side a joint before it that moved, or a fixed sensor held at the pose the rig
-// gives (else the base side's unknowns, the board or the fixed sensors, take it up); on the tool side a
-// joint after it that moved, or a tool sensor's given mount.
+// Per joint the stations read (ArmJoints::readJoints): the range its readings covered, and whether its
+// offset can be solved and what fixes it. A joint's offset turns what lies behind it (the tool's and the
+// links' branches through it) against what does not; it is taken up unless, on the base side, a joint
+// before it on one of its branches moved, or a branch it is not on moved (a head's views of the board an
+// arm holds: its turn would move one branch and not the other), or a fixed sensor is held at the pose the
+// rig gives; and unless, on the far side, a joint after it on one of its branches moved, or a sensor at the
+// end of one is held at the mount the rig gives.
 std::vector<JointCalibration> armJointsSolvable(const ArmRig& rig, const ArmJoints& arm, const std::vector<HandEyeStation>& stations) {
-  const std::size_t n = arm.chain.size();
+  const std::vector<int>& read = arm.readJoints();
+  const std::size_t n = read.size();
   std::vector<JointCalibration> joints(n);
-  std::vector<bool> moved(n, false);
+  std::vector<bool> moved(arm.joints.size(), false);
   for (std::size_t i = 0; i < n; ++i) {
-    const JointDescription& joint = arm.joints[arm.chain[i]];
+    const JointDescription& joint = arm.joints[read[i]];
     double low = 1e300, high = -1e300;
     for (const HandEyeStation& s : stations)
       if (i < s.joint_positions.size()) low = std::min(low, s.joint_positions[i]), high = std::max(high, s.joint_positions[i]);
     joints[i].offset = joint.offset;
     joints[i].motion = high >= low ? high - low : 0.0;
-    moved[i] = joint.type != JointType::kFixed &&
-               joints[i].motion >= arm.tolerances.minMotion(joint);
+    moved[read[i]] = joint.type != JointType::kFixed && joints[i].motion >= arm.tolerances.minMotion(joint);
   }
-  const int base_held = rig.heldOn(false, stations), tool_held = rig.heldOn(true, stations);
+  // The branches: the tool's chain, then each link's a sensor that saw the board sits on; with the sensor
+  // held at a mount the rig gives on it (or -1).
+  struct Branch {
+    std::vector<int> chain;
+    int held = -1;
+  };
+  std::vector<Branch> branches = {{arm.chain, rig.heldOn(true, stations)}};
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const HandEyeSensor& sensor = rig.sensors[s];
+    if (!sensor.onLink() || !ArmRig::seen(static_cast<int>(s), stations)) continue;
+    auto it = std::find_if(branches.begin(), branches.end(), [&](const Branch& b) { return b.chain == sensor.link_chain; });
+    if (it == branches.end()) it = branches.insert(branches.end(), Branch{sensor.link_chain, -1});
+    if (sensor.given_pose && it->held < 0) it->held = static_cast<int>(s);
+  }
+  const int base_held = rig.heldOn(false, stations);
   for (std::size_t i = 0; i < n; ++i) {
-    const bool before = std::any_of(moved.begin(), moved.begin() + i, [](bool m) { return m; });
-    const bool after = std::any_of(moved.begin() + i + 1, moved.end(), [](bool m) { return m; });
-    if (arm.joints[arm.chain[i]].type == JointType::kFixed) {
+    const int j = read[i];
+    bool before = false, after = false, on_tool = false, behind = false;
+    int held_after = -1, other_moved = -1;  // a mount held on one of its branches; a joint that moved on a branch it is not on
+    std::string link;  // the first link branch it is on, for the message
+    for (const Branch& b : branches) {
+      const auto at = std::find(b.chain.begin(), b.chain.end(), j);
+      if (at == b.chain.end()) {
+        for (const int other : b.chain)
+          if (moved[other] && other_moved < 0) other_moved = other;
+        continue;
+      }
+      behind = true;
+      before = before || std::any_of(b.chain.begin(), at, [&](int k) { return moved[k]; });
+      after = after || std::any_of(at + 1, b.chain.end(), [&](int k) { return moved[k]; });
+      if (held_after < 0) held_after = b.held;
+      if (&b == &branches.front()) on_tool = true;
+      else if (link.empty()) link = arm.joints[b.chain.back()].child;
+    }
+    if (arm.joints[j].type == JointType::kFixed) {
       joints[i].held = "a fixed joint";
       joints[i].reported = false;
-    } else if (!before && base_held < 0) {
+    } else if (!behind) {
+      joints[i].held = "no sensor behind it saw the board";
+    } else if (!before && other_moved < 0 && base_held < 0) {
       joints[i].held = "no joint before it moved, so the poses in the base frame (the board's, or the fixed sensors') take up its offset: "
                        "give a fixed sensor's pose in the rig (the reference) to solve it";
-    } else if (!after && tool_held < 0) {
-      joints[i].held = "no joint after it moved, so the poses on the tool (the camera's, or the board's) take up its offset";
+    } else if (!after && held_after < 0) {
+      joints[i].held = on_tool ? "no joint after it moved, so the poses on the tool (the camera's, or the board's) take up its offset"
+                               : "no joint after it moved, so the poses of the sensors on '" + link + "' take up its offset";
     } else {
-      joints[i].fixed_by = before && after ? std::string("joints that moved before and after it")
-                           : (before ? std::string("joints that moved before it") : "the pose the rig gives " + rig.name(base_held)) + " and " +
-                                 (after ? std::string("joints that moved after it") : "the mount the rig gives " + rig.name(tool_held));
+      const std::string before_text = before ? "joints that moved before it"
+                                      : other_moved >= 0 ? "'" + arm.joints[other_moved].name + "' that moved on another branch"
+                                                         : "the pose the rig gives " + rig.name(base_held);
+      const std::string after_text = after ? "joints that moved after it" : "the mount the rig gives " + rig.name(held_after);
+      joints[i].fixed_by = before && after ? std::string("joints that moved before and after it") : before_text + " and " + after_text;
     }
   }
   return joints;
@@ -554,10 +615,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   graph->tools.reserve(stations.size());
   for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
   for (const HandEyeSensor& sensor : rig.sensors) {
-    if (sensor.link_joints <= 0 || graph->links.count(sensor.link_joints)) continue;
-    std::vector<PoseState>& links = graph->links[sensor.link_joints];
+    if (!sensor.onLink() || graph->links.count(sensor.link_chain)) continue;
+    std::vector<PoseState>& links = graph->links[sensor.link_chain];
     links.reserve(stations.size());
-    for (const HandEyeStation& s : stations) links.emplace_back(s.base_from_link.at(sensor.link_joints));
+    for (const HandEyeStation& s : stations) links.emplace_back(s.base_from_link.at(sensor.link_chain));
   }
   for (std::size_t k = 0; k < stations.size(); ++k) {
     for (const HandEyeView& view : stations[k].views) {
@@ -565,8 +626,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       const Mounting mounting = rig.mounting(view.sensor);
       // The frames the sensor and the board move with at this station (the tool, the link the sensor sits
       // on), or the base frame's constant block where one is fixed.
-      const int link = rig.sensors[view.sensor].link_joints;
-      PoseState& sensor_frame = link > 0 ? graph->links.at(link)[k] : mounting.sensor_moves ? graph->tools[k] : graph->base;
+      const HandEyeSensor& on = rig.sensors[view.sensor];
+      PoseState& sensor_frame = on.onLink() ? graph->links.at(on.link_chain)[k] : mounting.sensor_moves ? graph->tools[k] : graph->base;
       PoseState& board_frame = mounting.board_moves ? graph->tools[k] : graph->base;
       const std::vector<double*> blocks = {sensor.rotation.coeffs().data(),       sensor.translation.data(),
                                            graph->board.rotation.coeffs().data(), graph->board.translation.data(),
@@ -596,29 +657,30 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   }
   if (const std::optional<ArmJoints>& arm = options.arm_joints) {
-    const std::size_t n = arm->chain.size();
+    const std::vector<int>& read = arm->readJoints();
+    const std::size_t n = read.size();
     graph->offsets.resize(n);
-    for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = offset_starts ? (*offset_starts)[i] : arm->joints[arm->chain[i]].offset;
+    for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = offset_starts ? (*offset_starts)[i] : arm->joints[read[i]].offset;
     graph->corrections.assign(stations.size(), std::vector<double>(n, 0.0));
     std::vector<double> sigmas;
-    for (const int j : arm->chain) sigmas.push_back(arm->tolerances.readingSigma(arm->joints[j]));
+    for (const int j : read) sigmas.push_back(arm->tolerances.readingSigma(arm->joints[j]));
     for (std::size_t k = 0; k < stations.size(); ++k) {
-      // The tool, and each link a sensor sits on, where the chain's first `joints` joints put it.
-      const auto tie = [&](PoseState& frame, std::size_t joints) {
-        auto* cost = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{
-            &*arm, std::vector<int>(arm->chain.begin(), arm->chain.begin() + joints),
-            std::vector<double>(stations[k].joint_positions.begin(), stations[k].joint_positions.begin() + joints)});
+      // The tool, and each link a sensor sits on, where the joints of its chain put it.
+      const auto tie = [&](PoseState& frame, const std::vector<int>& chain) {
+        std::vector<double> readings;
+        for (const int j : chain) readings.push_back(stations[k].joint_positions[readIndex(*arm, j)]);
+        auto* cost = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{&*arm, chain, readings});
         std::vector<double*> blocks = {frame.rotation.coeffs().data(), frame.translation.data()};
         cost->AddParameterBlock(4);
         cost->AddParameterBlock(3);
-        for (std::size_t i = 0; i < joints; ++i) cost->AddParameterBlock(1), blocks.push_back(&graph->offsets[i]);
-        for (std::size_t i = 0; i < joints; ++i) cost->AddParameterBlock(1), blocks.push_back(&graph->corrections[k][i]);
+        for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->offsets[readIndex(*arm, j)]);
+        for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->corrections[k][readIndex(*arm, j)]);
         cost->SetNumResiduals(6);
         problem.AddResidualBlock(cost, nullptr, blocks);
       };
-      tie(graph->tools[k], n);
-      for (auto& [joints, links] : graph->links) {
-        tie(links[k], static_cast<std::size_t>(joints));
+      tie(graph->tools[k], arm->chain);
+      for (auto& [chain, links] : graph->links) {
+        tie(links[k], chain);
         problem.SetManifold(links[k].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
       }
       auto* prior = new ceres::DynamicAutoDiffCostFunction<ReadingCorrectionsResidual, 4>(new ReadingCorrectionsResidual{sigmas});
@@ -627,7 +689,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       prior->SetNumResiduals(static_cast<int>(n));
       problem.AddResidualBlock(prior, new ceres::CauchyLoss(options.loss_sigmas), corrections);
       for (std::size_t i = 0; i < n; ++i)
-        if (arm->joints[arm->chain[i]].type == JointType::kFixed) problem.SetParameterBlockConstant(&graph->corrections[k][i]);
+        if (arm->joints[read[i]].type == JointType::kFixed) problem.SetParameterBlockConstant(&graph->corrections[k][i]);
     }
     const std::vector<JointCalibration> solvable = armJointsSolvable(rig, *arm, stations);
     for (std::size_t i = 0; i < n; ++i)
@@ -724,8 +786,12 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   HandEyeResult result;
   result.setup = rig.board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand;
   result.main_camera = rig.main_camera;
-  result.flipped_views = numberCornersAlike(&stations, rig.main_camera);
-  const bool main_on_tool = rig.sensors[rig.main_camera].on_tool;
+  // The main camera's closed forms over the tool's motion as its own frame sees it (a head camera's: the
+  // tool in its link).
+  std::vector<HandEyeStation> motion = rig.sensors[rig.main_camera].onLink() ? rig.mainCameraMotion(stations) : std::vector<HandEyeStation>();
+  std::vector<HandEyeStation>& main_stations = motion.empty() ? stations : motion;
+  result.flipped_views = numberCornersAlike(&main_stations, rig.main_camera);
+  for (std::size_t k = 0; k < motion.size(); ++k) stations[k].views = motion[k].views;
   const std::pair<const char*, cv::HandEyeCalibrationMethod> methods[] = {{"Tsai", cv::CALIB_HAND_EYE_TSAI},
                                                                           {"Park", cv::CALIB_HAND_EYE_PARK},
                                                                           {"Horaud", cv::CALIB_HAND_EYE_HORAUD},
@@ -733,7 +799,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
                                                                           {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
   for (const auto& [name, method] : methods) {
     if (all_closed_forms || method == cv::CALIB_HAND_EYE_PARK) {
-      result.closed_forms.push_back({name, openCvHandEye(stations, rig.main_camera, main_on_tool, method)});
+      result.closed_forms.push_back({name, openCvHandEye(main_stations, rig.main_camera, !rig.board_on_tool, method)});
     }
   }
   std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
@@ -746,7 +812,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       if (view.sensor != rig.main_camera) continue;
       // board in its parent = (its parent <- the camera's parent) X C
       Eigen::Isometry3d seen = starts[rig.main_camera] * view.pattern.sensor_from_pattern;
-      if (main_mounting.sensor_moves) seen = s.base_from_tool * seen;
+      if (main_mounting.sensor_moves) seen = rig.movingFrameAt(rig.main_camera, s) * seen;
       if (main_mounting.board_moves) seen = s.base_from_tool.inverse() * seen;
       boards.push_back(seen);
     }
@@ -767,7 +833,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   // as solved (what the scatter and the views are judged against; the closed forms above had the readings alone).
   const auto calibratedTools = [&] {
     if (!options.arm_joints) return;
-    for (HandEyeStation& s : stations) s.base_from_tool = armTool(*options.arm_joints, s.joint_positions, graph->offsets);
+    for (HandEyeStation& s : stations) s.base_from_tool = armLink(*options.arm_joints, s.joint_positions, graph->offsets);
     placeLinks(rig, *options.arm_joints, graph->offsets, &stations);
   };
   calibratedTools();
@@ -827,10 +893,10 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
         double variance = 0.0;
         offset_covariance.GetCovarianceBlock(&graph->offsets[i], &graph->offsets[i], &variance);
         result.joints[i].standard_deviation = std::sqrt(std::max(variance, 0.0));
-        const JointDescription& joint = arm->joints[arm->chain[i]];
+        const JointDescription& joint = arm->joints[arm->readJoints()[i]];
         if (result.joints[i].standard_deviation > arm->tolerances.maxOffsetSigma(joint)) {
           char line[200];
-          std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move the arm through more of this joint's and its "
+          std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move the joints through more of this joint's and its "
                         "neighbours' range between still poses", 1000.0 * result.joints[i].standard_deviation,
                         JointTolerances::prismatic(joint) ? "mm" : "mrad");
           result.joints[i].weak = line;
@@ -841,7 +907,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   for (std::size_t k = 0; k < stations.size(); ++k) {
     // Where the arm put the tool: its readings with the offsets as solved (the arm's own report: tf).
     const Eigen::Isometry3d reported =
-        options.arm_joints ? armTool(*options.arm_joints, stations[k].joint_positions, graph->offsets) : stations[k].base_from_tool;
+        options.arm_joints ? armLink(*options.arm_joints, stations[k].joint_positions, graph->offsets) : stations[k].base_from_tool;
     const Eigen::Isometry3d solved_tool = graph->tools[k].pose();
     result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
     result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));
@@ -849,8 +915,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     if (const std::optional<ArmJoints>& arm = options.arm_joints) {
       // From the joints: how far its readings had to move, in their sigmas.
       departure = 0.0;
-      for (std::size_t i = 0; i < arm->chain.size(); ++i) {
-        departure = std::max(departure, std::abs(graph->corrections[k][i]) / arm->tolerances.readingSigma(arm->joints[arm->chain[i]]));
+      for (std::size_t i = 0; i < arm->readJoints().size(); ++i) {
+        departure = std::max(departure, std::abs(graph->corrections[k][i]) / arm->tolerances.readingSigma(arm->joints[arm->readJoints()[i]]));
       }
     }
     if (departure > options.loss_sigmas) result.poor_stations.push_back(static_cast<int>(k));
@@ -875,6 +941,27 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   return result;
 }
 
+// Why `chain` is not a link's chain among the arm's joints (each joint read, each the child of the one
+// before, the first from the tool chain's base), or "".
+std::string linkChainProblem(const ArmJoints& arm, const std::vector<int>& chain) {
+  const std::vector<int>& read = arm.readJoints();
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    if (chain[i] < 0 || chain[i] >= static_cast<int>(arm.joints.size())) return "joint " + std::to_string(chain[i]) + " is not one of the arm's";
+    const JointDescription& joint = arm.joints[chain[i]];
+    if (std::find(read.begin(), read.end(), chain[i]) == read.end()) return "joint '" + joint.name + "' is not among the joints read";
+    const std::string& parent = i > 0 ? arm.joints[chain[i - 1]].child : arm.chain.empty() ? joint.parent : arm.joints[arm.chain.front()].parent;
+    if (joint.parent != parent) return "joint '" + joint.name + "' hangs from '" + joint.parent + "', not '" + parent + "'";
+  }
+  if (chain == arm.chain) return "its chain is the tool's: it is on the tool";
+  return "";
+}
+
+// handEyeMotionProblem over the motion the main camera's closed form sees (ArmRig::mainCameraMotion).
+std::string mainCameraMotionProblem(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options) {
+  return rig.sensors[rig.main_camera].onLink() ? handEyeMotionProblem(rig.mainCameraMotion(stations), options)
+                                               : handEyeMotionProblem(stations, options);
+}
+
 // Every sensor re-solved without each station in turn (those that leave a motion that can fix it): the
 // jackknife standard deviation per axis, translation in the sensor's parent frame and rotation about its
 // axes. Returns the re-solves; the spreads stay zero with fewer than 2.
@@ -884,7 +971,7 @@ int spreadWithoutEachStation(const ArmRig& rig, const std::vector<HandEyeStation
   for (std::size_t left_out = 0; left_out < stations.size(); ++left_out) {
     std::vector<HandEyeStation> rest = stations;
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(left_out));
-    if (!handEyeMotionProblem(rest, options).empty()) continue;
+    if (!mainCameraMotionProblem(rig, rest, options).empty()) continue;
     std::vector<Eigen::Isometry3d> again;
     try {
       again = solveArmRig(rig, rest, options, false).sensors;
@@ -955,28 +1042,27 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
                               const HandEyeOptions& options) {
   ArmRig rig{sensors, board_on_tool, -1};
   for (std::size_t s = 0; s < sensors.size(); ++s) {
-    if (const int link = sensors[s].link_joints) {
-      const int chain = options.arm_joints ? static_cast<int>(options.arm_joints->chain.size()) : 0;
+    if (sensors[s].onLink()) {
       if (!options.arm_joints) {
         throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) +
                          " sits on a link of the arm before the tool, which needs the arm's joints (their readings and chain)");
       }
-      if (link < 0 || link >= chain) {
-        throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) + " sits behind " + std::to_string(link) +
-                         " of the arm's joints; a link before the tool is behind 1 to " + std::to_string(chain - 1) + " of its " +
-                         std::to_string(chain));
-      }
-      rig.sensors[s].on_tool = true;  // it moves with the arm
+      const std::string problem = linkChainProblem(*options.arm_joints, sensors[s].link_chain);
+      if (!problem.empty()) throw InputError("hand-eye calibration: " + rig.name(static_cast<int>(s)) + "'s link: " + problem);
+      rig.sensors[s].on_tool = true;  // it moves with the joints
     }
     const bool other_side = rig.sensors[s].on_tool != board_on_tool;
-    if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0 && sensors[s].link_joints == 0) rig.main_camera = static_cast<int>(s);
-    // (A sensor on a link before the tool sees a board on the tool move with the joints after its link.)
-    if (sensors[s].type != SensorType::kCamera && !other_side && sensors[s].link_joints == 0) {
+    if (sensors[s].type == SensorType::kCamera && other_side && rig.main_camera < 0 && !sensors[s].onLink()) rig.main_camera = static_cast<int>(s);
+    // (A sensor on a link sees a board on the tool move with the joints that are not on its link's chain.)
+    if (sensors[s].type != SensorType::kCamera && !other_side && !sensors[s].onLink()) {
       throw InputError("hand-eye calibration: sensor " + std::to_string(s) + " (a " + sensorTypeName(sensors[s].type) + ") is " +
                        (board_on_tool ? "on the tool with the board" : "fixed like the board") +
                        ": it sees the board in one place only, which fixes no range sensor");
     }
   }
+  // Else the first camera on a link (a head's, watching the board in the gripper).
+  for (std::size_t s = 0; s < sensors.size() && rig.main_camera < 0; ++s)
+    if (sensors[s].type == SensorType::kCamera && sensors[s].onLink()) rig.main_camera = static_cast<int>(s);
   if (rig.main_camera < 0) {
     throw InputError(std::string("hand-eye calibration: no camera ") + (board_on_tool ? "fixed in the base frame watches the board on the tool"
                                                                                       : "on the tool watches the fixed board"));
@@ -998,16 +1084,17 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
   }
   if (options.arm_joints) {
     std::vector<double> initial;
-    for (const int j : options.arm_joints->chain) initial.push_back(options.arm_joints->joints[j].offset);
+    for (const int j : options.arm_joints->readJoints()) initial.push_back(options.arm_joints->joints[j].offset);
     for (std::size_t k = 0; k < stations.size(); ++k) {
       if (stations[k].joint_positions.size() != initial.size()) {
         throw InputError("hand-eye calibration: arm pose " + std::to_string(k + 1) + " has " + std::to_string(stations[k].joint_positions.size()) +
-                         " joint readings, the arm's chain " + std::to_string(initial.size()) + " joints");
+                         " joint readings, the " + (options.arm_joints->read.empty() ? "arm's chain " : "joints read ") +
+                         std::to_string(initial.size()) + " joints");
       }
     }
     placeLinks(rig, *options.arm_joints, initial, &stations);
   }
-  const std::string problem = handEyeMotionProblem(stations, options);
+  const std::string problem = mainCameraMotionProblem(rig, stations, options);
   if (!problem.empty()) {
     throw InputError("hand-eye calibration (" + handEyeSetupName(board_on_tool ? HandEyeSetup::kEyeToHand : HandEyeSetup::kEyeInHand) +
                      "): " + problem);

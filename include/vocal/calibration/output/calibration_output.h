@@ -68,12 +68,12 @@ struct HandEyeFrames {
   std::string reference_frame, tool_frame;
   std::vector<SensorSpec> sensors;
   std::vector<bool> on_tool;  // per sensor: moves with the arm (on the tool or on a link before it)
-  std::vector<int> link_joints;           // per sensor: HandEyeRig::link_joints
+  std::vector<std::vector<int>> link_chains;  // per sensor: HandEyeRig::link_chains
   std::vector<std::string> parent_links;  // ... and that link's name (empty for the others)
   // Per sensor, the pose the rig gives that the solve holds: the first fixed sensor's with a `pose` (the
   // reference, in reference_frame) and a tool sensor's `pose_known` mount.
   std::vector<std::optional<Eigen::Isometry3d>> given_poses;
-  std::vector<std::string> joint_names;  // an arm whose tool comes from its joints: its chain's, in order
+  std::vector<std::string> joint_names;  // an arm whose tool comes from its joints: those read (HandEyeRig::readJoints), in order
   const std::string& parentOf(std::size_t sensor) const {
     return !parent_links[sensor].empty() ? parent_links[sensor] : on_tool[sensor] ? tool_frame : reference_frame;
   }

@@ -52,11 +52,12 @@ struct HandEyeSensor {
   // same for the last joint's.
   std::optional<Eigen::Isometry3d> given_pose;
   std::string name;  // for messages; empty: "sensor N"
-  // On a link of the arm before the tool (a camera on the forearm; needs HandEyeOptions::arm_joints): how
-  // many of the arm chain's joints lie between the base and that link, 1 to the chain's length less one.
-  // Zero: on the tool or fixed (`on_tool`). Its pose is then in that link, which moves with the joints
-  // before it only.
-  int link_joints = 0;
+  // On a link that moves with joints other than the tool (a camera on the arm's forearm, or on a head's
+  // pan-tilt joints beside the arm; needs HandEyeOptions::arm_joints): the joints from the base to that
+  // link (jointChain; indices into ArmJoints::joints, each one of ArmJoints::readJoints()). Empty: on the
+  // tool or fixed (`on_tool`). Its pose is then in that link, which moves with those joints only.
+  std::vector<int> link_chain;
+  bool onLink() const { return !link_chain.empty(); }
 };
 
 // One sensor's view of the board at one still pose of the arm.
@@ -70,12 +71,11 @@ struct HandEyeView {
 // One still pose of the arm.
 struct HandEyeStation {
   Eigen::Isometry3d base_from_tool = Eigen::Isometry3d::Identity();  // as the arm reports it
-  // With HandEyeOptions::arm_joints: each joint of its chain's reading there (base_from_tool is then the
-  // chain's pose at them plus the initial offsets).
+  // With HandEyeOptions::arm_joints: the reading there of each joint of ArmJoints::readJoints()
+  // (base_from_tool is then the tool's chain at them plus the initial offsets).
   std::vector<double> joint_positions;
-  // ... and where they put the links sensors sit on (HandEyeSensor::link_joints, by that count): filled in
-  // by the solver.
-  std::map<int, Eigen::Isometry3d> base_from_link;
+  // ... and where they put the links sensors sit on (by HandEyeSensor::link_chain): filled in by the solver.
+  std::map<std::vector<int>, Eigen::Isometry3d> base_from_link;
   std::vector<HandEyeView> views;  // every sensor's views of the board while the arm stood there
   double first_stamp = 0.0, last_stamp = 0.0;  // seconds, to find it again in the recording
 };
@@ -150,8 +150,8 @@ struct HandEyeResult {
   // found shifted by a square, a view of something else).
   int misdetected_views = 0;
   std::vector<HandEyeClosedForm> closed_forms;
-  // With HandEyeOptions::arm_joints: per joint of its chain, the offset as solved (and what fixed it) or
-  // held and why.
+  // With HandEyeOptions::arm_joints: per joint of ArmJoints::readJoints(), the offset as solved (and what
+  // fixed it) or held and why.
   std::vector<JointCalibration> joints;
   std::vector<bool> held;  // per sensor: at its given pose (HandEyeSensor::given_pose; sigma and spread zero)
 };
@@ -170,10 +170,12 @@ HandEyeResult calibrateHandEye(const std::vector<HandEyeStation>& stations, Hand
 // first camera on the other side from the board (on the tool when the board is fixed, fixed when it is
 // on the tool) is the main camera, started from OpenCV's closed form; every other sensor is started
 // from the board's poses that solution gives (a camera's views; a range sensor's planes, which must turn
-// about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Throws InputError as calibrateHandEye, for no such camera, for a sensor
-// on the board's side that is not a camera (it would see the board in one place only), and for a sensor on
-// a link before the tool (HandEyeSensor::link_joints) without the arm's joints or beyond its chain. The
-// main camera is never one on such a link.
+// about two axes at least; a 2D laser's lines on them, from five poses) or from its given pose. Without
+// such a camera, the first camera on a link (HandEyeSensor::link_chain: a head's camera watching the board
+// in the gripper) is the main camera, its closed form over the tool's motion as that link sees it.
+// Throws InputError as calibrateHandEye, for no camera, for a sensor on the board's side that is not a
+// camera (it would see the board in one place only), and for a sensor on a link without the arm's joints,
+// or whose chain is not one of them.
 HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool board_on_tool, const std::vector<HandEyeStation>& stations,
                               const HandEyeOptions& options = {});
 
