@@ -233,6 +233,35 @@ TEST(HandEyeAssociation, TheToolsStillSpansMakeTheStations) {
   EXPECT_EQ(association.views_without_tool, 1);
 }
 
+// The arm holds the board still for 2 s while a head turns between two looks at it: two still poses, one
+// per look, the views while the head turned counted as in motion.
+TEST(HandEyeAssociation, AHeadTurningWhileTheToolStandsStillSplitsTheStillPose) {
+  std::vector<vocal::FramePoseSample> samples;
+  const Eigen::Isometry3d tool = vocal::simulateArm({}).reported_tool[0];
+  for (int i = 0; i <= 200; ++i) {
+    const double t = 0.01 * i;
+    const double pan = t < 0.9 ? 0.0 : t < 1.1 ? 0.3 * (t - 0.9) / 0.2 : 0.3;  // turns 0.3 rad between 0.9 and 1.1 s
+    samples.push_back({t, tool, {Eigen::Isometry3d(Eigen::AngleAxisd(pan, Eigen::Vector3d::UnitZ()))}});
+  }
+  std::vector<vocal::TimedObservation> views;
+  for (const double stamp : {0.2, 0.5, 1.0, 1.5, 1.8}) {
+    vocal::TimedObservation view;
+    view.stamp = stamp;
+    view.plane_measurements.resize(1);
+    views.push_back(view);
+  }
+  const vocal::HandEyeAssociation association = vocal::associateToolStillness(samples, views);
+  ASSERT_EQ(association.stations.size(), 2u);
+  EXPECT_DOUBLE_EQ(association.stations[0].first_stamp, 0.2);
+  EXPECT_DOUBLE_EQ(association.stations[0].last_stamp, 0.5);
+  EXPECT_DOUBLE_EQ(association.stations[1].first_stamp, 1.5);
+  EXPECT_DOUBLE_EQ(association.stations[1].last_stamp, 1.8);
+  EXPECT_EQ(association.views_in_motion, 1);
+  // Without the head's link the tool alone stood still: one still pose, the turning view in it.
+  for (vocal::FramePoseSample& sample : samples) sample.links.clear();
+  EXPECT_EQ(vocal::associateToolStillness(samples, views).stations.size(), 1u);
+}
+
 // The rig YAML names the moving frame: a camera's `parent` (eye-in-hand, the board fixed) or the
 // target's (eye-to-hand), other sensors beside; what cannot be calibrated is named.
 TEST(HandEyeRigDescription, AParentFrameThatMovesMakesAHandEyeRig) {

@@ -209,7 +209,21 @@ void CalibrationSession::addJointState(double stamp, const std::vector<std::stri
     if (!std::isfinite(position)) return;
     readings.push_back(position);
   }
-  tool_poses_.push_back({stamp, chainPose(rig_.joints, arm_->chain, readings)});
+  FramePoseSample sample{stamp, chainPose(rig_.joints, arm_->chain, readings), {}};
+  // Each other link a sensor sits on, from its joints' latest readings (a head's may come in messages of
+  // their own): still spans are where those stand still too.
+  std::vector<std::vector<int>> links;
+  for (const std::vector<int>& chain : arm_->link_chains)
+    if (!chain.empty() && std::find(links.begin(), links.end(), chain) == links.end()) links.push_back(chain);
+  for (const std::vector<int>& chain : links) {
+    std::vector<double> positions;
+    for (const int j : chain) {
+      const std::vector<JointReading>& own = joint_readings_[j];
+      positions.push_back(rig_.joints[j].type == JointType::kFixed ? 0.0 : std::isfinite(read[j]) ? read[j] : own.empty() ? 0.0 : own.back().position);
+    }
+    sample.links.push_back(chainPose(rig_.joints, chain, positions));
+  }
+  tool_poses_.push_back(std::move(sample));
 }
 
 std::size_t CalibrationSession::jointReadings() const {

@@ -14,16 +14,23 @@ struct Span {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
-// Runs of samples within the drift bounds of the run's first sample, no gap longer than max_gap.
+// Whether `to` lies beyond the drift bounds from `from`.
+bool drifted(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to, const ToolStillnessOptions& options) {
+  const Eigen::Isometry3d drift = from.inverse() * to;
+  return drift.translation().norm() > options.max_translation || rotationAngle(drift) > options.max_rotation;
+}
+
+// Runs of samples within the drift bounds of the run's first sample (the tool, and each link), no gap
+// longer than max_gap.
 std::vector<Span> stillSpans(const std::vector<FramePoseSample>& samples, const ToolStillnessOptions& options) {
   std::vector<Span> spans;
   std::size_t first = 0;
   for (std::size_t i = 1; i <= samples.size(); ++i) {
     bool ends = i == samples.size();
     if (!ends) {
-      const Eigen::Isometry3d drift = samples[first].pose.inverse() * samples[i].pose;
-      ends = drift.translation().norm() > options.max_translation || rotationAngle(drift) > options.max_rotation ||
-             samples[i].stamp - samples[i - 1].stamp > options.max_gap;
+      ends = drifted(samples[first].pose, samples[i].pose, options) || samples[i].stamp - samples[i - 1].stamp > options.max_gap;
+      for (std::size_t l = 0; l < samples[i].links.size() && l < samples[first].links.size() && !ends; ++l)
+        ends = drifted(samples[first].links[l], samples[i].links[l], options);
     }
     if (!ends) continue;
     if (samples[i - 1].stamp - samples[first].stamp >= options.min_duration) {

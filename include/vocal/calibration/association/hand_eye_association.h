@@ -17,6 +17,9 @@ namespace vocal {
 struct FramePoseSample {
   double stamp = 0.0;  // seconds
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  // Other links sensors sit on (a head's, from its joints), the same ones at every sample: a still span
+  // is one where they stand still too (the arm may hold the board while the head turns to look again).
+  std::vector<Eigen::Isometry3d> links;
 };
 
 struct ToolStillnessOptions {
