@@ -595,88 +595,6 @@ TEST(JointedCalibration, AGivenFixedCameraHoldsTheBaseFrameAndFixesTheFirstJoint
   }
 }
 
-// A second camera on the arm's forearm (behind its first three joints) beside the main camera - on the
-// tool over the fixed board, or fixed before the board in the gripper - the tool and the forearm from the
-// joints: the forearm camera's mount in its link within 2 mm / 2 mrad of the truth and the main camera's as
-// without it; the same rig from tf (no joints) refused.
-TEST(JointedCalibration, ACameraOnTheForearmBesideTheMainCamera) {
-  constexpr int kForearm = vocal::SimulatedJointArm::kForearmJoints;
-  for (const vocal::HandEyeSetup setup : {vocal::HandEyeSetup::kEyeInHand, vocal::HandEyeSetup::kEyeToHand}) {
-    for (const std::uint32_t seed : {1u, 2u}) {
-      SCOPED_TRACE(vocal::handEyeSetupName(setup) + ", seed " + std::to_string(seed));
-      const bool in_hand = setup == vocal::HandEyeSetup::kEyeInHand;
-      JointArmSession session = jointArmSession(setup, seed, 0.0002);
-      const Eigen::Isometry3d mount = session.arm.arm.forearm_camera;  // forearm_link <- camera, true
-      const vocal::PinholeCamera lens = vocal::defaultKinectCamera(640, 480);
-      const vocal::TargetPattern pattern{7, 10, 0.03};
-      const std::vector<Eigen::Vector3d> corners = pattern.corners();
-      const std::vector<vocal::HandEyeStation> main_stations = session.stations;
-      std::mt19937 rng(seed + 100);
-      std::normal_distribution<double> noise(0.0, 0.2);
-      int seen = 0;
-      for (std::size_t k = 0; k < session.stations.size(); ++k) {
-        const Eigen::Isometry3d board = in_hand ? session.arm.arm.board : session.arm.arm.true_tool[k] * session.arm.arm.board;
-        const Eigen::Isometry3d camera_from_board = (session.arm.forearmAt(session.arm.angles[k]) * mount).inverse() * board;
-        const bool in_view = std::all_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& c) {
-          const Eigen::Vector3d p = camera_from_board * c;
-          const Eigen::Vector2d uv = lens.project(p);
-          return p.z() > 0.1 && lens.contains(uv.x(), uv.y());
-        });
-        if (!in_view) continue;
-        ++seen;
-        for (int v = 0; v < 3; ++v) {
-          std::vector<Eigen::Vector2d> pixels;
-          for (const Eigen::Vector3d& c : corners) pixels.push_back(lens.project(camera_from_board * c) + Eigen::Vector2d(noise(rng), noise(rng)));
-          session.stations[k].views.push_back({1, vocal::observePattern(pixels, pattern, lens, "forearm camera").plane, {}, {}});
-        }
-      }
-      ASSERT_GE(seen, 4);
-      vocal::HandEyeSensor forearm(vocal::SensorType::kCamera, true, std::nullopt, "forearm_camera");
-      forearm.link_chain.assign(session.arm.chain.begin(), session.arm.chain.begin() + kForearm);
-      const vocal::HandEyeSensor main_camera(vocal::SensorType::kCamera, in_hand, std::nullopt, "main_camera");
-      const vocal::HandEyeResult result = vocal::calibrateArmRig({main_camera, forearm}, !in_hand, session.stations, session.options);
-      const vocal::HandEyeResult main_alone = vocal::calibrateArmRig({main_camera}, !in_hand, main_stations, session.options);
-      const double translation = (result.sensors[1].translation() - mount.translation()).norm();
-      const double rotation = vocal::rotationAngle(mount.inverse() * result.sensors[1]);
-      const double main_moved = (result.camera().translation() - main_alone.camera().translation()).norm();
-      std::printf("forearm camera, %s, seed %u, %d of %zu still poses: %.2f mm / %.2f mrad (sigma %.2f mm); main camera %.3f mm from its "
-                  "pose without it\n", vocal::handEyeSetupName(setup).c_str(), seed, seen, session.stations.size(), 1000 * translation,
-                  1000 * rotation, 1000 * result.sensor_sigmas[1].head<3>().norm(), 1000 * main_moved);
-      EXPECT_LT(translation, 0.002);
-      EXPECT_LT(rotation, 0.002);
-      if (in_hand) {
-        EXPECT_LT(main_moved, 0.001);
-      } else {
-        // The post camera in the base frame the held first joint defines (its offset turns that frame
-        // about the joint's axis, through the base's origin). The forearm camera's views change what the
-        // joints after it are solved to, and the post camera with them (1.5-1.7 mm on these seeds, closer
-        // to the truth on one, farther on the other): judged against the truth, both within 2 mm / 2 mrad.
-        const vocal::JointDescription& first = session.arm.joints[session.arm.chain.front()];
-        const Eigen::Isometry3d expected = Eigen::Isometry3d(Eigen::AngleAxisd(-first.offset, first.axis)) * session.arm.arm.camera;
-        const auto offTruth = [&](const vocal::HandEyeResult& r) {
-          return std::make_pair((r.camera().translation() - expected.translation()).norm(), vocal::rotationAngle(expected.inverse() * r.camera()));
-        };
-        const auto [with_t, with_r] = offTruth(result);
-        const auto [alone_t, alone_r] = offTruth(main_alone);
-        std::printf("  the post camera off the truth: %.2f mm / %.2f mrad with the forearm camera, %.2f / %.2f without\n", 1000 * with_t,
-                    1000 * with_r, 1000 * alone_t, 1000 * alone_r);
-        EXPECT_LT(with_t, 0.002);
-        EXPECT_LT(with_r, 0.002);
-      }
-
-      vocal::HandEyeOptions from_tf = session.options;
-      from_tf.arm_joints.reset();
-      try {
-        vocal::calibrateArmRig({main_camera, forearm}, !in_hand, session.stations, from_tf);
-        ADD_FAILURE() << "a forearm camera without the arm's joints was calibrated";
-      } catch (const vocal::InputError& e) {
-        EXPECT_STREQ(e.what(), "hand-eye calibration: 'forearm_camera' sits on a link of the arm before the tool, which needs the arm's joints "
-                               "(their readings and chain)");
-      }
-    }
-  }
-}
-
 namespace {
 // A camera's views of the board at each still pose where the whole pattern is in view: three images each,
 // 0.2 px of noise, as sensor `sensor`; how many poses saw it.
@@ -739,6 +657,67 @@ std::pair<double, double> errorAtUnvisitedConfigurations(const JointArmSession& 
   return {worst_translation, worst_rotation};
 }
 }  // namespace
+
+// A second camera on the arm's forearm (behind its first three joints) beside the main camera - on the
+// tool over the fixed board, or fixed before the board in the gripper - the tool and the forearm from the
+// joints: the forearm camera's mount in its link within 2 mm / 2 mrad of the truth and the main camera's as
+// without it; the same rig from tf (no joints) refused.
+TEST(JointedCalibration, ACameraOnTheForearmBesideTheMainCamera) {
+  constexpr int kForearm = vocal::SimulatedJointArm::kForearmJoints;
+  for (const vocal::HandEyeSetup setup : {vocal::HandEyeSetup::kEyeInHand, vocal::HandEyeSetup::kEyeToHand}) {
+    for (const std::uint32_t seed : {1u, 2u}) {
+      SCOPED_TRACE(vocal::handEyeSetupName(setup) + ", seed " + std::to_string(seed));
+      const bool in_hand = setup == vocal::HandEyeSetup::kEyeInHand;
+      JointArmSession session = jointArmSession(setup, seed, 0.0002);
+      const Eigen::Isometry3d mount = session.arm.arm.forearm_camera;  // forearm_link <- camera, true
+      const std::vector<vocal::HandEyeStation> main_stations = session.stations;
+      const int seen = addCameraViews(&session, 1, [&](std::size_t k) { return session.arm.forearmAt(session.arm.angles[k]) * mount; }, seed + 100);
+      ASSERT_GE(seen, 4);
+      vocal::HandEyeSensor forearm(vocal::SensorType::kCamera, true, std::nullopt, "forearm_camera");
+      forearm.link_chain.assign(session.arm.chain.begin(), session.arm.chain.begin() + kForearm);
+      const vocal::HandEyeSensor main_camera(vocal::SensorType::kCamera, in_hand, std::nullopt, "main_camera");
+      const vocal::HandEyeResult result = vocal::calibrateArmRig({main_camera, forearm}, !in_hand, session.stations, session.options);
+      const vocal::HandEyeResult main_alone = vocal::calibrateArmRig({main_camera}, !in_hand, main_stations, session.options);
+      const double translation = (result.sensors[1].translation() - mount.translation()).norm();
+      const double rotation = vocal::rotationAngle(mount.inverse() * result.sensors[1]);
+      const double main_moved = (result.camera().translation() - main_alone.camera().translation()).norm();
+      std::printf("forearm camera, %s, seed %u, %d of %zu still poses: %.2f mm / %.2f mrad (sigma %.2f mm); main camera %.3f mm from its "
+                  "pose without it\n", vocal::handEyeSetupName(setup).c_str(), seed, seen, session.stations.size(), 1000 * translation,
+                  1000 * rotation, 1000 * result.sensor_sigmas[1].head<3>().norm(), 1000 * main_moved);
+      EXPECT_LT(translation, 0.002);
+      EXPECT_LT(rotation, 0.002);
+      if (in_hand) {
+        EXPECT_LT(main_moved, 0.001);
+      } else {
+        // The post camera in the base frame the held first joint defines (its offset turns that frame
+        // about the joint's axis, through the base's origin). The forearm camera's views change what the
+        // joints after it are solved to, and the post camera with them (1.5-1.7 mm on these seeds, closer
+        // to the truth on one, farther on the other): judged against the truth, both within 2 mm / 2 mrad.
+        const vocal::JointDescription& first = session.arm.joints[session.arm.chain.front()];
+        const Eigen::Isometry3d expected = Eigen::Isometry3d(Eigen::AngleAxisd(-first.offset, first.axis)) * session.arm.arm.camera;
+        const auto offTruth = [&](const vocal::HandEyeResult& r) {
+          return std::make_pair((r.camera().translation() - expected.translation()).norm(), vocal::rotationAngle(expected.inverse() * r.camera()));
+        };
+        const auto [with_t, with_r] = offTruth(result);
+        const auto [alone_t, alone_r] = offTruth(main_alone);
+        std::printf("  the post camera off the truth: %.2f mm / %.2f mrad with the forearm camera, %.2f / %.2f without\n", 1000 * with_t,
+                    1000 * with_r, 1000 * alone_t, 1000 * alone_r);
+        EXPECT_LT(with_t, 0.002);
+        EXPECT_LT(with_r, 0.002);
+      }
+
+      vocal::HandEyeOptions from_tf = session.options;
+      from_tf.arm_joints.reset();
+      try {
+        vocal::calibrateArmRig({main_camera, forearm}, !in_hand, session.stations, from_tf);
+        ADD_FAILURE() << "a forearm camera without the arm's joints was calibrated";
+      } catch (const vocal::InputError& e) {
+        EXPECT_STREQ(e.what(), "hand-eye calibration: 'forearm_camera' sits on a link of the arm before the tool, which needs the arm's joints "
+                               "(their readings and chain)");
+      }
+    }
+  }
+}
 
 // A robot with a pan-tilt head beside its arm (two branches from the base, both read on /joint_states):
 // the head's camera watches the board the arm holds beside a camera on a post, or alone (the main camera
