@@ -248,7 +248,7 @@ void checkHandEyeRig(const RigDescription& rig, const HandEyeRig& arm, const std
     const std::string where = path + ": sensors[" + std::to_string(s) + "] '" + sensor.spec.name + "'";
     if (!sensor.parent.empty() && sensor.parent != arm.tool_frame && arm.link_chains[s].empty()) {
       throw InputError(where + ": its parent '" + sensor.parent + "' is a second moving frame besides '" + arm.tool_frame + "'" +
-                       (arm.from_joints ? " and no link of the arm's chain to it" : "") + "; one moving frame per rig" +
+                       (arm.from_joints ? " and no chain of the joints leads to it" : "") + "; one moving frame per rig" +
                        (arm.from_joints ? "" : " (a sensor on an arm's other links needs the arm's joints: 'joints:' or 'urdf:')"));
     }
     const bool on_tool = !sensor.parent.empty();
