@@ -11,14 +11,17 @@
 #include <Eigen/SVD>
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
-#include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
 
 #include "vocal/calibration/plane.h"
-#include "vocal/calibration/solver/beam_range_residual.h"
-#include "vocal/calibration/solver/outline_point_residual.h"
+#include "vocal/calibration/solver/beam_range_view_residual.h"
+#include "vocal/calibration/solver/camera_view_residual.h"
+#include "vocal/calibration/solver/link_from_joints_residual.h"
+#include "vocal/calibration/solver/outline_view_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
-#include "vocal/calibration/solver/point_plane_residual.h"
+#include "vocal/calibration/solver/range_view_residual.h"
+#include "vocal/calibration/solver/reading_corrections_residual.h"
+#include "vocal/calibration/solver/tool_pose_residual.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -29,49 +32,13 @@ std::string handEyeSetupName(HandEyeSetup setup) { return setup == HandEyeSetup:
 namespace {
 constexpr double kDegrees = 180.0 / M_PI;
 
-// Where a sensor and the board are mounted: each fixed in the base frame or on a frame that moves with the
-// arm - the tool, or for a sensor a link before it - whose pose at each still pose is known to the graph.
-struct Mounting {
-  bool sensor_moves = true;
-  bool board_moves = false;
-
-  // The board in the sensor's parent frame, given the board in its own parent and the poses of the frames
-  // the sensor and the board move with (each unused when it is fixed).
-  template <typename T>
-  void boardInSensorParent(const Eigen::Quaternion<T>& board_q, const Eigen::Matrix<T, 3, 1>& board_t, const Eigen::Quaternion<T>& sensor_frame_q,
-                           const Eigen::Matrix<T, 3, 1>& sensor_frame_t, const Eigen::Quaternion<T>& board_frame_q,
-                           const Eigen::Matrix<T, 3, 1>& board_frame_t, Eigen::Quaternion<T>* q, Eigen::Matrix<T, 3, 1>* t) const {
-    *q = board_q;
-    *t = board_t;
-    if (board_moves) *t = board_frame_q * *t + board_frame_t, *q = board_frame_q * *q;
-    if (sensor_moves) *t = sensor_frame_q.conjugate() * (*t - sensor_frame_t), *q = sensor_frame_q.conjugate() * *q;
-  }
-  // ... from the graph's blocks (the board's rotation and translation, the sensor's frame's, the board's
-  // frame's), as (q, t).
-  template <typename T>
-  std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> boardInSensorParent(T const* const* blocks) const {
-    std::pair<Eigen::Quaternion<T>, Eigen::Matrix<T, 3, 1>> pose;
-    boardInSensorParent(Eigen::Quaternion<T>(blocks[0]), Eigen::Matrix<T, 3, 1>(blocks[1]), Eigen::Quaternion<T>(blocks[2]),
-                        Eigen::Matrix<T, 3, 1>(blocks[3]), Eigen::Quaternion<T>(blocks[4]), Eigen::Matrix<T, 3, 1>(blocks[5]), &pose.first,
-                        &pose.second);
-    return pose;
-  }
-  Eigen::Isometry3d boardInSensorParent(const Eigen::Isometry3d& board, const Eigen::Isometry3d& sensor_frame,
-                                        const Eigen::Isometry3d& board_frame) const {
-    Eigen::Isometry3d pose = board;
-    if (board_moves) pose = board_frame * pose;
-    if (sensor_moves) pose = sensor_frame.inverse() * pose;
-    return pose;
-  }
-};
-
 // The rig an arm moves, as the solver sees it.
 struct ArmRig {
   std::vector<HandEyeSensor> sensors;
   bool board_on_tool = false;
   int main_camera = -1;
   // A sensor on the tool with the board on the tool too sees it through no frame that moves.
-  Mounting mounting(int sensor) const {
+  FrameMounting mounting(int sensor) const {
     const bool same_frame = sensors[sensor].on_tool && board_on_tool && !sensors[sensor].onLink();
     return {sensors[sensor].on_tool && !same_frame, board_on_tool && !same_frame};
   }
@@ -112,152 +79,6 @@ struct ArmRig {
       s.base_from_tool = board_on_tool ? link.inverse() * s.base_from_tool : link;
     }
     return seen_from;
-  }
-};
-
-// R_meas^T R_pred as a rotation vector (the perturbation R_pred = R_meas exp([w]x)).
-template <typename T>
-Eigen::Matrix<T, 3, 1> rotationBetween(const Eigen::Quaternion<T>& measured, const Eigen::Quaternion<T>& predicted) {
-  const Eigen::Quaternion<T> error = measured.conjugate() * predicted;
-  const T wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
-  Eigen::Matrix<T, 3, 1> w;
-  ceres::QuaternionToAngleAxis(wxyz, w.data());
-  return w;
-}
-
-// One camera view of the board against the pose the unknowns predict for it: camera <- board =
-// X^-1 M, M the board in the camera's parent (Mounting), as (w, dt) whitened by the view's PnP covariance.
-struct CameraViewResidual {
-  CameraViewResidual(const PlaneMeasurement& view, Mounting mounting)
-      : rotation(view.sensor_from_pattern.linear()), translation(view.sensor_from_pattern.translation()), mounting(mounting) {
-    whitening = view.pose_covariance.llt().matrixL().solve(Eigen::Matrix<double, 6, 6>::Identity());
-  }
-
-  template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
-    using Quaternion = Eigen::Quaternion<T>;
-    using Vector = Eigen::Matrix<T, 3, 1>;
-    const Eigen::Map<const Quaternion> camera_q(xq);
-    const Eigen::Map<const Vector> camera_t(xt);
-    const T* board[] = {yq, yt, sq, st, bq, bt};
-    const auto [q, t] = mounting.boardInSensorParent(board);
-    Eigen::Matrix<T, 6, 1> r;
-    r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), Quaternion(camera_q.conjugate() * q));
-    r.template tail<3>() = camera_q.conjugate() * (t - camera_t) - translation.cast<T>();
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
-    out = whitening.cast<T>() * r;
-    return true;
-  }
-
-  Eigen::Matrix3d rotation;
-  Eigen::Vector3d translation;
-  Mounting mounting;
-  Eigen::Matrix<double, 6, 6> whitening;
-};
-
-// A range sensor's board points against the board's plane where the unknowns put it (its z = 0 plane
-// in the sensor's parent frame, Mounting).
-struct RangeViewResidual {
-  RangeViewResidual(const std::vector<Eigen::Vector3d>& points, double point_sigma, Mounting mounting)
-      : on_plane(points, point_sigma), mounting(mounting) {}
-
-  template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
-    const T* board[] = {yq, yt, sq, st, bq, bt};
-    const auto [q, t] = mounting.boardInSensorParent(board);
-    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
-    const T offset = -normal.dot(t);
-    return on_plane(xq, xt, normal.data(), &offset, residual);
-  }
-
-  ObservationOnPlaneResidual on_plane;
-  Mounting mounting;
-};
-
-// A 2D laser's board points against the board's plane where the unknowns put it, as range errors along
-// its beams (beam_range_residual.h): its plane alone fixes its height and pitch weakly, so the bias a
-// fit of point-to-plane distances has there would be taken up in full.
-struct BeamRangeViewResidual {
-  std::vector<Eigen::Vector3d> points;
-  double sigma;
-  Mounting mounting;
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* residuals) const {
-    const auto [q, t] = mounting.boardInSensorParent(blocks + 2);
-    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
-    beamRangeResiduals(points, sigma, Eigen::Quaternion<T>(blocks[0]), Eigen::Matrix<T, 3, 1>(blocks[1]), normal, T(-normal.dot(t)), residuals);
-    return true;
-  }
-};
-
-// A range sensor's point on the board's edge against the board's outline where the unknowns put it (in
-// the sensor's parent frame, Mounting).
-struct RangeOutlineResidual {
-  OutlinePointResidual on_outline;
-  Mounting mounting;
-
-  template <typename T>
-  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
-    const T* board[] = {yq, yt, sq, st, bq, bt};
-    const auto [q, t] = mounting.boardInSensorParent(board);
-    return on_outline(xq, xt, q.coeffs().data(), t.data(), residual);
-  }
-};
-
-// The tool where the arm reported it, within its repeatability: rotation in the tool frame, translation
-// in the base frame, each in its sigmas.
-struct ToolPoseResidual {
-  ToolPoseResidual(const Eigen::Isometry3d& reported, const HandEyeOptions& options)
-      : rotation(reported.linear()), translation(reported.translation()),
-        rotation_sigma(options.tool_rotation_sigma), translation_sigma(options.tool_translation_sigma) {}
-
-  template <typename T>
-  bool operator()(const T* tq, const T* tt, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(tq);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(tt);
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
-    out.template head<3>() = rotationBetween(Eigen::Quaternion<T>(rotation.cast<T>()), Eigen::Quaternion<T>(q)) / T(rotation_sigma);
-    out.template tail<3>() = (t - translation.cast<T>()) / T(translation_sigma);
-    return true;
-  }
-
-  Eigen::Matrix3d rotation;
-  Eigen::Vector3d translation;
-  double rotation_sigma, translation_sigma;
-};
-
-// The tool's pose block tied to the arm's joints (ArmJoints): the chain's pose at the station's readings
-// plus the offsets (blocks 2...) plus the station's corrections (the next blocks), held within 10 um / 10
-// urad (the tool block is the chain's pose, kept as a block so the views' residuals stay as they are).
-// The same for a link before the tool with `chain` the joints before it.
-struct ToolFromJointsResidual {
-  const ArmJoints* arm;
-  std::vector<int> chain;        // the arm's chain, or its first joints
-  std::vector<double> readings;  // per joint of `chain`
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* residual) const {
-    Eigen::Quaternion<T> q;
-    Eigen::Matrix<T, 3, 1> t;
-    correctedChainTransform<T>(arm->joints, chain, readings.data(), blocks + 2, blocks + 2 + chain.size(), &q, &t);
-    const Eigen::Map<const Eigen::Quaternion<T>> tool_q(blocks[0]);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tool_t(blocks[1]);
-    constexpr double kTight = 1e-5;
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
-    out.template head<3>() = rotationBetween(q, Eigen::Quaternion<T>(tool_q)) / T(kTight);
-    out.template tail<3>() = (tool_t - t) / T(kTight);
-    return true;
-  }
-};
-
-// A station's reading corrections within the readings' sigma (one block per joint of the chain).
-struct ReadingCorrectionsResidual {
-  std::vector<double> sigmas;
-  template <typename T>
-  bool operator()(T const* const* blocks, T* residual) const {
-    for (std::size_t i = 0; i < sigmas.size(); ++i) residual[i] = blocks[i][0] / T(sigmas[i]);
-    return true;
   }
 };
 
@@ -444,7 +265,7 @@ std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector
   for (const HandEyeStation& s : stations) {
     for (std::size_t camera = 0; camera < rig.sensors.size(); ++camera) {
       if (rig.sensors[camera].type != SensorType::kCamera) continue;
-      const Mounting mounting = rig.mounting(static_cast<int>(camera));
+      const FrameMounting mounting = rig.mounting(static_cast<int>(camera));
       Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
       Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
       double lever = 0.0;
@@ -596,7 +417,7 @@ std::vector<JointCalibration> armJointsSolvable(const ArmRig& rig, const ArmJoin
 }
 
 // BeamRangeViewResidual's cost: a residual per point, over the sensor's, the board's and their frames' poses.
-ceres::CostFunction* beamRangeCost(const std::vector<Eigen::Vector3d>& points, double sigma, Mounting mounting) {
+ceres::CostFunction* beamRangeCost(const std::vector<Eigen::Vector3d>& points, double sigma, FrameMounting mounting) {
   auto* cost = new ceres::DynamicAutoDiffCostFunction<BeamRangeViewResidual, 4>(new BeamRangeViewResidual{points, sigma, mounting});
   for (int block = 0; block < 4; ++block) cost->AddParameterBlock(4), cost->AddParameterBlock(3);
   cost->SetNumResiduals(static_cast<int>(points.size()));
@@ -623,7 +444,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   for (std::size_t k = 0; k < stations.size(); ++k) {
     for (const HandEyeView& view : stations[k].views) {
       PoseState& sensor = graph->sensors[view.sensor];
-      const Mounting mounting = rig.mounting(view.sensor);
+      const FrameMounting mounting = rig.mounting(view.sensor);
       // The frames the sensor and the board move with at this station (the tool, the link the sensor sits
       // on), or the base frame's constant block where one is fixed.
       const HandEyeSensor& on = rig.sensors[view.sensor];
@@ -644,14 +465,15 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       problem.AddResidualBlock(cost, nullptr, blocks);
       if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
       for (const Eigen::Vector3d& end : view.outline) {
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RangeOutlineResidual, 1, 4, 3, 4, 3, 4, 3, 4, 3>(new RangeOutlineResidual{
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, 1, 4, 3, 4, 3, 4, 3, 4, 3>(new OutlineViewResidual{
                                      {end, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height}, mounting}),
                                  new ceres::CauchyLoss(options.edge_loss_sigmas), blocks);
       }
     }
     PoseState& tool = graph->tools[k];
     if (!options.arm_joints) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(new ToolPoseResidual(stations[k].base_from_tool, options)),
+      auto* reported = new ToolPoseResidual(stations[k].base_from_tool, options.tool_rotation_sigma, options.tool_translation_sigma);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ToolPoseResidual, 6, 4, 3>(reported),
                                new ceres::CauchyLoss(options.loss_sigmas), tool.rotation.coeffs().data(), tool.translation.data());
     }
     problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
@@ -669,7 +491,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       const auto tie = [&](PoseState& frame, const std::vector<int>& chain) {
         std::vector<double> readings;
         for (const int j : chain) readings.push_back(stations[k].joint_positions[readIndex(*arm, j)]);
-        auto* cost = new ceres::DynamicAutoDiffCostFunction<ToolFromJointsResidual, 4>(new ToolFromJointsResidual{&*arm, chain, readings});
+        auto* cost = new ceres::DynamicAutoDiffCostFunction<LinkFromJointsResidual, 4>(new LinkFromJointsResidual{&arm->joints, chain, readings});
         std::vector<double*> blocks = {frame.rotation.coeffs().data(), frame.translation.data()};
         cost->AddParameterBlock(4);
         cost->AddParameterBlock(3);
@@ -805,7 +627,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
   starts[rig.main_camera] = rig.sensors[rig.main_camera].given_pose.value_or(
       std::find_if(result.closed_forms.begin(), result.closed_forms.end(), [](const HandEyeClosedForm& c) { return c.method == "Park"; })->camera);
-  const Mounting main_mounting = rig.mounting(rig.main_camera);
+  const FrameMounting main_mounting = rig.mounting(rig.main_camera);
   std::vector<Eigen::Isometry3d> boards;
   for (const HandEyeStation& s : stations) {
     for (const HandEyeView& view : s.views) {

@@ -1,0 +1,26 @@
+#pragma once
+// A range sensor's point on the board's edge (a 2D laser's scan end) in the arm's graph
+// (hand_eye_calibration.h): against the board's outline where the unknowns put it.
+
+#include <Eigen/Geometry>
+
+#include "vocal/calibration/solver/frame_mounting.h"
+#include "vocal/calibration/solver/outline_point_residual.h"
+
+namespace vocal {
+
+// OutlinePointResidual with the board in the sensor's parent frame (FrameMounting). Blocks as
+// CameraViewResidual's.
+struct OutlineViewResidual {
+  OutlinePointResidual on_outline;
+  FrameMounting mounting;
+
+  template <typename T>
+  bool operator()(const T* xq, const T* xt, const T* yq, const T* yt, const T* sq, const T* st, const T* bq, const T* bt, T* residual) const {
+    const T* board[] = {yq, yt, sq, st, bq, bt};
+    const auto [q, t] = mounting.boardInSensorParent(board);
+    return on_outline(xq, xt, q.coeffs().data(), t.data(), residual);
+  }
+};
+
+}  // namespace vocal

@@ -1,0 +1,191 @@
+// The arm graph's residual kinds (calibration/solver/*_residual.h), each on its own: zero where the
+// unknowns agree with the observation, and the observation's error in its standard deviations where they
+// are off by a known amount.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "vocal/calibration/solver/beam_range_view_residual.h"
+#include "vocal/calibration/solver/camera_view_residual.h"
+#include "vocal/calibration/solver/frame_mounting.h"
+#include "vocal/calibration/solver/link_from_joints_residual.h"
+#include "vocal/calibration/solver/outline_view_residual.h"
+#include "vocal/calibration/solver/range_view_residual.h"
+#include "vocal/calibration/solver/reading_corrections_residual.h"
+#include "vocal/calibration/solver/tool_pose_residual.h"
+#include "vocal/core/se3.h"
+
+namespace {
+// A pose's rotation (Eigen's x y z w) and translation, as the graph's blocks hold them.
+struct Blocks {
+  explicit Blocks(const Eigen::Isometry3d& pose) : q(pose.linear()), t(pose.translation()) {}
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+};
+
+Eigen::Isometry3d pose(const Eigen::Vector3d& translation, double angle, const Eigen::Vector3d& axis) {
+  return vocal::poseFromTranslationQuaternion(translation, Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())));
+}
+
+// A sensor on the tool over a fixed board, or fixed before a board on the tool: the frames of one still pose.
+struct Scene {
+  Eigen::Isometry3d sensor = pose({0.05, -0.02, 0.1}, 0.3, {1, 2, 3});    // in its parent
+  Eigen::Isometry3d board = pose({0.6, 0.1, -0.2}, 2.5, {0.2, 1, 0.1});   // in its parent
+  Eigen::Isometry3d sensor_frame = pose({0.3, 0.4, 0.5}, 0.7, {0, 0, 1});
+  Eigen::Isometry3d board_frame = pose({-0.1, 0.2, 0.3}, 0.4, {1, 0, 1});
+};
+}  // namespace
+
+// The templated mounting (the residuals') and the plain one (the start-up's) put the board alike, for a
+// sensor and a board each fixed or moving.
+TEST(ArmGraphResiduals, FrameMountingTemplatedAndPlainAgree) {
+  const Scene scene;
+  for (const bool sensor_moves : {false, true}) {
+    for (const bool board_moves : {false, true}) {
+      const vocal::FrameMounting mounting{sensor_moves, board_moves};
+      const Blocks board(scene.board), sensor_frame(scene.sensor_frame), board_frame(scene.board_frame);
+      const double* blocks[] = {board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
+                                board_frame.q.coeffs().data(), board_frame.t.data()};
+      const auto [q, t] = mounting.boardInSensorParent(blocks);
+      const Eigen::Isometry3d plain = mounting.boardInSensorParent(scene.board, scene.sensor_frame, scene.board_frame);
+      Eigen::Isometry3d expected = scene.board;
+      if (board_moves) expected = scene.board_frame * expected;
+      if (sensor_moves) expected = scene.sensor_frame.inverse() * expected;
+      EXPECT_LT((plain.matrix() - expected.matrix()).norm(), 1e-12);
+      EXPECT_LT((t - expected.translation()).norm(), 1e-12);
+      EXPECT_LT(vocal::rotationAngle(Eigen::Isometry3d(q.toRotationMatrix()).inverse() * Eigen::Isometry3d(expected.linear())), 1e-9);
+    }
+  }
+}
+
+// A camera's view: zero at the pose the unknowns predict; a camera 2 mm off along its x, with a 1 mm
+// standard deviation there, is 2 standard deviations off along x alone.
+TEST(ArmGraphResiduals, CameraViewIsThePnpPoseErrorInItsSigmas) {
+  const Scene scene;
+  const vocal::FrameMounting mounting{true, false};
+  vocal::PlaneMeasurement view;
+  view.sensor_from_pattern = scene.sensor.inverse() * mounting.boardInSensorParent(scene.board, scene.sensor_frame, scene.board_frame);
+  view.pose_covariance = Eigen::Matrix<double, 6, 6>::Identity() * 1e-6;  // 1 mrad, 1 mm
+  const vocal::CameraViewResidual residual(view, mounting);
+  const Blocks board(scene.board), sensor_frame(scene.sensor_frame), board_frame(scene.board_frame);
+  const auto evaluate = [&](const Eigen::Isometry3d& camera) {
+    const Blocks x(camera);
+    Eigen::Matrix<double, 6, 1> r;
+    residual(x.q.coeffs().data(), x.t.data(), board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
+             board_frame.q.coeffs().data(), board_frame.t.data(), r.data());
+    return r;
+  };
+  EXPECT_LT(evaluate(scene.sensor).norm(), 1e-6);
+  // The camera 2 mm along its own x: the board seen 2 mm along -x.
+  const Eigen::Matrix<double, 6, 1> off = evaluate(scene.sensor * Eigen::Translation3d(0.002, 0.0, 0.0));
+  EXPECT_NEAR(off[3], -2.0, 1e-6);
+  EXPECT_LT(off.head<3>().norm() + std::abs(off[4]) + std::abs(off[5]), 1e-6);
+}
+
+// A range sensor's board points: zero on the board's plane; moved 10 mm off it with 5 mm of noise, the
+// squared residual is the points' count times 4.
+TEST(ArmGraphResiduals, RangeViewIsThePointsDistanceToTheBoardsPlane) {
+  const Scene scene;
+  const vocal::FrameMounting mounting{false, true};
+  const Eigen::Isometry3d sensor_from_board = scene.sensor.inverse() * mounting.boardInSensorParent(scene.board, scene.sensor_frame, scene.board_frame);
+  std::vector<Eigen::Vector3d> on, off;
+  for (double x = -0.15; x <= 0.15; x += 0.05) {
+    for (double y = -0.1; y <= 0.1; y += 0.05) {
+      on.push_back(sensor_from_board * Eigen::Vector3d(x, y, 0.0));
+      off.push_back(sensor_from_board * Eigen::Vector3d(x, y, 0.01));
+    }
+  }
+  const Blocks x(scene.sensor), board(scene.board), sensor_frame(scene.sensor_frame), board_frame(scene.board_frame);
+  for (const bool shifted : {false, true}) {
+    const vocal::RangeViewResidual residual(shifted ? off : on, 0.005, mounting);
+    Eigen::Vector4d r;
+    residual(x.q.coeffs().data(), x.t.data(), board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
+             board_frame.q.coeffs().data(), board_frame.t.data(), r.data());
+    EXPECT_NEAR(r.squaredNorm(), shifted ? 4.0 * static_cast<double>(on.size()) : 0.0, 1e-6);
+  }
+}
+
+// A 2D laser's points as range errors along its beams: a board 1 m ahead facing the laser, moved 20 mm
+// further, leaves each beam 20 mm short, 2 standard deviations of 10 mm, over the cosine of its incidence.
+TEST(ArmGraphResiduals, BeamRangeViewIsTheRangeErrorAlongEachBeam) {
+  const vocal::FrameMounting mounting{false, false};
+  const Eigen::Isometry3d board = pose({1.0, 0.0, 0.0}, -M_PI / 2, {0, 1, 0});  // its z towards the laser
+  std::vector<Eigen::Vector3d> points;
+  for (const double y : {-0.1, 0.0, 0.1}) points.push_back({1.0, y, 0.0});
+  const vocal::BeamRangeViewResidual residual{points, 0.01, mounting};
+  const Blocks laser(Eigen::Isometry3d::Identity()), identity(Eigen::Isometry3d::Identity());
+  for (const double shift : {0.0, 0.02}) {
+    const Blocks at(Eigen::Translation3d(shift, 0.0, 0.0) * board);
+    const double* blocks[] = {laser.q.coeffs().data(), laser.t.data(), at.q.coeffs().data(), at.t.data(), identity.q.coeffs().data(),
+                              identity.t.data(), identity.q.coeffs().data(), identity.t.data()};
+    double r[3];
+    residual(blocks, r);
+    for (std::size_t i = 0; i < points.size(); ++i) EXPECT_NEAR(std::abs(r[i]), 2.0 * shift / 0.02 * points[i].norm(), 1e-9) << i;
+  }
+}
+
+// A scan end on the board's outline: zero on its edge, 1 standard deviation (10 mm) 10 mm beyond it.
+TEST(ArmGraphResiduals, OutlineViewIsTheEndsDistanceToTheBoardsEdge) {
+  const Scene scene;
+  const vocal::FrameMounting mounting{true, true};
+  const Eigen::Isometry3d sensor_from_board = scene.sensor.inverse() * mounting.boardInSensorParent(scene.board, scene.sensor_frame, scene.board_frame);
+  const Blocks x(scene.sensor), board(scene.board), sensor_frame(scene.sensor_frame), board_frame(scene.board_frame);
+  for (const double beyond : {0.0, 0.01}) {
+    const vocal::OutlineViewResidual residual{{sensor_from_board * Eigen::Vector3d(0.18 + beyond, 0.05, 0.0), 0.01, 0.18, 0.135}, mounting};
+    double r = 0.0;
+    residual(x.q.coeffs().data(), x.t.data(), board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
+             board_frame.q.coeffs().data(), board_frame.t.data(), &r);
+    EXPECT_NEAR(std::abs(r), beyond / 0.01, 1e-9);
+  }
+}
+
+// The arm's reported tool: zero at the report, 3 sigmas for 0.3 mm off with a 0.1 mm repeatability.
+TEST(ArmGraphResiduals, ToolPoseIsTheDepartureFromTheReportInTheArmsRepeatability) {
+  const Eigen::Isometry3d reported = pose({0.4, 0.1, 0.3}, 1.0, {1, 1, 0});
+  const vocal::ToolPoseResidual residual(reported, 1e-4, 1e-4);
+  for (const double shift : {0.0, 3e-4}) {
+    const Blocks tool(Eigen::Translation3d(0.0, shift, 0.0) * reported);
+    Eigen::Matrix<double, 6, 1> r;
+    residual(tool.q.coeffs().data(), tool.t.data(), r.data());
+    EXPECT_NEAR(r.norm(), shift / 1e-4, 1e-6);
+    EXPECT_NEAR(r[4], shift / 1e-4, 1e-6);
+  }
+}
+
+// A frame from its joints: zero where the chain puts it; a first joint's offset 1 mrad off turns the
+// chain's end by 1 mrad about that joint's axis, 100 of the tie's 10 urad.
+TEST(ArmGraphResiduals, LinkFromJointsTiesTheFrameToItsChain) {
+  std::vector<vocal::JointDescription> joints(2);
+  joints[0].name = "pan", joints[0].parent = "base", joints[0].child = "pan_link", joints[0].axis = Eigen::Vector3d::UnitZ();
+  joints[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
+  joints[1].name = "tilt", joints[1].parent = "pan_link", joints[1].child = "tilt_link", joints[1].axis = Eigen::Vector3d::UnitY();
+  joints[1].origin.translation() = Eigen::Vector3d(0.1, 0.0, 0.1);
+  const std::vector<int> chain = {0, 1};
+  const std::vector<double> readings = {0.4, -0.3};
+  const vocal::LinkFromJointsResidual residual{&joints, chain, readings};
+  const Blocks frame(vocal::chainPose(joints, chain, readings, {0.0, 0.0}));
+  for (const double offset : {0.0, 1e-3}) {
+    const double offsets[] = {offset, 0.0}, corrections[] = {0.0, 0.0};
+    const double* blocks[] = {frame.q.coeffs().data(), frame.t.data(), &offsets[0], &offsets[1], &corrections[0], &corrections[1]};
+    Eigen::Matrix<double, 6, 1> r;
+    residual(blocks, r.data());
+    EXPECT_NEAR(r.head<3>().norm(), offset / 1e-5, 1e-3);
+    if (offset > 0.0) {
+      EXPECT_GT(std::abs(r.head<3>().normalized().dot(frame.q.conjugate() * Eigen::Vector3d::UnitZ())), 0.999);
+    }
+  }
+}
+
+// A still pose's reading corrections, each in its joint's sigma.
+TEST(ArmGraphResiduals, ReadingCorrectionsAreInTheirSigmas) {
+  const vocal::ReadingCorrectionsResidual residual{{0.001, 0.0005}};
+  const double a = 0.002, b = -0.0005;
+  const double* blocks[] = {&a, &b};
+  double r[2];
+  residual(blocks, r);
+  EXPECT_DOUBLE_EQ(r[0], 2.0);
+  EXPECT_DOUBLE_EQ(r[1], -1.0);
+}
