@@ -16,23 +16,13 @@ import os
 import subprocess
 import time
 
-import numpy as np
 import yaml
 
-from pose_math import matrix, turn, error
+from pose_math import chain_pose, matrix, turn, error
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
-
-
-def chain_pose(joints, angles):
-    """base <- the last joint's child through revolute `joints` (rig.yaml's) at `angles`."""
-    pose = np.eye(4)
-    for joint, angle in zip(joints, angles):
-        origin = joint["origin"]
-        pose = pose @ matrix(origin[:3], origin[3:]) @ turn(joint["axis"], angle)
-    return pose
 
 
 def main():

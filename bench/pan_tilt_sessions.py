@@ -19,10 +19,9 @@ import os
 import subprocess
 import time
 
-import numpy as np
 import yaml
 
-from pose_math import matrix, turn, error
+from pose_math import chain_pose, matrix, error
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -31,11 +30,7 @@ TOOLS = os.path.join(ROOT, "devel", "lib", "vocal")
 
 def head_pose(joints, offsets, readings, mount):
     """base_link <- camera with the joints (revolute, in order) at readings + offsets."""
-    pose = np.eye(4)
-    for joint, offset, reading in zip(joints, offsets, readings):
-        o = joint["origin"]
-        pose = pose @ matrix(o[:3], o[3:]) @ turn(joint["axis"], reading + offset)
-    return pose @ mount
+    return chain_pose(joints, [reading + offset for offset, reading in zip(offsets, readings)]) @ mount
 
 
 def simulate(folder, seed, poses):

@@ -1,5 +1,5 @@
 """Poses as 4x4 matrices for the benchmark scripts: from a translation and a quaternion (x y z w), a turn
-about an axis, and the distance between two poses in mm / mrad."""
+about an axis, a chain of revolute joints, and the distance between two poses in mm / mrad."""
 import math
 
 import numpy as np
@@ -22,6 +22,15 @@ def turn(axis, angle):
     m = np.eye(4)
     m[:3, :3] = np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
     return m
+
+
+def chain_pose(joints, angles):
+    """base <- the last joint's child through revolute `joints` (rig.yaml's, in order) at `angles`."""
+    pose = np.eye(4)
+    for joint, angle in zip(joints, angles):
+        origin = joint["origin"]
+        pose = pose @ matrix(origin[:3], origin[3:]) @ turn(joint["axis"], angle)
+    return pose
 
 
 def error(found, truth):

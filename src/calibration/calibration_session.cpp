@@ -72,6 +72,9 @@ CalibrationSession::CalibrationSession(RigDescription rig, TargetExtractionOptio
   // Not given: half the rig's board's smaller side.
   if (!(stillness_.max_centre_spread > 0.0)) stillness_.max_centre_spread = 0.5 * std::min(rig_.target.width, rig_.target.height);
   arm_ = rig_.handEye();
+  if (arm_)
+    for (const std::vector<int>& chain : arm_->link_chains)
+      if (!chain.empty() && std::find(still_links_.begin(), still_links_.end(), chain) == still_links_.end()) still_links_.push_back(chain);
   mounts_ = rig_.jointedMounts();
   joint_readings_.resize(rig_.joints.size());
   for (std::size_t j = 0; j < rig_.joints.size(); ++j) joint_index_[rig_.joints[j].name] = static_cast<int>(j);
@@ -178,7 +181,7 @@ void CalibrationSession::addToolPose(double stamp, const Eigen::Isometry3d& refe
   if (!std::isfinite(stamp) || !reference_from_tool.matrix().allFinite()) {
     throw InputError("tool pose of '" + arm_->tool_frame + "': not finite");
   }
-  tool_poses_.push_back({stamp, reference_from_tool});
+  tool_poses_.push_back({stamp, reference_from_tool, {}});
 }
 
 void CalibrationSession::addJointState(double stamp, const std::vector<std::string>& names, const std::vector<double>& positions) {
@@ -212,10 +215,7 @@ void CalibrationSession::addJointState(double stamp, const std::vector<std::stri
   FramePoseSample sample{stamp, chainPose(rig_.joints, arm_->chain, readings), {}};
   // Each other link a sensor sits on, from its joints' latest readings (a head's may come in messages of
   // their own): still spans are where those stand still too.
-  std::vector<std::vector<int>> links;
-  for (const std::vector<int>& chain : arm_->link_chains)
-    if (!chain.empty() && std::find(links.begin(), links.end(), chain) == links.end()) links.push_back(chain);
-  for (const std::vector<int>& chain : links) {
+  for (const std::vector<int>& chain : still_links_) {
     std::vector<double> positions;
     for (const int j : chain) {
       const std::vector<JointReading>& own = joint_readings_[j];

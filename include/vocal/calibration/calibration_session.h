@@ -201,6 +201,7 @@ class CalibrationSession {
   std::vector<SensorDataCounts> counts_;
   std::vector<TimedObservation> observations_;  // cameras
   std::optional<HandEyeRig> arm_;                // rig_.handEye(), once
+  std::vector<std::vector<int>> still_links_;    // ... its links sensors sit on, each once: still with the tool in a still pose
   JointedMounts mounts_;                         // rig_.jointedMounts(), once
   std::vector<std::vector<JointReading>> joint_readings_;  // per joint of the rig, in time order
   std::unordered_map<std::string, int> joint_index_;       // a joint's name -> its index in the rig

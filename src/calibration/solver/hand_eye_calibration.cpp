@@ -68,12 +68,11 @@ struct ArmRig {
         if (view.sensor == sensor) return true;
     return false;
   }
-  // The stations as the main camera's closed form sees them: as they are for a camera on the tool or
-  // fixed; for one on a link (a head's), its link as the base frame under the board on the tool, or as
-  // the tool over the fixed board.
+  // The stations as the closed form of a main camera on a link (a head's) sees them: its link as the base
+  // frame under the board on the tool, or as the tool over the fixed board. (A camera on the tool or fixed
+  // sees them as they are.)
   std::vector<HandEyeStation> mainCameraMotion(const std::vector<HandEyeStation>& stations) const {
     std::vector<HandEyeStation> seen_from = stations;
-    if (!sensors[main_camera].onLink()) return seen_from;
     for (HandEyeStation& s : seen_from) {
       const Eigen::Isometry3d& link = movingFrameAt(main_camera, s);
       s.base_from_tool = board_on_tool ? link.inverse() * s.base_from_tool : link;
