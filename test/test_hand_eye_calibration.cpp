@@ -203,11 +203,11 @@ TEST(HandEyeAssociation, TheToolsStillSpansMakeTheStations) {
   const vocal::SimulatedArm arm = vocal::simulateArm({});
   for (int k = 0; k < 3; ++k) {
     const double start = 3.0 * k;
-    for (int i = 0; i <= 100; ++i) samples.push_back({start + 0.01 * i, arm.reported_tool[k]});  // still 1 s at 100 Hz
+    for (int i = 0; i <= 100; ++i) samples.push_back({start + 0.01 * i, arm.reported_tool[k], {}});  // still 1 s at 100 Hz
     for (int i = 1; i < 200; ++i) {  // then moving to the next pose
       Eigen::Isometry3d moving = arm.reported_tool[k];
       moving.translation() += Eigen::Vector3d(0.001 * i, 0, 0);
-      samples.push_back({start + 1.0 + 0.01 * i, moving});
+      samples.push_back({start + 1.0 + 0.01 * i, moving, {}});
     }
     for (int v = 0; v < 3; ++v) {
       vocal::TimedObservation view;

@@ -197,7 +197,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
                     1000 * result.sensor_sigmas[s].head<3>().norm(), 1000 * result.sensor_sigmas[s].tail<3>().norm(),
                     1000 * result.sensor_spreads[s].head<3>().norm(), 1000 * result.sensor_spreads[s].tail<3>().norm());
       summary << line;
-      withheld.push_back(handEyeWithheld(result, s, tolerance_, publish_uncertain_));
+      withheld.push_back(handEyeWithheld(result, s, rig.sensors[s].spec.type, tolerance_, publish_uncertain_));
       if (withheld.back().empty()) {
         transforms.push_back(toTransformStamped(result.sensors[s], frames.parentOf(s), rig.sensors[s].spec.frame_id, now));
       } else {

@@ -52,6 +52,10 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
     arm.camera = tool_from_camera;
     // On the table, its z axis down: a camera above looks along it.
     arm.board = poseFromTranslationQuaternion({0.5, 0.0, 0.0}, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())));
+    // A 2D laser 6 cm beside the camera, its x along the tool's z (down at the board), its scan plane
+    // holding the tool's z and turned 0.15 rad about it: the line crosses the board at a slant.
+    arm.laser = poseFromTranslationQuaternion({-0.06, 0.02, 0.0}, Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()) *
+                                                                                      Eigen::AngleAxisd(0.15, Eigen::Vector3d::UnitX())));
   } else {
     arm.camera = lookingAt({0.5, 0.9, 0.6}, {0.5, 0.0, 0.3}, 0.0);  // on a post beside the arm, looking at its workspace
     arm.board = tool_from_board;

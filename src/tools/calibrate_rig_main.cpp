@@ -305,7 +305,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   std::vector<std::string> withheld;
   bool any_withheld = false;
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-    withheld.push_back(vocal::handEyeWithheld(result, s, tolerance, args.has("publish-uncertain")));
+    withheld.push_back(vocal::handEyeWithheld(result, s, rig.sensors[s].spec.type, tolerance, args.has("publish-uncertain")));
     if (withheld.back().empty()) continue;
     std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", rig.sensors[s].spec.name.c_str(),
                 withheld.back().c_str());

@@ -91,6 +91,13 @@ RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& 
     laser.scan_topic = "/arm_laser/scan";
     rig.sensors.push_back(laser);
   }
+  if (beside && setup == HandEyeSetup::kEyeInHand) {
+    RigSensorDescription laser;
+    laser.spec = {"tool_laser", SensorType::kLaser2d, "tool_laser"};
+    laser.scan_topic = "/tool_laser/scan";
+    laser.parent = kTool;
+    rig.sensors.push_back(laser);
+  }
   rig.reference_sensor = -1;
   return rig;
 }
@@ -145,7 +152,7 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
       const ros::Time stamp(start + t);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
-      Eigen::Isometry3d base_from_sensor = d.spec.type == SensorType::kCamera && in_hand ? tool * arm.camera : sensorPoseInParent(arm, d);
+      Eigen::Isometry3d base_from_sensor = d.parent == kTool ? tool * sensorPoseInParent(arm, d) : sensorPoseInParent(arm, d);
       if (d.parent == kForearm)
         base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) * arm.forearm_camera;
       if (d.parent == kHead) base_from_sensor = options.joint_arm->headAt(t, options.still_seconds, options.moving_seconds) * arm.head_camera;

@@ -79,7 +79,8 @@ const char kUsage[] =
     "  --compressed        images as image_transport's compressed transport records them (JPEG, on\n"
     "                      /arm_camera/image_raw/compressed)\n"
     "  --beside            (eye-to-hand) a VLP-16-like lidar, an RGB-D camera and a 2D laser (270 degrees,\n"
-    "                      1 cm noise) fixed beside the camera, in the same session\n"
+    "                      1 cm noise) fixed beside the camera, in the same session; (eye-in-hand) a 2D laser\n"
+    "                      on the tool beside the camera (tool_laser), its scan line across the board\n"
     "  --given-reference   (eye-to-hand) rig.yaml gives the fixed camera's true pose in the base frame (the\n"
     "                      reference, held by the calibration)\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
@@ -116,9 +117,6 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   target.width = args.number("board-width", 0.36);
   target.height = args.number("board-height", 0.27);
   vocal::checkTargetDescription(target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
-  if (args.has("beside") && arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
-    throw vocal::InputError("option --beside: with --eye-to-hand (a fixed lidar sees a fixed board in one place only)");
-  }
   if (args.has("forearm") && !args.has("arm")) {
     throw vocal::InputError("option --forearm: with --arm (a camera on the forearm moves with the arm's first joints)");
   }

@@ -37,7 +37,8 @@ struct SimulatedArm {
   std::vector<Eigen::Isometry3d> reported_tool;  // ... as the arm reports it
   // Eye-to-hand: where a 3D lidar (x ahead, z up), an RGB-D camera (optical frame) and a 2D laser (its
   // scan plane z = 0) fixed in the base frame would watch the board in the gripper too (base <- sensor),
-  // for a rig that has them.
+  // for a rig that has them. Eye-in-hand: a 2D laser on the tool beside the camera (tool <- laser), its
+  // scan line crossing the fixed board at a slant.
   Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d rgbd = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d laser = Eigen::Isometry3d::Identity();

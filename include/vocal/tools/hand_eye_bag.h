@@ -33,8 +33,9 @@ struct HandEyeBagOptions {
 // The rig a user would write for it: reference frame "arm_base", the tool frame "arm_tool", the camera
 // on the tool (eye-in-hand, the board fixed in arm_base) or fixed in arm_base (eye-to-hand, the board on
 // the tool); `target` as given.
-// `beside` (eye-to-hand): a 3D lidar (VLP-16-like) and an RGB-D camera fixed beside the camera, watching the
-// board in the gripper too (SimulatedArm::lidar, rgbd).
+// `beside`: eye-to-hand, a 3D lidar (VLP-16-like), an RGB-D camera and a 2D laser fixed beside the camera,
+// watching the board in the gripper too (SimulatedArm::lidar, rgbd, laser); eye-in-hand, a 2D laser on the
+// tool beside the camera (SimulatedArm::laser, parent the tool frame).
 RigDescription simulatedHandEyeRig(HandEyeSetup setup, const TargetDescription& target, bool compressed_images = false, bool beside = false);
 
 // `joint_arm`: the rig names the arm's joints (offsets unknown: 0) down to the tool, the tool's pose then

@@ -268,7 +268,8 @@ std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
   return out;
 }
 
-std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, const SpreadTolerance& tolerance, bool publish_uncertain) {
+std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, SensorType type, const SpreadTolerance& tolerance,
+                            bool publish_uncertain) {
   if (publish_uncertain) return "";
   char line[320];
   if (result.spread_solves < 2) {
@@ -280,8 +281,11 @@ std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, con
   if (!spreadIsOver(spread, tolerance)) return "";
   std::snprintf(line, sizeof(line),
                 "uncertain: it moves %.1f mm / %.1f mrad between re-solves without one arm pose (tolerance %.1f mm / %.1f mrad): add "
-                "arm poses, turned further about more axes",
-                1000 * spread.head<3>().norm(), 1000 * spread.tail<3>().norm(), 1000 * tolerance.translation, 1000 * tolerance.rotation);
+                "%s",
+                1000 * spread.head<3>().norm(), 1000 * spread.tail<3>().norm(), 1000 * tolerance.translation, 1000 * tolerance.rotation,
+                // A 2D laser's line fixes little where every pose crosses the board at one place and slant.
+                type == SensorType::kLaser2d ? "arm poses whose scan line crosses the board at other places and slants, near its edges too"
+                                             : "arm poses, turned further about more axes");
   return line;
 }
 
