@@ -286,7 +286,9 @@ GyroRun trackWithGyro(std::unique_ptr<vocal::OdometryBackend> backend, bool gyro
   for (std::size_t i = 0; i < scene.frames.size(); ++i) {
     std::optional<vocal::RotationPrior> prior;
     if (gyro && i > 0) prior = imu.between(scene.frames[i - 1].stamp, scene.frames[i].stamp);
-    if (gyro && i > 0) EXPECT_TRUE(prior) << "frame " << i;
+    if (gyro && i > 0) {
+      EXPECT_TRUE(prior) << "frame " << i;
+    }
     const vocal::OdometryResult result = odometry.track(scene.frames[i], prior ? &*prior : nullptr);
     if (result.state == vocal::TrackingState::kTracking && result.quality.trusted) {
       imu.observe(result.keyframe_stamp, scene.frames[i].stamp, result.vision_rotation);
@@ -496,7 +498,9 @@ TEST(GravityCorrection, PullsRollAndPitchBackToTheFirstLevelNotTheSwing) {
     estimate.linear() = applied * estimate.linear();
     std::string why;
     const Eigen::Isometry3d correction = gravity.correct(t, estimate, samples, i ? 1.0 / rate : 0.0, &why);
-    if (t > 1.0) EXPECT_EQ(why, "") << t;
+    if (t > 1.0) {
+      EXPECT_EQ(why, "") << t;
+    }
     EXPECT_NEAR((correction * estimate).translation().x(), estimate.translation().x(), 1e-12) << "the position stays";
     applied = correction.linear() * applied;
     const Eigen::Vector3d up = (correction.linear() * estimate.linear()) * truePose(t).linear().transpose() * Eigen::Vector3d::UnitZ();

@@ -127,7 +127,9 @@ TEST(OdometryCovariance, PoseCovarianceGrowsInTheOdometryFrame) {
     ASSERT_TRUE(a.quality.trusted && b.quality.trusted) << a.failure << b.failure;
     const vocal::Matrix6d moved = vocal::adjoint(start) * a.pose_covariance * vocal::adjoint(start).transpose();
     EXPECT_LT((b.pose_covariance - moved).norm(), 1e-6 * moved.norm() + 1e-15);
-    if (!a.first_frame) EXPECT_GT(a.pose_covariance.trace(), previous_trace);
+    if (!a.first_frame) {
+      EXPECT_GT(a.pose_covariance.trace(), previous_trace);
+    }
     previous_trace = a.pose_covariance.trace();
   }
   EXPECT_GT(previous_trace, 0.0);
@@ -496,6 +498,34 @@ TEST(OdometryRealData, RealCameraModelsLowerDriftOnEveryRealSequence) {
     std::cout << name << ": RPE " << rpe_modelled << " m/s with the camera modelled, " << rpe_pinhole << " as a pinhole\n";
     EXPECT_EQ(untrusted, 0) << name;
     EXPECT_LT(rpe_modelled, rpe_pinhole) << name;
+  }
+  EXPECT_GT(sequences.size(), 0u);
+}
+
+// Every real TUM sequence in ../shared tracked on every second and every third frame only, as a live node
+// does that keeps one frame in two or three on a busy CPU: no frame untrusted, ATE within 3 cm (every
+// frame: 1.2-1.6 cm; measured 1.3-2.8 cm). Where the solve from the last pose fits badly and the features give no start, it
+// restarts from the last motion carried on over the gap; without that, every third frame of fr1_desk
+// drifted to 7.1 cm and every second of fr1_rpy relocalised 13 cm off (20 cm ATE).
+TEST(OdometryRealData, EverySecondAndThirdFrameAloneStillTrackEveryRealSequence) {
+  if (vocal_test::tumDataFolder().empty()) GTEST_SKIP() << "TUM data not present";
+  const auto sequences = realSequences();
+  for (const auto& [name, sequence] : sequences) {
+    for (const std::size_t every : {2u, 3u}) {
+      vocal::IcpDvoOdometry odometry(sequence.camera(), vocal::OdometryConfig{}, nullptr, sequence.lens());
+      vocal::Trajectory estimate;
+      int untrusted = 0;
+      for (std::size_t i = 0; i < sequence.size(); i += every) {
+        const vocal::RgbdFrame frame = sequence.loadFrame(i);
+        const vocal::OdometryResult result = odometry.track(frame);
+        untrusted += !result.quality.trusted;
+        estimate.push_back({frame.stamp, result.pose});
+      }
+      const double ate = vocal::computeAte(sequence.groundTruth(), estimate).rmse;
+      std::cout << name << ", every " << every << " frames: ATE " << ate << " m, " << untrusted << " frames untrusted\n";
+      EXPECT_EQ(untrusted, 0) << name << ", every " << every;
+      EXPECT_LT(ate, 0.03) << name << ", every " << every;
+    }
   }
   EXPECT_GT(sequences.size(), 0u);
 }

@@ -349,6 +349,7 @@ bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve&
 }
 
 IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
+                                                              const std::optional<Eigen::Isometry3d>& extrapolated,
                                                               const MotionPrior* prior, std::shared_ptr<const FrameFeatures>* features,
                                                               OdometryResult* result) {
   auto clock = std::chrono::steady_clock::now();
@@ -382,15 +383,17 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& f
       if (!suspicious(solve)) break;
       result->quality.feature_fallback = true;
       result->timings.solve_ms += lapMilliseconds(&clock);
-      bool retry_won = false;
-      if (const std::optional<Eigen::Isometry3d> start = featureMotion()) {
-        DenseSolve retry = solveFrom(active_->frame, frame, *start, active_from_last_, nullptr, prior);
-        // The retry wins when it passes and the first did not, or both pass and it fits better.
-        retry_won = retry.failure.empty() &&
-                    (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality));
-        if (retry_won) solve = std::move(retry);
-      }
-      if (!retry_won) result->quality.feature_inliers = 0;  // the result did not start from the features
+      // A retry wins when it passes and the first did not, or both pass and it fits better.
+      const auto retryFrom = [&](const Eigen::Isometry3d& start) {
+        DenseSolve retry = solveFrom(active_->frame, frame, start, active_from_last_, nullptr, prior);
+        const bool won = retry.failure.empty() && (!solve.failure.empty() || residualLevelOf(retry.quality) < residualLevelOf(solve.quality));
+        if (won) solve = std::move(retry);
+        return won;
+      };
+      const std::optional<Eigen::Isometry3d> start = featureMotion();
+      const bool features_won = start && retryFrom(*start);
+      if (!features_won) result->quality.feature_inliers = 0;  // the result did not start from the features
+      if (!start && extrapolated) retryFrom(*extrapolated);
       break;
     }
   }
@@ -647,7 +650,12 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     const double sigma = std::max(kGuessedAcceleration * frame_seconds * frame_seconds, 1e-3);
     prior->translation_information = config_.imu_weight / (sigma * sigma);
   }
-  DenseSolve solve = trackAgainstActive(frame, predicted, prior ? &*prior : nullptr, &features, &result);
+  // Against a keyframe the solve starts from the last pose; where that fails and the features give no
+  // start either, from the last motion carried on (not first: see above).
+  std::optional<Eigen::Isometry3d> extrapolated;
+  if (config_.tracking_reference == TrackingReference::kKeyframe && !prior && velocity_seconds_ > 0.0)
+    extrapolated = active_from_last_ * se3Exp(se3Log(velocity_) * (frame_seconds / velocity_seconds_));
+  DenseSolve solve = trackAgainstActive(frame, predicted, extrapolated, prior ? &*prior : nullptr, &features, &result);
   const bool relocalised = !solve.failure.empty() && config_.relocalisation && relocalise(frame, &features, &solve, &result);
   clock = std::chrono::steady_clock::now();
 

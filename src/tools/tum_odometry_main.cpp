@@ -34,6 +34,8 @@ const char kUsage[] =
     "  --brightness affine|fixed   overrides the config's brightness_model\n"
     "  --frames N                  only the first N associated frames (after --skip)\n"
     "  --skip N                    start at the N-th associated frame (0 = the first)\n"
+    "  --every N                   track every N-th of those frames only, as a live node does that keeps one\n"
+    "                              frame in N on a busy CPU (default 1: every frame)\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
     "  --imu FILE                  an IMU's imu.txt (`timestamp wx wy wz ax ay az`; default: the folder's imu.txt\n"
     "                              when there is one): its gyro's rotation between frames as a prior\n"
@@ -120,8 +122,11 @@ int run(const vocal::CommandLine& args) {
                             " associated frames");
   }
   const std::size_t skip = static_cast<std::size_t>(skip_arg);
-  const std::size_t frames =
+  const std::size_t span =
       std::min<std::size_t>(sequence.size() - skip, args.integer("frames", static_cast<int>(sequence.size() - skip)));
+  const int every = args.integer("every", 1);
+  if (every < 1) throw vocal::InputError("--every " + std::to_string(every) + ": must be 1 or more");
+  const std::size_t frames = (span + every - 1) / every;
   std::string notice;
   auto backend = vocal::makeOdometryBackend(sequence.camera(), config, &notice);
   if (!notice.empty()) std::fprintf(stderr, "%s\n", notice.c_str());
@@ -158,7 +163,7 @@ int run(const vocal::CommandLine& args) {
   std::string imu_gap;
   const bool quiet = args.has("quiet");
   for (std::size_t i = 0; i < frames; ++i) {
-    const vocal::RgbdFrame frame = sequence.loadFrame(skip + i);
+    const vocal::RgbdFrame frame = sequence.loadFrame(skip + i * every);
     const auto start = std::chrono::steady_clock::now();
     std::optional<vocal::RotationPrior> gyro;
     if (imu && i > 0) {
@@ -248,7 +253,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "delta",
+                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "every", "delta",
                          "imu", "imu-extrinsics", "imu-weight", "gravity-time-constant"},
                         {"start-from-ground-truth", "quiet", "verbose", "no-imu", "no-accelerometer"}, 1);
 }

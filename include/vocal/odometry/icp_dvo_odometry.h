@@ -224,8 +224,11 @@ class IcpDvoOdometry {
   // no longer holds it).
   void pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame);
   // The dense solve against the active keyframe from `predicted` (keyframe <- current), with the
-  // feature fallback the config asks for, and the wrong-minimum test.
-  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted, const MotionPrior* prior,
+  // feature fallback the config asks for, and the wrong-minimum test. `extrapolated`: where the last
+  // measured motion carries on to over the time since the last frame, the fallback's second start
+  // when the features give none (frames skipped on a busy CPU move several frames' worth).
+  DenseSolve trackAgainstActive(const RgbdFrame& frame, const Eigen::Isometry3d& predicted,
+                                const std::optional<Eigen::Isometry3d>& extrapolated, const MotionPrior* prior,
                                 std::shared_ptr<const FrameFeatures>* features, OdometryResult* result);
   // Marks a passing solve as failed when its residual is far above the running level, or its motion
   // far from the one the features agree on (when they were asked).
