@@ -68,13 +68,19 @@ const char kUsage[] =
     "/joint_states), its views count only where they were still, and each joint's zero offset is solved with the\n"
     "rest; --report adds the range each joint covered.\n";
 
+// Per sensor, its range messages without the target by the check that refused the most board-like segment.
+std::vector<std::map<std::string, int>> refusedByCheck(const vocal::RigDescription& rig, const vocal::CalibrationSession& session) {
+  std::vector<std::map<std::string, int>> refused(rig.sensors.size());
+  for (const vocal::RangeMessage& m : session.rangeMessages())
+    if (m.chosen < 0) ++refused[m.sensor][m.check];
+  return refused;
+}
+
 // What a user checks a calibration by: where extraction found no board and why, and how well each
 // still pose's observations fit the result.
 void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSession& session,
                  const std::vector<vocal::TargetObservation>& associated, const vocal::CalibrationResult& result, int poses) {
-  std::vector<std::map<std::string, int>> refused(rig.sensors.size());
-  for (const vocal::RangeMessage& m : session.rangeMessages())
-    if (m.chosen < 0) ++refused[m.sensor][m.check];
+  const std::vector<std::map<std::string, int>> refused = refusedByCheck(rig, session);
   std::printf("messages without the target, by the check that refused the most board-like segment:\n");
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     if (rig.sensors[s].spec.type == vocal::SensorType::kCamera) continue;
@@ -375,12 +381,23 @@ int run(const vocal::CommandLine& args) {
   for (const vocal::ClockOffset& clock : session.clockOffsets())
     if (clock.applied || args.has("report")) std::printf("clock: %s\n", vocal::describeClockOffset(clock, rig.specs()).c_str());
   const std::vector<vocal::SensorDataCounts> counts = session.counts();
+  const std::vector<std::map<std::string, int>> refused = refusedByCheck(rig, session);
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorDataCounts& c = counts[s];
     std::printf("  %-12s %-8s target in %d of %d messages", rig.sensors[s].spec.name.c_str(),
                 vocal::sensorTypeName(rig.sensors[s].spec.type).c_str(), c.target_found, c.received);
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
     if (c.not_kept > 0) std::printf(" (%d more skipped: the session was full)", c.not_kept);
+    // A range sensor that missed the board in most messages: why, here and not only with --report (the
+    // calibration may stop for want of its views before the report).
+    if (2 * c.target_found < c.received && !refused[s].empty()) {
+      std::vector<std::pair<int, std::string>> most;
+      for (const auto& [check, count] : refused[s]) most.emplace_back(count, check);
+      std::sort(most.rbegin(), most.rend());
+      std::printf("; the others refused as");
+      for (std::size_t k = 0; k < most.size(); ++k) std::printf("%s %s %d", k ? "," : ":", most[k].second.c_str(), most[k].first);
+      std::printf(" (the rig's board: %.3f x %.3f m)", rig.target.width, rig.target.height);
+    }
     std::printf("\n");
   }
   std::printf("memory: %s%s\n", session.memorySummary().c_str(), session.memory().full ? " (raise --max-held-mb to keep them)" : "");
