@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -270,6 +272,36 @@ Indices boardRectangleIn(const Cloud& cloud, const Indices& piece, const Surface
   return inside;
 }
 
+// The points of `piece` left once its parts narrower than half the board's shorter side are opened
+// away in its plane (a morphological opening of its occupancy, cells `spacing` across): a stand's posts
+// or a hand's arm in the board's plane go, the board stays whole. None where the cells are too coarse
+// to tell a post from the board (a lidar's few rings across a small board).
+Indices withoutThinParts(const Cloud& cloud, const Indices& piece, const SurfacePatch& plane, double shortest, double spacing) {
+  const double cell = std::max(0.01, spacing);
+  const int element = static_cast<int>(std::floor(0.5 * shortest / cell)) | 1;  // odd, cells
+  if (element < 3) return {};
+  const Eigen::Vector3d u = plane.along, v = plane.normal.cross(plane.along);
+  std::vector<Eigen::Vector2d> in_plane;
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+  for (int i : piece) {
+    const Eigen::Vector3d d = cloud[i].getVector3fMap().cast<double>() - plane.centre;
+    in_plane.emplace_back(u.dot(d), v.dot(d));
+    low = low.cwiseMin(in_plane.back()), high = high.cwiseMax(in_plane.back());
+  }
+  const Eigen::Vector2i cells = ((high - low) / cell).cast<int>() + Eigen::Vector2i::Constant(1);
+  if (static_cast<double>(cells.x()) * cells.y() > 4e6) return {};  // tens of metres across: a room surface, not a board on posts
+  const auto cellOf = [&](const Eigen::Vector2d& p) { return cv::Point(static_cast<int>((p.x() - low.x()) / cell), static_cast<int>((p.y() - low.y()) / cell)); };
+  cv::Mat occupied = cv::Mat::zeros(cells.y(), cells.x(), CV_8U);
+  for (const Eigen::Vector2d& p : in_plane) occupied.at<std::uint8_t>(cellOf(p)) = 255;
+  // Sampling gaps of a cell closed first, so that the board's own holes do not open it up.
+  cv::morphologyEx(occupied, occupied, cv::MORPH_CLOSE, cv::Mat::ones(3, 3, CV_8U));
+  cv::morphologyEx(occupied, occupied, cv::MORPH_OPEN, cv::Mat::ones(element, element, CV_8U));
+  Indices kept;
+  for (std::size_t k = 0; k < piece.size(); ++k)
+    if (occupied.at<std::uint8_t>(cellOf(in_plane[k]))) kept.push_back(piece[k]);
+  return kept;
+}
+
 // The points of `piece` in its dominant plane, trimmed to it (none when it has no plane).
 Indices flatPartOf(const Cloud::Ptr& cloud, const Indices& piece, const TargetExtractionOptions& options) {
   const Indices inliers = fitModel(cloud, piece, pcl::SACMODEL_PLANE, options.plane_threshold, options.object_iterations);
@@ -298,6 +330,16 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const double widest_gap = std::max(spacing.horizontal, spacing.vertical);
   const auto larger_than_board = [&](const Shape& s) { return s.size[0] > diagonal + options.size_slack || s.size[1] > longest + options.size_slack; };
 
+  // A piece no room surface is (a few board lengths across) whose parts narrower than half the board's
+  // shorter side, opened away, leave a board-sized one: the board on its stand's posts.
+  const auto boardOnThinParts = [&](const Indices& piece, const Shape& shape) {
+    if (shape.size[0] > 2.5 || shape.area > 8.0 * board_area) return false;
+    const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
+    if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return false;
+    const Shape rest = shapeOf(*cloud, opened);
+    return !larger_than_board(rest) && rest.area >= options.min_area_fraction * board_area && rest.area <= options.max_area_fraction * board_area;
+  };
+
   // Room planes: the connected pieces of a plane larger than the board (floor, walls, ceiling) go;
   // the rest of the plane's points stay (the board's plane crosses the floor and walls).
   Indices remaining(cloud->size());
@@ -318,6 +360,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       // plane (the board's) crosses the floor, nor the board with the hands and arms that hold it.
       const bool far_longer = shape.size[0] > 1.5 * diagonal && shape.size[1] > 0.5 * shortest;
       if (!far_longer && shape.area <= 2.0 * board_area) continue;
+      if (boardOnThinParts(piece, shape)) continue;  // a small board on its stand's posts: for the object search
       room.insert(room.end(), piece.begin(), piece.end());
       room_planes.push_back(shape);
       search.surfaces.push_back(shape.patch);
@@ -418,6 +461,15 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
     }
     if (judged.larger && shape.size[0] <= diagonal + options.size_slack && shape.area <= options.max_held_area_fraction * board_area) {
       if (const auto cut = cutOut(piece, shape)) return take(cut->first, cut->second, false);
+    }
+    if (judged.larger) {
+      // The board with thin things in its plane (a stand's posts, an arm), however long: what is left
+      // without them, when that is the board.
+      const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
+      if (static_cast<int>(opened.size()) >= options.min_points && opened.size() < piece.size()) {
+        const Judged board = judge(opened, std::log(static_cast<double>(piece.size()) / opened.size()));
+        if (board.why.empty()) return take(opened, board, false);
+      }
     }
     if (judged.larger) search.surfaces.push_back(shape.patch);
     keepBestRejection(judged.mismatch, judged.check, judged.why, &best_rejected, &search);
