@@ -105,6 +105,11 @@ double cameraErrorTranslation(const PanTiltSession& session, const vocal::Calibr
   *rotation = std::sqrt(*rotation / poses);
   return std::sqrt(translation / poses);
 }
+// A pose as calibration.yaml and ground_truth.yaml write it: translation, rotation [qx qy qz qw].
+Eigen::Isometry3d yamlPose(const YAML::Node& n) {
+  const std::vector<double> t = n["translation"].as<std::vector<double>>(), q = n["rotation"].as<std::vector<double>>();
+  return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+}
 }  // namespace
 
 TEST(JointedCalibration, PanTiltOffsetsAndMountsWithTheRigidSensors) {
@@ -847,11 +852,6 @@ TEST(JointedCalibration, A2dLaserOnTheToolBesideTheWristCamera) {
 // at the board's centre); where it moves over the tolerance between re-solves it is withheld, told what
 // poses to add. With joints, the tool frame is the model's: the truth turned by the held last joint's offset.
 TEST(JointedCalibration, A2dLaserOnTheToolThroughCalibrateRig) {
-  const auto poseOf = [](const YAML::Node& n) {
-    const auto t = n["translation"].as<std::vector<double>>();
-    const auto q = n["rotation"].as<std::vector<double>>();
-    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
-  };
   // The tool from /tf at seed 1 (published); from the joints at seed 2 (withheld).
   for (const auto& [arm, seed] : {std::pair<std::string, int>{"", 1}, {" --arm", 2}}) {
     SCOPED_TRACE("seed " + std::to_string(seed) + arm);
@@ -876,7 +876,7 @@ TEST(JointedCalibration, A2dLaserOnTheToolThroughCalibrateRig) {
     for (const YAML::Node& sensor : result["sensors"]) {
       const std::string name = sensor["name"].as<std::string>();
       EXPECT_EQ(sensor["parent"].as<std::string>(), "arm_tool") << name;
-      const Eigen::Isometry3d error = (tool_turn * poseOf(truth["sensors"][name]["pose"])).inverse() * poseOf(sensor);
+      const Eigen::Isometry3d error = (tool_turn * yamlPose(truth["sensors"][name]["pose"])).inverse() * yamlPose(sensor);
       const double metres = error.translation().norm(), radians = vocal::rotationAngle(error);
       const auto sd = sensor["translation_stddev"].as<std::vector<double>>();
       const auto rd = sensor["rotation_stddev"].as<std::vector<double>>();
@@ -917,26 +917,20 @@ TEST(JointedCalibration, ArmBeforeAGivenCameraALidarAndA2dLaserThroughCalibrateR
   const YAML::Node rig = YAML::LoadFile(folder + "/rig.yaml");
   const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
   const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
-  const auto poseOf = [](const std::vector<double>& t, const std::vector<double>& q) {
-    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
-  };
-  const auto resultPose = [&](const YAML::Node& n) {
-    return poseOf(n["translation"].as<std::vector<double>>(), n["rotation"].as<std::vector<double>>());
-  };
   // The camera where rig.yaml put it (to the digits the YAML carries).
   const std::vector<double> given = rig["sensors"][0]["pose"].as<std::vector<double>>();
-  const Eigen::Isometry3d camera = resultPose(result["sensors"][0]);
+  const Eigen::Isometry3d camera = yamlPose(result["sensors"][0]);
   EXPECT_TRUE(result["sensors"][0]["held"].as<bool>());
   EXPECT_LT((camera.translation() - Eigen::Vector3d(given[0], given[1], given[2])).norm(), 1e-6);
-  EXPECT_LT(vocal::rotationAngle(poseOf({given[0], given[1], given[2]}, {given[3], given[4], given[5], given[6]}).inverse() * camera), 1e-6);
+  const Eigen::Quaterniond given_rotation(given[6], given[3], given[4], given[5]);
+  EXPECT_LT(vocal::rotationAngle(Eigen::Isometry3d(given_rotation).inverse() * camera), 1e-6);
   EXPECT_TRUE(result["joints"][0]["solved"].as<bool>());
   EXPECT_NEAR(result["joints"][0]["offset"].as<double>(), truth["joints"][0]["offset"].as<double>(), 0.0005);
   for (std::size_t s = 1; s < result["sensors"].size(); ++s) {
     const YAML::Node sensor = result["sensors"][s];
     const std::string name = sensor["name"].as<std::string>();
     const YAML::Node true_pose = truth["sensors"][name]["pose"];
-    const Eigen::Isometry3d error =
-        poseOf(true_pose["translation"].as<std::vector<double>>(), true_pose["rotation"].as<std::vector<double>>()).inverse() * resultPose(sensor);
+    const Eigen::Isometry3d error = yamlPose(true_pose).inverse() * yamlPose(sensor);
     const double metres = error.translation().norm(), radians = vocal::rotationAngle(error);
     std::printf("%s in arm_base: %.2f mm / %.2f mrad from the truth\n", name.c_str(), 1000 * metres, 1000 * radians);
     const auto sd = sensor["translation_stddev"].as<std::vector<double>>();
@@ -999,12 +993,8 @@ std::pair<double, double> forearmCameraThroughCalibrateRig(const std::string& fo
   const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml")["sensors"][1];
   EXPECT_EQ(result["name"].as<std::string>(), "forearm_camera");
   EXPECT_EQ(result["parent"].as<std::string>(), "forearm_link");
-  const auto poseOf = [](const YAML::Node& n) {
-    const std::vector<double> t = n["translation"].as<std::vector<double>>(), q = n["rotation"].as<std::vector<double>>();
-    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
-  };
-  const Eigen::Isometry3d expected = poseOf(YAML::LoadFile(folder + "/ground_truth.yaml")["sensors"]["forearm_camera"]["pose"]);
-  const Eigen::Isometry3d found = poseOf(result);
+  const Eigen::Isometry3d expected = yamlPose(YAML::LoadFile(folder + "/ground_truth.yaml")["sensors"]["forearm_camera"]["pose"]);
+  const Eigen::Isometry3d found = yamlPose(result);
   return {(found.translation() - expected.translation()).norm(), vocal::rotationAngle(expected.inverse() * found)};
 }
 }  // namespace
@@ -1073,10 +1063,6 @@ TEST(JointedCalibration, HeadAndArmThroughCalibrateRig) {
   const vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
   const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
   const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
-  const auto poseOf = [](const YAML::Node& n) {
-    const std::vector<double> t = n["translation"].as<std::vector<double>>(), q = n["rotation"].as<std::vector<double>>();
-    return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
-  };
   std::map<std::string, double> true_offsets, solved_offsets;
   for (const YAML::Node& j : truth["joints"]) true_offsets[j["name"].as<std::string>()] = j["offset"].as<double>();
   for (const YAML::Node& j : result["joints"]) solved_offsets[j["name"].as<std::string>()] = j["offset"].as<double>();
@@ -1088,7 +1074,7 @@ TEST(JointedCalibration, HeadAndArmThroughCalibrateRig) {
   }
   ASSERT_EQ(result["sensors"][1]["name"].as<std::string>(), "head_camera");
   EXPECT_EQ(result["sensors"][1]["parent"].as<std::string>(), "head_tilt_link");
-  const Eigen::Isometry3d true_mount = poseOf(truth["sensors"]["head_camera"]["pose"]), mount = poseOf(result["sensors"][1]);
+  const Eigen::Isometry3d true_mount = yamlPose(truth["sensors"]["head_camera"]["pose"]), mount = yamlPose(result["sensors"][1]);
   double worst_t = 0.0, worst_r = 0.0;
   ASSERT_EQ(truth["head_angles"].size(), 12u);
   for (const YAML::Node& at : truth["head_angles"]) {
@@ -1100,7 +1086,7 @@ TEST(JointedCalibration, HeadAndArmThroughCalibrateRig) {
     worst_t = std::max(worst_t, (found.translation() - expected.translation()).norm());
     worst_r = std::max(worst_r, vocal::rotationAngle(expected.inverse() * found));
   }
-  const Eigen::Isometry3d post = poseOf(result["sensors"][0]), true_post = poseOf(truth["sensors"]["arm_camera"]["pose"]);
+  const Eigen::Isometry3d post = yamlPose(result["sensors"][0]), true_post = yamlPose(truth["sensors"]["arm_camera"]["pose"]);
   const double post_t = (post.translation() - true_post.translation()).norm(), post_r = vocal::rotationAngle(true_post.inverse() * post);
   std::printf("head and arm through calibrate_rig: the head camera in arm_base within %.2f mm / %.2f mrad at the still poses, the post "
               "camera %.2f mm / %.2f mrad\n", 1000 * worst_t, 1000 * worst_r, 1000 * post_t, 1000 * post_r);

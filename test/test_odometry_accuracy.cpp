@@ -425,10 +425,12 @@ TEST(OdometryBadInput, ConfigErrorsNameTheSetting) {
 }
 
 namespace {
-// Every frame of a TUM sequence through `odometry`: the estimated trajectory, frames not trusted counted.
-vocal::Trajectory trackSequence(const vocal::TumSequence& sequence, vocal::IcpDvoOdometry* odometry, int* untrusted) {
+// Every frame of a TUM sequence (or every `every`-th) through `odometry`: the estimated trajectory,
+// frames not trusted counted.
+vocal::Trajectory trackSequence(const vocal::TumSequence& sequence, vocal::IcpDvoOdometry* odometry, int* untrusted,
+                                std::size_t every = 1) {
   vocal::Trajectory estimate;
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
+  for (std::size_t i = 0; i < sequence.size(); i += every) {
     const vocal::RgbdFrame frame = sequence.loadFrame(i);
     const vocal::OdometryResult result = odometry->track(frame);
     *untrusted += !result.quality.trusted;
@@ -513,14 +515,8 @@ TEST(OdometryRealData, EverySecondAndThirdFrameAloneStillTrackEveryRealSequence)
   for (const auto& [name, sequence] : sequences) {
     for (const std::size_t every : {2u, 3u}) {
       vocal::IcpDvoOdometry odometry(sequence.camera(), vocal::OdometryConfig{}, nullptr, sequence.lens());
-      vocal::Trajectory estimate;
       int untrusted = 0;
-      for (std::size_t i = 0; i < sequence.size(); i += every) {
-        const vocal::RgbdFrame frame = sequence.loadFrame(i);
-        const vocal::OdometryResult result = odometry.track(frame);
-        untrusted += !result.quality.trusted;
-        estimate.push_back({frame.stamp, result.pose});
-      }
+      const vocal::Trajectory estimate = trackSequence(sequence, &odometry, &untrusted, every);
       const double ate = vocal::computeAte(sequence.groundTruth(), estimate).rmse;
       std::cout << name << ", every " << every << " frames: ATE " << ate << " m, " << untrusted << " frames untrusted\n";
       EXPECT_EQ(untrusted, 0) << name << ", every " << every;

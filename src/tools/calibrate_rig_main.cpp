@@ -78,9 +78,9 @@ std::vector<std::map<std::string, int>> refusedByCheck(const vocal::RigDescripti
 
 // What a user checks a calibration by: where extraction found no board and why, and how well each
 // still pose's observations fit the result.
-void printReport(const vocal::RigDescription& rig, const vocal::CalibrationSession& session,
+// `refused`: refusedByCheck's.
+void printReport(const vocal::RigDescription& rig, const std::vector<std::map<std::string, int>>& refused,
                  const std::vector<vocal::TargetObservation>& associated, const vocal::CalibrationResult& result, int poses) {
-  const std::vector<std::map<std::string, int>> refused = refusedByCheck(rig, session);
   std::printf("messages without the target, by the check that refused the most board-like segment:\n");
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     if (rig.sensors[s].spec.type == vocal::SensorType::kCamera) continue;
@@ -432,7 +432,7 @@ int run(const vocal::CommandLine& args) {
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", rig.sensors[s].spec.name.c_str(), result.sensors[s].distrust.c_str());
   }
-  if (args.has("report")) printReport(rig, session, associated, result, poses);
+  if (args.has("report")) printReport(rig, refused, associated, result, poses);
   const std::vector<vocal::SensorSpec> specs = rig.specs();
   const std::vector<std::string> withheld = vocal::withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr,
                                                                    tolerance, args.has("publish-uncertain"));

@@ -330,10 +330,12 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const double widest_gap = std::max(spacing.horizontal, spacing.vertical);
   const auto larger_than_board = [&](const Shape& s) { return s.size[0] > diagonal + options.size_slack || s.size[1] > longest + options.size_slack; };
 
-  // A piece no room surface is (a few board lengths across) whose parts narrower than half the board's
-  // shorter side, opened away, leave a board-sized one: the board on its stand's posts.
+  // Whether a piece may be a board with thin things in its plane: at most 2.5 m long and 8 board areas
+  // (a board on posts down to the floor, an arm holding it), not a room surface.
+  const auto mayHoldBoardOnThinParts = [&](const Shape& shape) { return shape.size[0] <= 2.5 && shape.area <= 8.0 * board_area; };
+  // ... and whose parts narrower than half the board's shorter side, opened away, leave a board-sized one.
   const auto boardOnThinParts = [&](const Indices& piece, const Shape& shape) {
-    if (shape.size[0] > 2.5 || shape.area > 8.0 * board_area) return false;
+    if (!mayHoldBoardOnThinParts(shape)) return false;
     const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
     if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return false;
     const Shape rest = shapeOf(*cloud, opened);
@@ -463,15 +465,17 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
       if (const auto cut = cutOut(piece, shape)) return take(cut->first, cut->second, false);
     }
     if (judged.larger) {
-      // The board with thin things in its plane (a stand's posts, an arm), however long: what is left
-      // without them, when that is the board.
-      const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
-      if (static_cast<int>(opened.size()) >= options.min_points && opened.size() < piece.size()) {
-        const Judged board = judge(opened, std::log(static_cast<double>(piece.size()) / opened.size()));
-        if (board.why.empty()) return take(opened, board, false);
+      // The board with thin things in its plane (a stand's posts, an arm): what is left without them,
+      // when that is the board. Else a surface for the background model.
+      if (mayHoldBoardOnThinParts(shape)) {
+        const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
+        if (static_cast<int>(opened.size()) >= options.min_points && opened.size() < piece.size()) {
+          const Judged board = judge(opened, std::log(static_cast<double>(piece.size()) / opened.size()));
+          if (board.why.empty()) return take(opened, board, false);
+        }
       }
+      search.surfaces.push_back(shape.patch);
     }
-    if (judged.larger) search.surfaces.push_back(shape.patch);
     keepBestRejection(judged.mismatch, judged.check, judged.why, &best_rejected, &search);
   };
   for (const Indices& object : coarseClustersOf(cloud, remaining, room_gap, options.min_points)) {
