@@ -16,6 +16,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "vocal/calibration/association/clock_offsets.h"
 #include "vocal/calibration/association/still_target_association.h"
 #include "vocal/calibration/extraction/target_extraction.h"
 #include "vocal/calibration/output/calibration_output.h"
@@ -940,6 +941,76 @@ TEST(StillTargetAssociation, JitteringSensorsKeepTheirStillPoses) {
   EXPECT_LT(posesPerSensor(vocal::associateStillTarget(specs, recorded, fixed), 2)[1].size(), 8u);
 }
 
+namespace {
+// An evenly paced session (a pose each second, held 0.6 s, messages at 10 Hz) of a board at random
+// places: the reference sees it at every pose but `reference_misses`, the other sensor (turned and moved
+// against the reference) only at `seen`, its stamps `late` seconds late.
+std::vector<vocal::TimedObservation> evenlyPacedSession(int poses, const std::set<int>& reference_misses, const std::set<int>& seen,
+                                                        double late) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> place(-0.6, 0.6);
+  std::vector<Eigen::Isometry3d> board(poses + 1);
+  for (Eigen::Isometry3d& pose : board) {
+    pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(place(rng), 0.5 * place(rng), 2.5 + place(rng));
+    pose.linear() = Eigen::AngleAxisd(0.4 * place(rng), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  }
+  Eigen::Isometry3d sensor_from_reference = Eigen::Isometry3d::Identity();
+  sensor_from_reference.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  sensor_from_reference.translation() = Eigen::Vector3d(0.2, -0.1, 0.05);
+  std::vector<vocal::TimedObservation> recorded;
+  for (int s = 0; s < 2; ++s) {
+    for (double t = 0.013 * s; t < poses; t += 0.1) {
+      const int k = static_cast<int>(t);
+      if (s == 0 ? reference_misses.count(k) > 0 : seen.count(k) == 0) continue;
+      const double moved = std::max(0.0, (t - k - 0.6) / 0.4);
+      const Eigen::Isometry3d target = vocal::interpolatePose(board[k], board[k + 1], moved);
+      vocal::TimedObservation o;
+      o.sensor = s;
+      o.stamp = t + (s == 1 ? late : 0.0);
+      for (const Eigen::Vector3d& p : boardGrid(0.0, 0.0)) o.points.push_back((s == 1 ? sensor_from_reference : Eigen::Isometry3d::Identity()) * target * p);
+      recorded.push_back(std::move(o));
+    }
+  }
+  return recorded;
+}
+}  // namespace
+
+// A sensor that saw the board at only some poses of an evenly paced session, where the reference missed
+// two: laid one pose earlier its still runs cover more of the reference's (6 against 4 as stamped), which
+// once was taken for its clock running 1 s late. The board's moves between those poses are not the
+// reference's: refused, said. The same sensor with its stamps truly 1 s late, which as stamped lays 6
+// runs over the wrong poses and shifted 4 over the right ones, is corrected.
+TEST(ClockOffsets, ARunLaidOverTheNeighbouringPosesIsNoClock) {
+  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
+                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  const std::set<int> reference_misses{4, 8}, seen{1, 2, 4, 6, 8, 10};
+  const std::vector<vocal::ClockOffset> stamped = vocal::estimateClockOffsets(specs, evenlyPacedSession(12, reference_misses, seen, 0.0), 0);
+  ASSERT_EQ(stamped.size(), 1u);
+  const std::string said = vocal::describeClockOffset(stamped[0], specs);
+  EXPECT_FALSE(stamped[0].applied) << said;
+  EXPECT_EQ(stamped[0].runs_unshifted, 4);
+  EXPECT_EQ(stamped[0].runs, 4);
+  EXPECT_LT(std::abs(stamped[0].late), 0.1) << said;
+  EXPECT_LT(stamped[0].distance_misfit_stamped, 0.005);
+  EXPECT_EQ(said.rfind("sensor 'lidar0' stamps ", 0), 0u) << said;
+  EXPECT_NE(said.find("): stamps 1.0"), std::string::npos) << said;
+  EXPECT_NE(said.find(" s late would lay 6 of its still runs over the reference's, but the board's moves between their poses "
+                      "disagree with the reference's by "),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find(" mm: the wrong poses, not taken"), std::string::npos) << said;
+
+  const std::vector<vocal::ClockOffset> late = vocal::estimateClockOffsets(specs, evenlyPacedSession(12, reference_misses, seen, 1.0), 0);
+  ASSERT_EQ(late.size(), 1u);
+  EXPECT_TRUE(late[0].applied) << vocal::describeClockOffset(late[0], specs);
+  EXPECT_NEAR(late[0].late, 1.0, 0.06);  // from the runs' ends alone (no consecutive poses seen): half a message period
+  EXPECT_EQ(late[0].runs, 4);
+  EXPECT_EQ(late[0].runs_unshifted, 6);  // over the wrong poses
+  EXPECT_LT(late[0].distance_misfit, 0.005);
+  EXPECT_GT(late[0].distance_misfit_stamped, 0.1);
+}
+
 TEST(Calibration, DisconnectedSensorGraphIsNamed) {
   vocal::RigSimulationOptions options;
   options.target_poses = 12;
@@ -1048,6 +1119,59 @@ TEST(TargetExtraction, FindsTheTargetAmongFloorAndWall) {
   for (double x = 0.5; x < 4.5; x += 0.05)
     for (double y = -2.0; y < 2.0; y += 0.05) floor_only.emplace_back(x, y, 0.0);
   EXPECT_TRUE(vocal::extractTargetPoints(floor_only, 0.9, 0.7).empty());
+}
+
+// A 16-ring lidar (2 degrees apart) before a 0.8 x 0.28 m board: at 4.5 m it falls on 2 rings, whose
+// two lines leave the board's tilt across them free, and is refused naming the rings; at 1.5 m, on 6, taken.
+TEST(TargetExtraction, ABoardOnTooFewOfALidarsRingsIsRefused) {
+  vocal::ScanSpacing spacing{0.2 * M_PI / 180.0, 2.0 * M_PI / 180.0};
+  for (int ring = 0; ring < 16; ++ring) spacing.rings.push_back((-15.0 + 2.0 * ring) * M_PI / 180.0);
+  const double width = 0.8, height = 0.28;
+  const auto boardAt = [&](double distance) {
+    std::vector<Eigen::Vector3d> cloud;
+    for (const double elevation : spacing.rings)
+      for (double azimuth = -M_PI / 4; azimuth < M_PI / 4; azimuth += spacing.horizontal) {
+        const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+        const Eigen::Vector3d hit = ray * (distance / ray.x());
+        if (std::abs(hit.y()) <= 0.5 * width && std::abs(hit.z()) <= 0.5 * height) cloud.push_back(hit);
+      }
+    return cloud;
+  };
+  const vocal::TargetSearch far = vocal::findTargetInCloud(boardAt(4.5), width, height, spacing);
+  EXPECT_TRUE(far.candidates.empty());
+  EXPECT_EQ(far.check, "too few rings");
+  EXPECT_NE(far.rejection.find(" m segment lies on 2 of the lidar's rings, under the 3 that fix a board's plane (hold the board nearer"),
+            std::string::npos)
+      << far.rejection;
+  const vocal::TargetSearch near = vocal::findTargetInCloud(boardAt(1.5), width, height, spacing);
+  ASSERT_FALSE(near.candidates.empty()) << near.rejection;
+  EXPECT_GT(near.candidates.front().points.size(), 200u);
+}
+
+// A letter-size board 1.5 m before a 16-ring lidar, on a stand whose two 4 cm posts stand 3 cm behind it
+// (within the plane's threshold) from 5 cm above its lower edge to the floor: the rings below the board
+// cross only the posts, and are left out of it, which would else tilt its plane or make it "larger
+// than the board".
+TEST(TargetExtraction, TheRingsAcrossAStandsPostsAreLeftOutOfTheBoard) {
+  vocal::ScanSpacing spacing{0.2 * M_PI / 180.0, 2.0 * M_PI / 180.0};
+  for (int ring = 0; ring < 16; ++ring) spacing.rings.push_back((-15.0 + 2.0 * ring) * M_PI / 180.0);
+  const double width = 0.216, height = 0.279, distance = 1.5;
+  std::vector<Eigen::Vector3d> cloud;
+  for (const double elevation : spacing.rings)
+    for (double azimuth = -M_PI / 4; azimuth < M_PI / 4; azimuth += spacing.horizontal) {
+      const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      const Eigen::Vector3d on_board = ray * (distance / ray.x()), on_posts = ray * ((distance + 0.03) / ray.x());
+      if (std::abs(on_board.y()) <= 0.5 * width && std::abs(on_board.z()) <= 0.5 * height) {
+        cloud.push_back(on_board);
+      } else if (std::abs(std::abs(on_posts.y()) - 0.028) <= 0.02 && on_posts.z() <= -0.5 * height + 0.05 && on_posts.z() >= -1.0) {
+        cloud.push_back(on_posts);
+      }
+    }
+  const vocal::TargetSearch search = vocal::findTargetInCloud(cloud, width, height, spacing);
+  ASSERT_FALSE(search.candidates.empty()) << search.rejection;
+  const std::vector<Eigen::Vector3d>& board = search.candidates.front().points;
+  EXPECT_GE(board.size(), 90u);  // 246 returns on it, less the 4 cm margin along its outline
+  for (const Eigen::Vector3d& p : board) ASSERT_NEAR(p.x(), distance, 1e-6) << "a post's return at height " << p.z();
 }
 
 TEST(TargetExtraction, FindsTheTargetSegmentInAFullScan) {

@@ -375,7 +375,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
         if (!rings.warning.empty()) summary << "; warning: " << specs[s].name << ": " << rings.warning;
       }
       for (const ClockOffset& clock : session_->clockOffsets())
-        if (clock.applied) summary << "; clock: " << describeClockOffset(clock, specs);
+        if (clock.applied || !clock.refused.empty()) summary << "; clock: " << describeClockOffset(clock, specs);
       for (const ObservabilityWarning& w : result.warnings) summary << "; warning: " << w.message;
       // Sensors behind joints: each joint's offset, or why it was held, and which joint needs more motion.
       for (std::size_t j = 0; j < result.joints.size(); ++j) {

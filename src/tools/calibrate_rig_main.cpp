@@ -379,7 +379,7 @@ int run(const vocal::CommandLine& args) {
   std::printf("%d still target poses\n", poses);
   // Applied offsets always; with --report the others' too (how far each sensor's runs lie from the reference's).
   for (const vocal::ClockOffset& clock : session.clockOffsets())
-    if (clock.applied || args.has("report")) std::printf("clock: %s\n", vocal::describeClockOffset(clock, rig.specs()).c_str());
+    if (clock.applied || !clock.refused.empty() || args.has("report")) std::printf("clock: %s\n", vocal::describeClockOffset(clock, rig.specs()).c_str());
   const std::vector<vocal::SensorDataCounts> counts = session.counts();
   const std::vector<std::map<std::string, int>> refused = refusedByCheck(rig, session);
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "vocal/calibration/point_statistics.h"
 
@@ -129,6 +130,41 @@ bool refineByMoves(const std::vector<StillSpan>& shifted, const std::vector<Stil
   *sigma = 1.4826 * median(deviations) / std::sqrt(static_cast<double>(differences.size()));
   return true;
 }
+
+// Each run's board centre (the median over its span), where the sensor saw the board in it.
+std::vector<std::optional<Eigen::Vector3d>> runCentres(const std::vector<StillSpan>& spans, const CentreTrack& track) {
+  std::vector<std::optional<Eigen::Vector3d>> centres;
+  for (const StillSpan& span : spans) {
+    Eigen::Vector3d centre;
+    centres.push_back(track.stillCentre(span.begin, span.end, &centre) ? std::optional<Eigen::Vector3d>(centre) : std::nullopt);
+  }
+  return centres;
+}
+
+// How far the distances between the board's centres at the matched runs' poses, pair by pair, differ
+// between the two sensors (metres, the median): a distance is the same in every sensor's frame, so runs
+// laid over the wrong poses (shifted by whole poses in an evenly paced session) show in it. NaN with
+// fewer than three pairs.
+double centreDistanceMisfit(const RunMatch& match, const std::vector<std::optional<Eigen::Vector3d>>& shifted,
+                            const std::vector<std::optional<Eigen::Vector3d>>& over) {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> centres;
+  for (std::size_t i = 0; i < shifted.size(); ++i) {
+    const int j = match.matched[i];
+    if (j >= 0 && shifted[i] && over[j]) centres.emplace_back(*shifted[i], *over[j]);
+  }
+  std::vector<double> misfits;
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    for (std::size_t k = i + 1; k < centres.size(); ++k)
+      misfits.push_back(std::abs((centres[i].first - centres[k].first).norm() - (centres[i].second - centres[k].second).norm()));
+  return misfits.size() < 3 ? std::numeric_limits<double>::quiet_NaN() : median(misfits);
+}
+
+// A shift's association of the sensor's runs with the reference's.
+struct ShiftHypothesis {
+  double shift = 0.0;
+  RunMatch match;
+  double distance_misfit = 0.0;  // centreDistanceMisfit's
+};
 }  // namespace
 
 std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sensors, const std::vector<TimedObservation>& observations,
@@ -143,15 +179,23 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
   std::vector<ClockOffset> offsets;
   const std::vector<StillSpan>& over = runs[reference];
   const std::vector<CentreTrack> tracks = centreTracks(sensors.size(), observations);
+  const std::vector<std::optional<Eigen::Vector3d>> over_centres = runCentres(over, tracks[reference]);
   for (std::size_t s = 0; s < sensors.size(); ++s) {
     if (static_cast<int>(s) == reference || runs[s].empty()) continue;
     ClockOffset offset;
     offset.sensor = static_cast<int>(s);
     offset.reference = reference;
-    const RunMatch unshifted = matchRuns(runs[s], over, 0.0);
+    const std::vector<std::optional<Eigen::Vector3d>> centres = runCentres(runs[s], tracks[s]);
+    const auto hypothesis = [&](double shift) {
+      ShiftHypothesis h{shift, matchRuns(runs[s], over, shift), 0.0};
+      h.distance_misfit = centreDistanceMisfit(h.match, centres, over_centres);
+      return h;
+    };
+    const ShiftHypothesis stamped = hypothesis(0.0);
+    const RunMatch& unshifted = stamped.match;
     offset.runs_unshifted = unshifted.count;
-    // Every shift that lays a start on a start or an end on an end: the one that lays the most runs over
-    // the reference's, the closest fit among equals.
+    offset.distance_misfit_stamped = stamped.distance_misfit;
+    // Every shift that lays a start on a start or an end on an end.
     // (To 10 ms, once each: a long session's thousands of run pairs give at most a thousand shifts.)
     std::vector<double> shifts{0.0};
     for (const StillSpan& a : runs[s])
@@ -160,12 +204,43 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
           if (std::abs(shift) <= options.max_offset) shifts.push_back(0.01 * std::round(100.0 * shift));
     std::sort(shifts.begin(), shifts.end());
     shifts.erase(std::unique(shifts.begin(), shifts.end()), shifts.end());
-    double best_shift = 0.0;
-    RunMatch best = unshifted;
+    std::vector<ShiftHypothesis> hypotheses;
+    double least_misfit = std::numeric_limits<double>::infinity();
+    // Measured over four runs or more (six distances): three give a median of three, as likely small by chance.
+    constexpr int kLeastWitnessRuns = 4;
     for (const double shift : shifts) {
-      RunMatch match = matchRuns(runs[s], over, shift);
-      if (match.count > best.count || (match.count == best.count && match.misfit < best.misfit)) best = std::move(match), best_shift = shift;
+      hypotheses.push_back(hypothesis(shift));
+      const ShiftHypothesis& h = hypotheses.back();
+      if (h.match.count >= kLeastWitnessRuns && h.distance_misfit < least_misfit) least_misfit = h.distance_misfit;
     }
+    // In an evenly paced session a shift by whole poses lays runs over the neighbouring poses' (a sensor
+    // that found the board in only some, or something else in others, may then lay more of them over): the
+    // board's moves between those poses then disagree with the reference's far more than the right
+    // association's (measured: 107 mm against 16 mm; a true offset's 20 mm, a 2D laser's line centres 40 mm).
+    constexpr double kMisfitGrowth = 2.0, kMisfitSlack = 0.02;  // -, metres
+    const auto wrongPoses = [&](const ShiftHypothesis& h) { return h.distance_misfit > kMisfitGrowth * least_misfit + kMisfitSlack; };
+    // The shift that lays the most runs over the reference's, the closest fit among equals, of those whose
+    // poses are the reference's.
+    const auto better = [](const ShiftHypothesis& a, const ShiftHypothesis& b) {
+      return a.match.count > b.match.count || (a.match.count == b.match.count && a.match.misfit < b.match.misfit);
+    };
+    const ShiftHypothesis* chosen = wrongPoses(stamped) ? nullptr : &stamped;
+    const ShiftHypothesis* most = &stamped;
+    for (const ShiftHypothesis& h : hypotheses) {
+      if (better(h, *most)) most = &h;
+      if (!wrongPoses(h) && (!chosen || better(h, *chosen))) chosen = &h;
+    }
+    if (!chosen) chosen = most;
+    if (most != chosen && most->match.count > chosen->match.count && std::abs(most->shift) >= options.least_offset) {
+      char why[320];
+      std::snprintf(why, sizeof(why),
+                    "stamps %.2f s %s would lay %d of its still runs over the reference's, but the board's moves between "
+                    "their poses disagree with the reference's by %.0f mm: the wrong poses, not taken",
+                    std::abs(most->shift), most->shift <= 0.0 ? "late" : "early", most->match.count, 1000 * most->distance_misfit);
+      offset.refused = why;
+    }
+    double best_shift = chosen->shift;
+    RunMatch best = chosen->match;
     bool runs_shifted = false;
     if (best.count > 0) {
       best_shift = refinedShift(best);
@@ -186,10 +261,12 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
     }
     offset.late = -best_shift;
     offset.runs = best.count;
-    // Applied only where the stamps as given lose still poses: an offset association tolerates is left
-    // alone, and a sensor moving on its own (on a head the rig does not describe), whose runs start and end
-    // out of step with the board's - its own moves timed alike - is not taken for a clock.
-    offset.applied = runs_shifted && best.count >= options.least_runs && best.count > unshifted.count &&
+    offset.distance_misfit = centreDistanceMisfit(matchRuns(runs[s], over, best_shift), centres, over_centres);
+    // Applied only where the stamps as given lose still poses, or lay runs over the wrong ones: an offset
+    // association tolerates is left alone, and a sensor moving on its own (on a head the rig does not
+    // describe), whose runs start and end out of step with the board's - its own moves timed alike - is
+    // not taken for a clock.
+    offset.applied = runs_shifted && best.count >= options.least_runs && (best.count > unshifted.count || wrongPoses(stamped)) &&
                      std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
     offsets.push_back(offset);
   }
@@ -206,14 +283,13 @@ void applyClockOffsets(const std::vector<ClockOffset>& offsets, std::vector<Time
 
 std::string describeClockOffset(const ClockOffset& offset, const std::vector<SensorSpec>& sensors) {
   char line[400];
-  std::snprintf(line, sizeof(line),
-                "sensor '%s' stamps %.3f s %s against '%s' (%d of its still runs over the reference's, %d as stamped; +-%.3f s)%s",
+  std::snprintf(line, sizeof(line), "sensor '%s' stamps %.3f s %s against '%s' (%d of its still runs over the reference's, %d as stamped; +-%.3f s)",
                 sensors[offset.sensor].name.c_str(), std::abs(offset.late), offset.late >= 0.0 ? "late" : "early",
-                sensors[offset.reference].name.c_str(), offset.runs, offset.runs_unshifted, offset.sigma,
-                offset.applied ? ": its stamps are corrected before association (is its clock synchronised? PTP, chrony, the "
-                                 "driver's time source)"
-                               : "");
-  return line;
+                sensors[offset.reference].name.c_str(), offset.runs, offset.runs_unshifted, offset.sigma);
+  std::string text = line;
+  if (offset.applied) text += ": its stamps are corrected before association (is its clock synchronised? PTP, chrony, the driver's time source)";
+  if (!offset.refused.empty()) text += (offset.applied ? "; " : ": ") + offset.refused;
+  return text;
 }
 
 }  // namespace vocal

@@ -27,7 +27,16 @@ struct ClockOffset {
   double sigma = 0.0;      // standard error, seconds
   int runs = 0;            // its still runs laid over the reference's at that offset ...
   int runs_unshifted = 0;  // ... and as stamped
-  bool applied = false;    // beyond least_offset and three sigmas, and laying more runs over than as stamped
+  bool applied = false;    // beyond least_offset and three sigmas, and laying more runs over than as stamped (or
+                           // the stamps lay them over the wrong poses)
+  // Metres, median over pairs of matched runs: how far the distances between the board's centres at
+  // their poses differ from the reference's at the offset, and as stamped (NaN: under three pairs). A
+  // distance is the same in every sensor's frame: runs laid over the wrong poses break it.
+  double distance_misfit = 0.0;
+  double distance_misfit_stamped = 0.0;
+  // A shift that lays more runs over the reference's than the one taken, but over the wrong poses (the
+  // board's moves between them disagree), in words; empty: none.
+  std::string refused;
 };
 
 // One entry per sensor with still runs other than the reference (the rig's reference sensor where it has
@@ -40,7 +49,8 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
 void applyClockOffsets(const std::vector<ClockOffset>& offsets, std::vector<TimedObservation>* observations);
 
 // An applied offset in words for the user: "sensor 'lidar0' stamps 1.200 s late against 'rgbd0' (18 of
-// its still runs over the reference's, 2 as stamped; +-0.004 s): its stamps are corrected before association".
+// its still runs over the reference's, 2 as stamped; +-0.004 s): its stamps are corrected before association",
+// and a shift refused as laying the runs over the wrong poses.
 std::string describeClockOffset(const ClockOffset& offset, const std::vector<SensorSpec>& sensors);
 
 }  // namespace vocal

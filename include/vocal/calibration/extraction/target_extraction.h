@@ -73,6 +73,9 @@ struct TargetExtractionOptions {
   double max_whole_area_fraction = 1.2;
   double min_density_fraction = 0.35;  // of the points the spacing predicts on the segment's own area
   double max_count_fraction = 2.5;     // of the points it predicts on the whole board
+  // A spinning lidar's segment on fewer rings is no board: two rings leave the plane's tilt across them
+  // to a few centimetres of height, one none (a small or far board; hold it nearer).
+  int min_rings = 3;
   double edge_margin = 0.04;  // metres along the segment's outline left out of the points it gives (hands, mixed pixels)
   int min_points = 30;                 // 3D; a 2D segment needs 10 (RANSAC is PCL's, seeded with a constant)
   std::optional<CropBox> crop_box;
@@ -88,7 +91,7 @@ struct TargetSearch {
   std::vector<TargetCandidate> candidates;  // board-like segments, least mismatch first (then most points)
   std::string rejection;  // when there are none: why the most board-like segment was not taken
   std::string check;      // ... which check refused it: crop box, no segment, floor or wall, larger than the board,
-                          // smaller than the board, too few points, too many points
+                          // too few rings, smaller than the board, too few points, too many points
   // Planes larger than the board (floor, walls, large furniture; a 2D scan's long runs): most of the
   // time they cover what becomes a board-sized segment once someone stands in front of them.
   std::vector<SurfacePatch> surfaces;
