@@ -324,8 +324,9 @@ int ringsUnder(const Cloud& cloud, const Indices& piece, const std::vector<doubl
 // (gaps of over three beam spacings left out): a stand's posts or legs just behind a small board lie
 // within the plane's threshold of it, and on a spinning lidar they are whole rings across the posts'
 // width below the board, which tilt its plane. The piece as it is when fewer than three rings would be
-// left. (Bridging wider gaps, as a board's absorbing dark squares leave, took other segments for the
-// board on the simulated stand: not done.)
+// left. (Bridging wider gaps, as a board's absorbing dark squares leave, also bridged the posts to each
+// other and to the stand's feet: their rings passed as wide, and the room search took board and posts
+// for a wall in a third of the messages. Not done.)
 Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const ScanSpacing& spacing, double least_cover) {
   std::map<int, std::vector<std::pair<double, int>>> by_ring;  // ring -> (azimuth, index)
   for (int i : piece) {
