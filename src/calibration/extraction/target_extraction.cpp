@@ -339,8 +339,9 @@ Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const Sc
     std::sort(points.begin(), points.end());
     double covered = 0.0;
     for (std::size_t k = 1; k < points.size(); ++k) {
-      const double gap = (cloud[points[k - 1].second].getVector3fMap() - cloud[points[k].second].getVector3fMap()).norm();
-      if (gap <= 3.0 * spacing.horizontal * cloud[points[k].second].getVector3fMap().norm()) covered += gap;
+      const Eigen::Vector3f here = cloud[points[k].second].getVector3fMap();
+      const double gap = (cloud[points[k - 1].second].getVector3fMap() - here).norm();
+      if (gap <= 3.0 * spacing.horizontal * here.norm()) covered += gap;
     }
     cover.emplace_back(ring, covered);
   }
@@ -386,14 +387,21 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   // Whether a piece may be a board with thin things in its plane: at most 2.5 m long and 8 board areas
   // (a board on posts down to the floor, an arm holding it), not a room surface.
   const auto mayHoldBoardOnThinParts = [&](const Shape& shape) { return shape.size[0] <= 2.5 && shape.area <= 8.0 * board_area; };
-  // ... and whose parts narrower than half the board's shorter side, opened away, leave a board-sized one.
-  const auto boardOnThinParts = [&](const Indices& piece, const Shape& shape) {
-    if (!mayHoldBoardOnThinParts(shape)) return false;
+  // Such a piece without its thin things: opened in its plane, or, with too few returns across a post to
+  // open it away, without a spinning lidar's rings across the posts only. None when nothing went or too
+  // little is left.
+  const auto withoutThinThings = [&](const Indices& piece, const Shape& shape) -> Indices {
+    if (!mayHoldBoardOnThinParts(shape)) return {};
     Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
-    // Too few returns across a post to open it away: a spinning lidar's rings across the posts only.
     if ((opened.empty() || opened.size() == piece.size()) && !spacing.rings.empty())
       opened = withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest);
-    if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return false;
+    if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return {};
+    return opened;
+  };
+  // ... and whether what is left is board-sized.
+  const auto boardOnThinParts = [&](const Indices& piece, const Shape& shape) {
+    const Indices opened = withoutThinThings(piece, shape);
+    if (opened.empty()) return false;
     const Shape rest = shapeOf(*cloud, opened);
     return !larger_than_board(rest) && rest.area >= options.min_area_fraction * board_area && rest.area <= options.max_area_fraction * board_area;
   };
@@ -528,12 +536,9 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
     if (judged.larger) {
       // The board with thin things in its plane (a stand's posts, an arm): what is left without them,
       // when that is the board. Else a surface for the background model.
-      if (mayHoldBoardOnThinParts(shape)) {
-        const Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
-        if (static_cast<int>(opened.size()) >= options.min_points && opened.size() < piece.size()) {
-          const Judged board = judge(opened, std::log(static_cast<double>(piece.size()) / opened.size()));
-          if (board.why.empty()) return take(opened, board, false);
-        }
+      if (const Indices opened = withoutThinThings(piece, shape); !opened.empty()) {
+        const Judged board = judge(opened, std::log(static_cast<double>(piece.size()) / opened.size()));
+        if (board.why.empty()) return take(opened, board, false);
       }
       search.surfaces.push_back(shape.patch);
     }
