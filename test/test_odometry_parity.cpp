@@ -295,6 +295,30 @@ TEST(FastCpuParity, EveryThreadCountGivesTheSameMapsAndSystemsExactly) {
   }
 }
 
+// A backend told the frames will be tracked from level 1 on (a live stream keeping pace) leaves level 0's
+// maps out, and gives the coarser levels' maps and systems to the bit as one that built every level.
+TEST(FastCpuParity, FramesBuiltForACoarserFinestLevelGiveTheSameCoarseSystems) {
+  const FramePair pair = renderPair(3, true);
+  vocal::FastCpuOdometryBackend full(pair.camera, withThreads(2)), coarse(pair.camera, withThreads(2));
+  coarse.setFinestLevel(1);
+  for (vocal::FastCpuOdometryBackend* backend : {&full, &coarse}) {
+    backend->pushFrame(pair.first, vocal::ReferenceUpdate::kPreviousFrame);
+    backend->pushFrame(pair.second, vocal::ReferenceUpdate::kPreviousFrame);
+  }
+  // Level 0's gradients are left as allocated (zero), not computed.
+  EXPECT_NE(coarse.current()[0].gradient_x, full.current()[0].gradient_x) << "level 0's maps were built all the same";
+  for (int level = 1; level < 3; ++level) {
+    vocal::NormalEquations icp[2], rgb[2];
+    full.trackingSystems(level, pair.first_from_second, 0.02, vocal::BrightnessTransfer{1.1f, -0.02f, 1000}, &icp[0], &rgb[0]);
+    coarse.trackingSystems(level, pair.first_from_second, 0.02, vocal::BrightnessTransfer{1.1f, -0.02f, 1000}, &icp[1], &rgb[1]);
+    ASSERT_GT(icp[0].count, 100.0);
+    EXPECT_EQ(icp[1].A, icp[0].A) << "level " << level;
+    EXPECT_EQ(icp[1].b, icp[0].b) << "level " << level;
+    EXPECT_EQ(rgb[1].A, rgb[0].A) << "level " << level;
+    EXPECT_EQ(rgb[1].count, rgb[0].count) << "level " << level;
+  }
+}
+
 // The whole estimator - rolling-shutter rectification, the brightness transfer, the pyramid, the solve -
 // tracks a sequence to the same poses, bit for bit, on 1, 2 and 4 threads.
 TEST(FastCpuParity, EveryThreadCountTracksTheSamePosesExactly) {

@@ -52,6 +52,7 @@
 #include "vocal/nodelets/parameter_yaml.h"
 #include "vocal/odometry/icp_dvo_odometry.h"
 #include "vocal/odometry/odometry_config_yaml.h"
+#include "vocal/odometry/resolution_governor.h"
 
 namespace vocal {
 
@@ -83,6 +84,7 @@ int severity(TrackingState state) {
 struct PendingFrame {
   ImageMsg::ConstPtr rgb, depth;
   CameraInfoMsg::ConstPtr info;
+  std::size_t received = 0;  // frames received by its arrival, itself included (the stream's count)
 };
 
 // Sums of the per-stage wall-clock times, reported as means per processed frame.
@@ -134,6 +136,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     } catch (const InputError& e) {
       setupError(e.what());
       return;
+    }
+    // Only a stream that skips frames has a pace to keep; every frame in order is tracked at full size.
+    if (skip_to_newest_ && config_.keep_pace_max_level > 0 && config_.levels > 1) {
+      governor_.emplace(std::min(config_.keep_pace_max_level, config_.levels - 1));
     }
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
@@ -354,15 +360,15 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   }
 
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth, const CameraInfoMsg::ConstPtr& info) {
-    ++frames_received_;
+    const std::size_t received = ++frames_received_;
     if (!skip_to_newest_) {
-      trackFrame({rgb, depth, info});  // every frame, in the synchroniser's thread
+      trackFrame({rgb, depth, info, received});  // every frame, in the synchroniser's thread
       return;
     }
     {
       std::lock_guard<std::mutex> lock(pending_mutex_);
       if (pending_.rgb) ++frames_skipped_;
-      pending_ = {rgb, depth, info};
+      pending_ = {rgb, depth, info, received};
     }
     pending_ready_.notify_one();
   }
@@ -383,8 +389,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   void trackFrame(const PendingFrame& frame) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto started = std::chrono::steady_clock::now();
+    const int level = governor_ ? governor_->level() : 0;
+    bool paced = false;
     try {
-      track(*frame.rgb, *frame.depth, *frame.info);
+      paced = track(*frame.rgb, *frame.depth, *frame.info, level);
     } catch (const std::exception& e) {
       // Bad input is counted and reported; it never reaches the manager.
       ++frames_dropped_;
@@ -392,10 +400,41 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       NODELET_WARN_STREAM_THROTTLE(5.0, "IcpDvoOdometry: frame dropped: " << e.what());
     }
     ++frames_processed_;
-    processing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    processing_seconds_ += seconds;
+    if (governor_ && !paced) governor_->sawFrame(frame.rgb->header.stamp.toSec(), frame.received);
+    if (governor_ && paced) {
+      governor_->tracked(level, seconds, frame.rgb->header.stamp.toSec(), frame.received);
+      // Coarser and finer apart, so that a failed try at full resolution is not hidden by its start.
+      if (governor_->level() > level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));
+      if (governor_->level() < level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));
+    }
   }
 
-  void track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info) {
+  // Why the next frames are tracked at `level` after `previous` (the governor's), for the log and the
+  // diagnostics.
+  std::string paceText(int level, int previous) const {
+    std::ostringstream text;
+    const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
+    text << std::fixed << std::setprecision(1) << "tracking at " << (width >> level) << "x" << (height >> level) << " (level "
+         << level << ")";
+    if (level > previous && !(governor_->secondsAt(previous) > 0.0)) {
+      text << " as the stream starts (its first frames are the slowest; " << (width >> previous) << "x" << (height >> previous)
+           << " is tried after " << ResolutionGovernor::kFirstProbeWaitFrames << " frames)";
+      return text.str();
+    }
+    text << (level > previous ? " to keep pace with the " : ": there is time again in the ")
+         << (governor_->period() > 0.0 ? 1.0 / governor_->period() : 0.0) << " Hz stream (" << (width >> previous) << "x"
+         << (height >> previous) << " took " << 1000.0 * governor_->secondsAt(previous) << " ms a frame against a budget of "
+         << 1000.0 * ResolutionGovernor::kDefaultBudgetShare * governor_->period() << " ms; keep_pace_max_level "
+         << config_.keep_pace_max_level << ")";
+    return text.str();
+  }
+
+  // `level`: the finest pyramid level to track at (the governor's choice). Returns whether the frame was
+  // tracked against another, what the governor times (a first frame only builds the estimator and the
+  // reference).
+  bool track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info, int level) {
     if (!setup_error_.empty()) throw InputError(setup_error_);
     auto clock = std::chrono::steady_clock::now();
     if (!last_stamp_.isZero() && rgb.header.stamp <= last_stamp_) {
@@ -454,7 +493,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     const std::optional<RotationPrior> gyro = gyroPrior(camera_frame, rgb.header.stamp);
     if (!imu_topic_.empty() && !last_stamp_.isZero()) ++(gyro ? gyro_priors_ : gyro_missing_);
     const std::vector<AccelerometerSample> accelerometer = accelerometerInCamera(camera_frame);
+    odometry_->setFinestLevel(level);
     const OdometryResult result = odometry_->track(frame, gyro ? &*gyro : nullptr, accelerometer.empty() ? nullptr : &accelerometer);
+    const bool paced = !result.first_frame;
     if (result.gravity_error_deg >= 0.0) gravity_error_deg_ = result.gravity_error_deg;
     if (gyro_) {
       if (result.state == TrackingState::kTracking && result.quality.trusted) {
@@ -528,7 +569,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       copyCovariance(twist_covariance, &odom.twist.covariance);
     }
     odom_pub_.publish(odom);
-    if (result.state == TrackingState::kLost) return;
+    if (result.state == TrackingState::kLost) return paced;
     if (publish_tf_) tf_broadcaster_.sendTransform(toTransformStamped(odom_from_base, odom_frame_id_, base_frame, rgb.header.stamp));
 
     geometry_msgs::PoseStamped stamped;
@@ -545,7 +586,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       path_stride_ *= 2;
     }
     if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
-    if (!trusted) return;
+    if (!trusted) return paced;
 
     // The map keeps growing while nobody watches, so a late rviz sees the whole run. It takes each new
     // keyframe (frame to frame: every fused_cloud_every-th tracked frame; consecutive frames overlap
@@ -567,6 +608,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       }
     }
     stage_sums_.clouds += lapMilliseconds(&clock);
+    return paced;
   }
 
   void publishFusedCloud() {
@@ -592,6 +634,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   // With mutex_ held.
   void reset() {
     if (odometry_) odometry_->reset();
+    if (governor_) governor_->reset();
     last_stamp_ = ros::Time();
     state_ = worst_since_report_ = TrackingState::kTracking;
     lost_frames_ = 0;
@@ -663,7 +706,12 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     } else if (!last_problem_.empty()) {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
-      status.summary(DiagnosticStatus::OK, trackingStateName(state_));
+      std::string summary = trackingStateName(state_);
+      if (governor_ && governor_->level() > 0 && odometry_) {
+        summary += " at " + std::to_string(odometry_->camera().width >> governor_->level()) + "x" +
+                   std::to_string(odometry_->camera().height >> governor_->level()) + " to keep pace with the stream";
+      }
+      status.summary(DiagnosticStatus::OK, summary);
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
     status.add("odom", odom_levelling_.empty() ? "no frame yet" : odom_levelling_);
@@ -695,6 +743,17 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("frames skipped", frames_skipped_.load());
     status.add("frames received per second (last report period)", period.received_hz);
     status.add("frames processed per second (last report period)", period.processed_hz);
+    if (governor_) {
+      // Frames tracked below the input's resolution to keep pace (keep_pace_max_level), per level.
+      std::ostringstream levels;
+      const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
+      for (std::size_t level = 0; level < governor_->framesAt().size(); ++level) {
+        levels << (level ? ", " : "") << (width >> level) << "x" << (height >> level) << ": " << governor_->framesAt()[level];
+      }
+      status.add("frames tracked at each resolution (keep_pace_max_level)", levels.str());
+      status.add("tracking at", governor_->level() == 0 ? std::string("the input's resolution")
+                                                         : paceText(governor_->level(), governor_->level() - 1));
+    }
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);
     status.add("frames predicted", frames_predicted_);
@@ -743,6 +802,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   ros::Time fused_map_stamp_, published_fused_map_stamp_;  // of the last frame added, and of the map last published
   OdometryConfig config_;
   std::string setup_error_;
+  // The finest level each frame is tracked at on a stream that skips frames (keep_pace_max_level > 0).
+  std::optional<ResolutionGovernor> governor_;
 
   // ROS plumbing.
   image_transport::SubscriberFilter rgb_sub_, depth_sub_;

@@ -31,7 +31,7 @@ void FastCpuOdometryBackend::pushFrame(const RgbdFrame& frame, ReferenceUpdate u
   // The old current frame becomes the reference and the old reference's buffers are reused, or the
   // reference stays and the current buffers are overwritten.
   if (update == ReferenceUpdate::kPreviousFrame) current_ ^= 1;
-  buildSoaFramePyramid(frame, camera_, config_, workers_, &frames_[current_], track_row_ != &trackRowPortable);
+  buildSoaFramePyramid(frame, camera_, config_, workers_, &frames_[current_], track_row_ != &trackRowPortable, finest_level_);
 }
 
 void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d& reference_from_current,

@@ -57,6 +57,18 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
                                       config_.depth_time_offset);
   if (config_.local_window_keyframes > 0) window_.emplace(config_.local_window_keyframes);
   if (config_.gravity_time_constant > 0.0 && !window_) gravity_.emplace(config_.gravity_time_constant);
+  residual_levels_.assign(config_.levels, 0.0);
+}
+
+void IcpDvoOdometry::setFinestLevel(int level) {
+  if (level < 0 || level >= config_.levels || config_.iterations[level] <= 0) {
+    std::ostringstream message;
+    message << "odometry: finest level " << level << " cannot be tracked (levels 0 to " << config_.levels - 1
+            << " with iterations: " << (level >= 0 && level < config_.levels ? "this one has none" : "out of range") << ")";
+    throw InputError(message.str());
+  }
+  finest_level_ = level;
+  backend_->setFinestLevel(level);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -69,7 +81,7 @@ void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
   active_from_last_ = velocity_ = Eigen::Isometry3d::Identity();
   velocity_seconds_ = 0.0;
   lost_frames_ = 0;
-  residual_level_ = 0.0;
+  residual_levels_.assign(config_.levels, 0.0);
   pose_ = published_pose_ = pose;
   unpublished_correction_ = Eigen::Isometry3d::Identity();
   if (window_) window_->clear();
@@ -173,9 +185,14 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
   if (!backend) backend = backend_.get();
   // The window's backend runs beside tracking: its loops on its own threads (if any), never on tracking's.
   WorkerPool* workers = backend == backend_.get() ? workers_ : backend->workers();
+  // The window's links, off the tracking path, are solved at the input's resolution.
+  const int finest = backend == backend_.get() ? finest_level_ : 0;
   const bool use_icp = config_.mode != OdometryMode::kRgb;
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   DenseSolve solve;
+  solve.quality.finest_level = finest;
+  solve.level_residual.assign(config_.levels, 0.0);
+  solve.level_inliers.assign(config_.levels, 0);
   Eigen::Isometry3d& T = solve.increment;
   T = start;
   double rgb_sigma = std::numeric_limits<double>::infinity();  // no robust weighting until measured
@@ -183,7 +200,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
   double last_count = 0.0;
   int steps = 0;
   BrightnessTransfer brightness;
-  for (int level = config_.levels - 1; level >= 0; --level) {
+  for (int level = config_.levels - 1; level >= finest; --level) {
     // The finest level's steps cost four times a coarser one's; it stops at a looser threshold.
     const double factor = level == 0 ? config_.finest_convergence_factor : 1.0;
     // Once per level, where the motion has improved: the pixels both frames see depend on it.
@@ -233,6 +250,16 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
       }
       last_icp = icp;
       last_rgb = rgb;
+      {
+        OdometryQuality pass;
+        pass.icp_inliers = static_cast<int>(icp.count);
+        pass.rgb_inliers = static_cast<int>(rgb.count);
+        pass.icp_rmse = icp.rmse();
+        pass.rgb_rmse = rgb.rmse();
+        const bool residual_left_out = config_.mode == OdometryMode::kIcp ? icp_left_out : rgb_left_out;
+        solve.level_residual[level] = residual_left_out ? 0.0 : residualLevelOf(pass);
+        solve.level_inliers[level] = inliersOf(pass);
+      }
       solve.information = A;
       last_count = icp.count + rgb.count;
       if (last_count < 6 && !prior) break;  // nothing to solve at this level
@@ -243,7 +270,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
       // Converged: further steps at this level would not move the estimate.
       if (x.head<3>().norm() < factor * config_.convergence_translation &&
           x.tail<3>().norm() < factor * config_.convergence_rotation) {
-        if (level == 0) solve.quality.converged = true;
+        if (level == finest) solve.quality.converged = true;
         break;
       }
     }
@@ -251,7 +278,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
 
   if (!prior) solve.vision_only = T;
   OdometryQuality& q = solve.quality;
-  if (config_.iterations[0] == 0) q.converged = true;  // nothing asked of the finest level
+  if (config_.iterations[finest] == 0) q.converged = true;  // nothing asked of the finest level
   q.icp_inliers = static_cast<int>(last_icp.count);
   q.rgb_inliers = static_cast<int>(last_rgb.count);
   q.icp_rmse = last_icp.rmse();
@@ -266,11 +293,13 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
 
   const Eigen::Isometry3d jump = last.inverse() * T;
   std::ostringstream failure;
-  // With a prior the terms too thin were left out, the priors filling what they leave free.
-  if (!prior && use_icp && q.icp_inliers < config_.min_icp_inliers) {
-    failure << "too few ICP inliers (" << q.icp_inliers << " < " << config_.min_icp_inliers << ")";
-  } else if (!prior && use_rgb && q.rgb_inliers < config_.min_rgb_inliers) {
-    failure << "too few photometric inliers (" << q.rgb_inliers << " < " << config_.min_rgb_inliers << ")";
+  // With a prior the terms too thin were left out, the priors filling what they leave free. The minima
+  // are for the input's resolution: a quarter per level left out.
+  const int min_icp_inliers = config_.min_icp_inliers >> (2 * finest), min_rgb_inliers = config_.min_rgb_inliers >> (2 * finest);
+  if (!prior && use_icp && q.icp_inliers < min_icp_inliers) {
+    failure << "too few ICP inliers (" << q.icp_inliers << " < " << min_icp_inliers << ")";
+  } else if (!prior && use_rgb && q.rgb_inliers < min_rgb_inliers) {
+    failure << "too few photometric inliers (" << q.rgb_inliers << " < " << min_rgb_inliers << ")";
   } else if (!(q.condition <= config_.max_condition)) {
     failure << "the system is degenerate (condition " << q.condition << " > " << config_.max_condition
             << "): the scene does not constrain every degree of freedom";
@@ -284,18 +313,38 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
   return solve;
 }
 
+IcpDvoOdometry::ResidualCheck IcpDvoOdometry::residualCheckOf(const DenseSolve& solve) const {
+  const int finest = solve.quality.finest_level;
+  for (int level = finest; level < config_.levels; ++level) {
+    if (!(residual_levels_[level] > 0.0)) continue;
+    const double residual = level == finest ? residualOf(solve) : solve.level_residual[level];
+    if (level != finest && !(residual > 0.0)) continue;
+    return {level, residual, residual_levels_[level]};
+  }
+  return {};
+}
+
 bool IcpDvoOdometry::suspicious(const DenseSolve& solve) const {
   // Without a running level (the first pair) a wrong minimum cannot be told apart: ask the features.
-  if (!solve.failure.empty() || residual_level_ <= 0.0) return true;
-  return residualOf(solve) > config_.feature_fallback_residual_ratio * residual_level_;
+  const ResidualCheck check = residualCheckOf(solve);
+  if (!solve.failure.empty() || check.level < 0) return true;
+  return check.residual > config_.feature_fallback_residual_ratio * check.running;
+}
+
+void IcpDvoOdometry::pushToBackend(const RgbdFrame& frame, ReferenceUpdate update) {
+  backend_->pushFrame(frame, update);
+  if (update == ReferenceUpdate::kPreviousFrame) backend_reference_built_ = backend_current_built_;
+  backend_current_built_ = finest_level_;
 }
 
 void IcpDvoOdometry::pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame) {
-  if (backend_reference_id_ == keyframe.id) {
-    backend_->pushFrame(frame, ReferenceUpdate::kKeep);
+  // A keyframe built for a coarser finest level than tracked now is built again.
+  if (backend_reference_id_ == keyframe.id && backend_reference_built_ <= finest_level_) {
+    pushToBackend(frame, ReferenceUpdate::kKeep);
   } else {
-    if (backend_current_id_ != keyframe.id) backend_->pushFrame(keyframe.frame, ReferenceUpdate::kPreviousFrame);
-    backend_->pushFrame(frame, ReferenceUpdate::kPreviousFrame);
+    if (backend_current_id_ != keyframe.id || backend_current_built_ > finest_level_)
+      pushToBackend(keyframe.frame, ReferenceUpdate::kPreviousFrame);
+    pushToBackend(frame, ReferenceUpdate::kPreviousFrame);
   }
   backend_reference_id_ = keyframe.id;
   backend_current_id_ = -1;
@@ -331,6 +380,8 @@ void IcpDvoOdometry::addKeyframe(const RgbdFrame& frame, std::shared_ptr<const F
   keyframe->features = std::move(features);
   keyframe->pose = pose_;
   keyframe->pose_covariance = pose_covariance_;
+  keyframe->first_inliers.assign(config_.levels, 0);
+  keyframe->first_residual.assign(config_.levels, 0.0);
   guessed_covariance_.setZero();  // now in the keyframe's
   keyframes_.push_back(keyframe);
   while (static_cast<int>(keyframes_.size()) > config_.keyframes_kept) keyframes_.pop_front();
@@ -339,10 +390,11 @@ void IcpDvoOdometry::addKeyframe(const RgbdFrame& frame, std::shared_ptr<const F
 
 bool IcpDvoOdometry::keyframeWornOut(const Keyframe& keyframe, const DenseSolve& solve) const {
   if (config_.tracking_reference == TrackingReference::kFrame) return true;
-  const bool overlap_lost =
-      keyframe.first_inliers > 0 && inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers;
-  const bool fit_lost =
-      keyframe.first_residual > 0.0 && residualOf(solve) > config_.keyframe_max_residual_growth * keyframe.first_residual;
+  const int level = solve.quality.finest_level;
+  const bool overlap_lost = keyframe.first_inliers[level] > 0 &&
+                            inliersOf(solve.quality) < config_.keyframe_min_overlap * keyframe.first_inliers[level];
+  const bool fit_lost = keyframe.first_residual[level] > 0.0 &&
+                        residualOf(solve) > config_.keyframe_max_residual_growth * keyframe.first_residual[level];
   const bool unconverged = config_.keyframe_after_unconverged && !solve.quality.converged;
   return overlap_lost || fit_lost || unconverged || solve.increment.translation().norm() > config_.keyframe_max_translation ||
          rotationAngle(solve.increment) * 180.0 / M_PI > config_.keyframe_max_rotation_deg;
@@ -400,7 +452,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::trackAgainstActive(const RgbdFrame& f
   result->timings.solve_ms += lapMilliseconds(&clock);
   // Without a running level (the first pair, after a reset or a loss) a wrong minimum does not stand
   // out by its residual: the features check it, extracted for that alone when initialisation is off.
-  if (solve.failure.empty() && residual_level_ <= 0.0) featureMotion();
+  if (solve.failure.empty() && residualCheckOf(solve).level < 0) featureMotion();
   rejectWrongMinimum(feature_motion, &solve);
   return solve;
 }
@@ -413,15 +465,16 @@ void IcpDvoOdometry::rejectWrongMinimum(const std::optional<Eigen::Isometry3d>& 
   }
   if (!solve->failure.empty()) return;
   std::ostringstream failure;
-  const double residual = residualLevelOf(solve->quality);
+  const ResidualCheck check = residualCheckOf(*solve);
   if (solve->residual_term_left_out) {
     // The term the level is of was left out (too few inliers, a gyro holding the motion): its residual,
     // over a few hundred pixels at a blank wall's edge, says nothing of a wrong minimum.
-  } else if (residual_level_ > 0.0) {
-    if (residual > config_.wrong_minimum_residual_ratio * residual_level_) {
+  } else if (check.level >= 0) {
+    if (check.residual > config_.wrong_minimum_residual_ratio * check.running) {
       failure << "a wrong minimum: the " << (config_.mode == OdometryMode::kIcp ? "ICP" : "photometric") << " RMSE "
-              << residual << " is " << residual / residual_level_ << "x the running level (> "
+              << check.residual << " is " << check.residual / check.running << "x the running level (> "
               << config_.wrong_minimum_residual_ratio << "x)";
+      if (check.level != solve->quality.finest_level) failure << " at pyramid level " << check.level;
     }
   } else if (!feature_motion) {
     // Back from a loss with nothing to compare with: the dense minimum may be any.
@@ -488,7 +541,7 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
   auto job = std::make_shared<WindowJob>();
   job->added_id = added.id;
   job->added_frame = added.frame;
-  job->residual_level = residual_level_;
+  job->residual_level = residual_levels_[0];  // the window solves at the input's resolution
   for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend(); ++earlier) {
     if (static_cast<int>(job->references.size()) == config_.local_window_links) break;
     const Keyframe& reference = **earlier;
@@ -604,7 +657,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     result.timings.features_ms = lapMilliseconds(&clock);
   }
   if (!active_) {
-    backend_->pushFrame(frame, ReferenceUpdate::kPreviousFrame);
+    pushToBackend(frame, ReferenceUpdate::kPreviousFrame);
     result.timings.preprocess_ms = lapMilliseconds(&clock);
     addKeyframe(frame, features);
     if (rectified_at_rest) active_->unrectified = input;
@@ -715,7 +768,14 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   // The running residual level a wrong minimum stands out from (an average over about ten frames); a
   // degraded frame's (a blank wall's) says nothing of the level where vision works.
   const double residual = residualOf(solve);
-  if (!degraded) residual_level_ = residual_level_ > 0.0 ? 0.9 * residual_level_ + 0.1 * residual : residual;
+  if (!degraded) {
+    // Every level the solve passed through keeps its own level, so a frame tracked coarser finds one.
+    for (int level = solve.quality.finest_level; level < config_.levels; ++level) {
+      const double at_level = level == solve.quality.finest_level ? residual : solve.level_residual[level];
+      double& running = residual_levels_[level];
+      if (at_level > 0.0) running = running > 0.0 ? 0.9 * running + 0.1 * at_level : at_level;
+    }
+  }
   result.quality.trusted = true;
   // The motion model's guess enters the covariance with its own information, not the weight the solve
   // gave it against the dense terms; each degraded frame adds a speed's uncertainty along the guessed
@@ -753,9 +813,11 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
   result.keyframe_stamp = keyframe.frame.stamp;
   result.vision_rotation = solve.vision_only.linear();
   result.pose_covariance = pose_covariance_;
-  if (keyframe.first_inliers == 0) {
-    keyframe.first_inliers = inliersOf(solve.quality);
-    keyframe.first_residual = residual;
+  for (int level = solve.quality.finest_level; level < config_.levels; ++level) {
+    if (keyframe.first_inliers[level] > 0) continue;
+    const bool finest = level == solve.quality.finest_level;
+    keyframe.first_inliers[level] = finest ? inliersOf(solve.quality) : solve.level_inliers[level];
+    keyframe.first_residual[level] = finest ? residual : solve.level_residual[level];
   }
   if (keyframeWornOut(keyframe, solve)) {
     const int tracked_against = keyframe.id;  // `keyframe` may leave the kept ones now

@@ -1,5 +1,6 @@
 #include "vocal/odometry/odometry_config.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vocal/core/errors.h"
@@ -50,6 +51,13 @@ void OdometryConfig::validate() const {
   if (!(rolling_shutter_readout >= 0.0 && rolling_shutter_readout <= 0.1))
     fail("rolling_shutter_readout must be in [0, 0.1] seconds (0 = global shutter)");
   if (!(std::fabs(depth_time_offset) <= 0.1)) fail("depth_time_offset must be in [-0.1, 0.1] seconds (0 = taken together)");
+  if (keep_pace_max_level < 0 || keep_pace_max_level > 5)
+    fail("keep_pace_max_level must be in [0, 5] (0: always the input's resolution), got " + std::to_string(keep_pace_max_level));
+  for (int level = 1; level <= std::min(keep_pace_max_level, levels - 1); ++level) {
+    if (iterations[level] <= 0)
+      fail("keep_pace_max_level " + std::to_string(keep_pace_max_level) + " needs iterations at level " + std::to_string(level) +
+           " (it may be tracked as the finest), got " + std::to_string(iterations[level]));
+  }
   if (threads < 0 || threads > 256) fail("threads must be in [0, 256] (0 = OMP_NUM_THREADS or the cores), got " + std::to_string(threads));
 }
 

@@ -377,7 +377,7 @@ std::size_t SoaPyramidLevel::memoryBytes() const {
 }
 
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2) {
+                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2, int finest_level) {
   // Each pass below takes this (its AVX2 code only compiled where the build can have it).
   const bool avx2 = allow_avx2 && handAvx2Available();
   pyramid->resize(config.levels);
@@ -390,6 +390,7 @@ void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, c
       downsampleDepth((*pyramid)[level - 1], static_cast<float>(config.depth_pyramid_sigma), workers, avx2, &l);
       downsampleIntensity((*pyramid)[level - 1], workers, &l);
     }
+    if (level < finest_level) continue;  // not tracked here: only what the next level is made from
     gradients(workers, &l);
     const float* normal_depth = l.depth.data();
     if (level == 0 && config.depth_smoothing_radius > 0) {

@@ -41,7 +41,8 @@ enum class TrackingState {
 std::string trackingStateName(TrackingState state);  // tracking, degraded, relocalised, predicted, lost
 
 struct OdometryQuality {
-  int icp_inliers = 0;        // at the finest level, last iteration
+  int finest_level = 0;       // the finest pyramid level tracked (0: the input's resolution; setFinestLevel)
+  int icp_inliers = 0;        // at the finest level tracked, last iteration
   int rgb_inliers = 0;
   double icp_rmse = 0.0;      // metres, each pair weighted by its depth noise (as a pair at 1 m)
   double rgb_rmse = 0.0;      // intensity units
@@ -141,6 +142,15 @@ class IcpDvoOdometry {
   OdometryResult track(const RgbdFrame& frame, const RotationPrior* gyro = nullptr,
                        const std::vector<AccelerometerSample>* accelerometer = nullptr);
 
+  // The finest pyramid level the next frames are tracked at: 0 (the default) is the input's resolution;
+  // each level above leaves the finest out, a quarter of the pixels at a time, for a live stream that
+  // comes faster than the frames are tracked (ResolutionGovernor): a coarser estimate of every frame
+  // rather than frames skipped. The keyframe's overlap and fit, the running residual level and the
+  // inlier minima are kept per level, so switching makes no keyframe and no suspicious frame of itself.
+  // Throws InputError for a level outside [0, levels) or one with no iterations.
+  void setFinestLevel(int level);
+  int finestLevel() const { return finest_level_; }
+
   // Forgets the reference frame; the next frame starts again at `pose`.
   void reset(const Eigen::Isometry3d& pose = Eigen::Isometry3d::Identity());
   // Waits for the local window's links being solved in the background and refines the window with
@@ -180,9 +190,10 @@ class IcpDvoOdometry {
     std::shared_ptr<const FrameFeatures> features;  // null until needed
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     Matrix6d pose_covariance = Matrix6d::Zero();
-    // Of the first frame tracked against it (0: none yet), what later frames' overlap and fit compare with.
-    int first_inliers = 0;
-    double first_residual = 0.0;
+    // Per pyramid level, of the first frame tracked against it at that level (0: none yet), what later
+    // frames' overlap and fit at the same level compare with.
+    std::vector<int> first_inliers;
+    std::vector<double> first_residual;
   };
   // With a gyro, what is known of a frame's motion (keyframe <- current) before vision: the gyro's
   // rotation, and the motion model's translation with its information (both times imu_weight).
@@ -203,6 +214,10 @@ class IcpDvoOdometry {
     Matrix6d guess_information = Matrix6d::Zero();
     std::string terms_left_out;
     bool residual_term_left_out = false;  // the term residualLevelOf reads was among them
+    // Per pyramid level, of its last pass (0 where the level was not tracked, or that term left out):
+    // what the running levels and a keyframe's first frame keep per level.
+    std::vector<double> level_residual;
+    std::vector<int> level_inliers;
     OdometryQuality quality;
     std::string failure;  // empty when every check passed
   };
@@ -218,11 +233,22 @@ class IcpDvoOdometry {
   double residualLevelOf(const OdometryQuality& quality) const;
   // That of a solve, 0 when its term was left out: the fit and wrong-minimum checks then pass it by.
   double residualOf(const DenseSolve& solve) const;
+  // The residual a wrong minimum is told by and the running level it is compared with: at the solve's
+  // finest level, or where that level has none yet (a stream that started coarse tracks at it for the
+  // first time) at the finest coarser one that has (level -1: none at any, e.g. the first pair).
+  struct ResidualCheck {
+    int level = -1;
+    double residual = 0.0;  // 0: its term was left out
+    double running = 0.0;
+  };
+  ResidualCheck residualCheckOf(const DenseSolve& solve) const;
   // Failed, or a residual far above the running level: worth a second start from the features.
   bool suspicious(const DenseSolve& solve) const;
   // Makes the backend track `frame` against `keyframe` (preprocessing the keyframe again if the backend
   // no longer holds it).
   void pushAgainst(const Keyframe& keyframe, const RgbdFrame& frame);
+  // Pushes a frame to the backend, built for the finest level tracked now.
+  void pushToBackend(const RgbdFrame& frame, ReferenceUpdate update);
   // The dense solve against the active keyframe from `predicted` (keyframe <- current), with the
   // feature fallback the config asks for, and the wrong-minimum test. `extrapolated`: where the last
   // measured motion carries on to over the time since the last frame, the fallback's second start
@@ -301,12 +327,17 @@ class IcpDvoOdometry {
   // What the backend holds: the keyframe ids of its reference and current frames (-1: another frame).
   int backend_reference_id_ = -1;
   int backend_current_id_ = -1;
+  // The finest level each of the backend's frames was built for (setFinestLevel).
+  int backend_reference_built_ = 0;
+  int backend_current_built_ = 0;
   Eigen::Isometry3d active_from_last_ = Eigen::Isometry3d::Identity();  // the last frame's pose in the keyframe
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // the last tracked frame-to-frame motion
   double velocity_seconds_ = 0.0;  // the time velocity_ spans (0: no motion measured since the reset)
   double last_stamp_ = 0.0;        // of the last frame given to track()
   int lost_frames_ = 0;          // consecutive frames not tracked
-  double residual_level_ = 0.0;  // running average of trusted frames' residualLevelOf (0: none yet)
+  int finest_level_ = 0;         // setFinestLevel
+  // Per pyramid level, the running average of trusted frames' residualLevelOf there (0: none yet).
+  std::vector<double> residual_levels_;
 };
 
 }  // namespace vocal

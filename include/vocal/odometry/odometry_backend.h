@@ -33,6 +33,10 @@ class OdometryBackend {
   // current frame; `update` says whether the previous current frame becomes the reference. The frame
   // must match the camera the backend was made for (the estimator checks).
   virtual void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) = 0;
+  // The finest level the frames pushed from now on will be tracked at: a backend may leave the finer
+  // levels' maps and gradients out (building only what the coarser levels are made from). The caller
+  // pushes a frame again before tracking it at a finer level. Ignored by default (every level built).
+  virtual void setFinestLevel(int /*level*/) {}
 
   // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T). The
   // photometric residual compares the reference's intensity with the current one mapped by

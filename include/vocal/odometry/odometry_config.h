@@ -161,6 +161,16 @@ struct OdometryConfig {
   // kAuto: OpenCL on a GPU when there is one, else the fast CPU backend. kCpu: the fast CPU backend.
   // kReference: the plain CPU reference (parity tests). kOpenCl: any OpenCL device, PoCL's CPU one too.
   OdometryBackendKind backend = OdometryBackendKind::kAuto;
+  // A live stream (the nodelet, skip_to_newest) whose frames come faster than they are tracked - a CPU
+  // shared with the robot's other work - is tracked without its finest pyramid levels, up to this one,
+  // before frames are skipped (ResolutionGovernor), and at full resolution again once there is time:
+  // a skipped frame doubles the next one's motion and its solve's cost, where level 1 tracks every frame
+  // at a quarter of the pixels (RPE 6-15 % above the input's resolution on the real TUM sequences). With
+  // one busy process on 2 vCPUs the nodelet kept 93-98 % of a 30 Hz stream so, 16-82 % skipping alone
+  // (docs/benchmarks.md). 0: always the
+  // input's resolution (frames skipped instead); above levels - 1, the coarsest level. Offline tools track
+  // every frame at level 0.
+  int keep_pace_max_level = 1;
   // Threads of the fast CPU backend and of the estimator's own loops (the calling thread included); 0 =
   // OMP_NUM_THREADS where set, else the cores this process may run on. Idle threads sleep, so a
   // robot's other processes get the cores back between frames.

@@ -46,7 +46,9 @@ using SoaFramePyramid = std::vector<SoaPyramidLevel>;
 // maps with any number of threads);
 // `allow_avx2`: the AVX2 passes (depth smoothing, depth pyramid, vertex and normal records) where the
 // CPU has AVX2, the same maps to the bit (false: the portable loops everywhere).
+// `finest_level`: the levels finer than it keep only their depth and intensity (what the coarser ones are
+// made from): no gradients, smoothed depth or records, for a frame that will not be tracked there.
 void buildSoaFramePyramid(const RgbdFrame& frame, const PinholeCamera& camera, const OdometryConfig& config,
-                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2 = true);
+                          WorkerPool& workers, SoaFramePyramid* pyramid, bool allow_avx2 = true, int finest_level = 0);
 
 }  // namespace vocal
