@@ -13,17 +13,17 @@ constexpr double kPeriod = 1.0 / 30.0;  // a 30 Hz camera: budget 0.9 * 33.3 = 3
 // Feeds `frames` frames, one per period, each taking `seconds(level)`; returns the levels chosen.
 struct Stream {
   vocal::ResolutionGovernor governor;
-  double stamp = 100.0;
+  double arrived = 100.0;  // seconds, as a steady clock gives them
   std::size_t received = 0;
   std::vector<int> levels;
   explicit Stream(int coarsest) : governor(coarsest) {}
   void run(int frames, const std::function<double(int)>& seconds, int skipped_per_frame = 0) {
     for (int i = 0; i < frames; ++i) {
       received += 1 + skipped_per_frame;
-      stamp += kPeriod * (1 + skipped_per_frame);
+      arrived += kPeriod * (1 + skipped_per_frame);
       const int level = governor.level();
       levels.push_back(level);
-      governor.tracked(level, seconds(level), stamp, received);
+      governor.tracked(level, seconds(level), arrived, received);
     }
   }
 };

@@ -85,6 +85,9 @@ struct PendingFrame {
   ImageMsg::ConstPtr rgb, depth;
   CameraInfoMsg::ConstPtr info;
   std::size_t received = 0;  // frames received by its arrival, itself included (the stream's count)
+  // When it arrived (steady clock, seconds): the pace to keep is the arrivals', which a bag played at
+  // another rate than 1 makes differ from the stamps'.
+  double arrived = 0.0;
 };
 
 // Sums of the per-stage wall-clock times, reported as means per processed frame.
@@ -361,14 +364,15 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
 
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth, const CameraInfoMsg::ConstPtr& info) {
     const std::size_t received = ++frames_received_;
+    const double arrived = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     if (!skip_to_newest_) {
-      trackFrame({rgb, depth, info, received});  // every frame, in the synchroniser's thread
+      trackFrame({rgb, depth, info, received, arrived});  // every frame, in the synchroniser's thread
       return;
     }
     {
       std::lock_guard<std::mutex> lock(pending_mutex_);
       if (pending_.rgb) ++frames_skipped_;
-      pending_ = {rgb, depth, info, received};
+      pending_ = {rgb, depth, info, received, arrived};
     }
     pending_ready_.notify_one();
   }
@@ -402,9 +406,9 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     ++frames_processed_;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     processing_seconds_ += seconds;
-    if (governor_ && !paced) governor_->sawFrame(frame.rgb->header.stamp.toSec(), frame.received);
+    if (governor_ && !paced) governor_->sawFrame(frame.arrived, frame.received);
     if (governor_ && paced) {
-      governor_->tracked(level, seconds, frame.rgb->header.stamp.toSec(), frame.received);
+      governor_->tracked(level, seconds, frame.arrived, frame.received);
       // Coarser and finer apart, so that a failed try at full resolution is not hidden by its start.
       if (governor_->level() > level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));
       if (governor_->level() < level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));

@@ -7,7 +7,7 @@ namespace {
 // Weight of a new frame's time in its level's running mean: a load that comes shows within a few frames,
 // one slow frame (a keyframe's features, a fallback's second solve) does not move it over the budget.
 constexpr double kTimeWeight = 0.2;
-// Weight of a new spacing in the period's running mean: stamps jitter by a few milliseconds.
+// Weight of a new spacing in the period's running mean: arrivals jitter by a few milliseconds.
 constexpr double kPeriodWeight = 0.1;
 // A coarser level tries the finer one when its own frames take less than this share of the budget:
 // the finer level costs 1.5-2x (the finest level's passes are four times a coarser one's; the
@@ -30,17 +30,17 @@ void ResolutionGovernor::reset() {
   *this = ResolutionGovernor(coarsest_, budget_share_);
 }
 
-void ResolutionGovernor::sawFrame(double stamp, std::size_t frames_received) {
-  if (last_received_ > 0 && frames_received > last_received_ && stamp > last_stamp_) {
-    const double spacing = (stamp - last_stamp_) / static_cast<double>(frames_received - last_received_);
+void ResolutionGovernor::sawFrame(double arrived, std::size_t frames_received) {
+  if (last_received_ > 0 && frames_received > last_received_ && arrived > last_arrival_) {
+    const double spacing = (arrived - last_arrival_) / static_cast<double>(frames_received - last_received_);
     period_ = period_ > 0.0 ? (1.0 - kPeriodWeight) * period_ + kPeriodWeight * spacing : spacing;
   }
-  last_stamp_ = stamp;
+  last_arrival_ = arrived;
   last_received_ = frames_received;
 }
 
-void ResolutionGovernor::tracked(int level, double seconds, double stamp, std::size_t frames_received) {
-  sawFrame(stamp, frames_received);
+void ResolutionGovernor::tracked(int level, double seconds, double arrived, std::size_t frames_received) {
+  sawFrame(arrived, frames_received);
   if (level < 0 || level > coarsest_) return;
   ++frames_[level];
   const bool trying = probing_ && level == level_;

@@ -10,7 +10,7 @@
 // How: a stream starts at the coarsest level (its first frames are the slowest: the first pair's
 // features, buffers allocated). Each level's wall time per frame is followed (a running mean of the
 // frames tracked there); while it exceeds the budget (a share of the stream's period, measured from the
-// frames' stamps) the next frames go a level coarser. A coarser level with room to spare tries the finer
+// frames' arrivals) the next frames go a level coarser. A coarser level with room to spare tries the finer
 // one after a wait (kFirstProbeWaitFrames; the load may have gone), a wait that doubles each time a try
 // fails (up to kMaxProbeWaitFrames).
 #include <cstddef>
@@ -26,13 +26,14 @@ class ResolutionGovernor {
 
   // The level to track the next frame at.
   int level() const { return level_; }
-  // A frame taken from the stream: its stamp and how many frames the stream had delivered by then
-  // (skipped ones included); the period is the stamps' spacing per frame delivered. tracked() calls it;
+  // A frame taken from the stream: when it arrived (a steady clock, seconds; not its stamp: a bag played
+  // at twice the rate brings frames twice as often) and how many frames the stream had delivered by then
+  // (skipped ones included); the period is the arrivals' spacing per frame delivered. tracked() calls it;
   // alone for a frame whose time says nothing of the level (the first, which builds the estimator).
-  void sawFrame(double stamp, std::size_t frames_received);
-  // After a frame: the level it was tracked at, the wall time tracking it took, its stamp and how many
-  // frames the stream had delivered by then.
-  void tracked(int level, double seconds, double stamp, std::size_t frames_received);
+  void sawFrame(double arrived, std::size_t frames_received);
+  // After a frame: the level it was tracked at, the wall time tracking it took, when it arrived and how
+  // many frames the stream had delivered by then.
+  void tracked(int level, double seconds, double arrived, std::size_t frames_received);
   // Forgets the stream (a restart): its period and the levels' times.
   void reset();
 
@@ -54,7 +55,7 @@ class ResolutionGovernor {
   std::vector<double> seconds_;
   std::vector<std::size_t> frames_;
   double period_ = 0.0;
-  double last_stamp_ = 0.0;
+  double last_arrival_ = 0.0;
   std::size_t last_received_ = 0;
   bool probing_ = false;         // the last level change was a try at a finer level
   int probe_wait_ = kFirstProbeWaitFrames;
