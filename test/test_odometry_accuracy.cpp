@@ -420,6 +420,13 @@ TEST(OdometryBadInput, ConfigErrorsNameTheSetting) {
   config.iterations = {10, 5};
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config); }),
             "odometry config: iterations lists 2 values for 3 levels");
+  // A level the live node may fall back to must be one it can track at.
+  config.iterations = {10, 0, 4};
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config); }),
+            "odometry config: keep_pace_max_level 1 needs iterations at level 1 (it may be tracked as the finest), got 0");
+  config.keep_pace_max_level = -1;
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::IcpDvoOdometry odometry(vocal::defaultKinectCamera(), config); }),
+            "odometry config: keep_pace_max_level must be in [0, 5] (0: always the input's resolution), got -1");
   vocal::PinholeCamera camera = vocal::defaultKinectCamera();
   camera.fy = -1.0;
   EXPECT_THROW(vocal::IcpDvoOdometry(camera, vocal::OdometryConfig{}), vocal::InputError);
