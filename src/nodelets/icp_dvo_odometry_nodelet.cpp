@@ -415,23 +415,26 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     }
   }
 
+  // "WxH" of the camera at pyramid level `level` ("0x0" before the first frame).
+  std::string resolutionText(int level) const {
+    const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
+    return std::to_string(width >> level) + "x" + std::to_string(height >> level);
+  }
+
   // Why the next frames are tracked at `level` after `previous` (the governor's), for the log and the
   // diagnostics.
   std::string paceText(int level, int previous) const {
     std::ostringstream text;
-    const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
-    text << std::fixed << std::setprecision(1) << "tracking at " << (width >> level) << "x" << (height >> level) << " (level "
-         << level << ")";
+    text << std::fixed << std::setprecision(1) << "tracking at " << resolutionText(level) << " (level " << level << ")";
     if (level > previous && !(governor_->secondsAt(previous) > 0.0)) {
-      text << " as the stream starts (its first frames are the slowest; " << (width >> previous) << "x" << (height >> previous)
-           << " is tried after " << ResolutionGovernor::kFirstProbeWaitFrames << " frames)";
+      text << " as the stream starts (its first frames are the slowest; " << resolutionText(previous) << " is tried after "
+           << ResolutionGovernor::kFirstProbeWaitFrames << " frames)";
       return text.str();
     }
     text << (level > previous ? " to keep pace with the " : ": there is time again in the ")
-         << (governor_->period() > 0.0 ? 1.0 / governor_->period() : 0.0) << " Hz stream (" << (width >> previous) << "x"
-         << (height >> previous) << " took " << 1000.0 * governor_->secondsAt(previous) << " ms a frame against a budget of "
-         << 1000.0 * ResolutionGovernor::kDefaultBudgetShare * governor_->period() << " ms; keep_pace_max_level "
-         << config_.keep_pace_max_level << ")";
+         << (governor_->period() > 0.0 ? 1.0 / governor_->period() : 0.0) << " Hz stream (" << resolutionText(previous) << " took "
+         << 1000.0 * governor_->secondsAt(previous) << " ms a frame against a budget of " << 1000.0 * governor_->budget()
+         << " ms; keep_pace_max_level " << config_.keep_pace_max_level << ")";
     return text.str();
   }
 
@@ -711,10 +714,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
       std::string summary = trackingStateName(state_);
-      if (governor_ && governor_->level() > 0 && odometry_) {
-        summary += " at " + std::to_string(odometry_->camera().width >> governor_->level()) + "x" +
-                   std::to_string(odometry_->camera().height >> governor_->level()) + " to keep pace with the stream";
-      }
+      if (governor_ && governor_->level() > 0 && odometry_) summary += " at " + resolutionText(governor_->level()) + " to keep pace with the stream";
       status.summary(DiagnosticStatus::OK, summary);
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
@@ -750,9 +750,8 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     if (governor_) {
       // Frames tracked below the input's resolution to keep pace (keep_pace_max_level), per level.
       std::ostringstream levels;
-      const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
       for (std::size_t level = 0; level < governor_->framesAt().size(); ++level) {
-        levels << (level ? ", " : "") << (width >> level) << "x" << (height >> level) << ": " << governor_->framesAt()[level];
+        levels << (level ? ", " : "") << resolutionText(static_cast<int>(level)) << ": " << governor_->framesAt()[level];
       }
       status.add("frames tracked at each resolution (keep_pace_max_level)", levels.str());
       status.add("tracking at", governor_->level() == 0 ? std::string("the input's resolution")

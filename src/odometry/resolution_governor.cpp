@@ -56,7 +56,7 @@ void ResolutionGovernor::tracked(int level, double seconds, double arrived, std:
   ++frames_since_change_;
   if (period_ <= 0.0 || coarsest_ == 0) return;
 
-  const double budget = budget_share_ * period_;
+  const double budget = this->budget();
   if (level_ < coarsest_ && seconds_[level_] > budget) {
     // Falling behind here: coarser from the next frame (a failed try waits twice as long next time).
     if (probing_) probe_wait_ = std::min(2 * probe_wait_, kMaxProbeWaitFrames);

@@ -40,6 +40,8 @@ class ResolutionGovernor {
   // The stream's period (seconds; 0 until two frames were seen), and each level's running time per
   // frame (seconds; 0 where none was tracked yet).
   double period() const { return period_; }
+  // Seconds a frame may take: the budget share of the period (0 until the period is known).
+  double budget() const { return budget_share_ * period_; }
   double secondsAt(int level) const { return level >= 0 && level < static_cast<int>(seconds_.size()) ? seconds_[level] : 0.0; }
   // Frames tracked at each level so far (index: level).
   const std::vector<std::size_t>& framesAt() const { return frames_; }
