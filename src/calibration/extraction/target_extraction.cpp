@@ -31,6 +31,10 @@
 namespace vocal {
 
 namespace {
+// The widest gap along a ring counted as covered where a piece's end rings are trimmed again, as a share
+// of the board's shorter side: a dark square that returns nothing (a pattern's squares are at most a quarter of its board's side on
+// the boards seen: 35 / 216, 60 / 700, 61.5 / 615, 95 / 610 mm).
+constexpr double kBridgedSquareShare = 0.25;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Indices = std::vector<int>;
 
@@ -321,13 +325,17 @@ int ringsUnder(const Cloud& cloud, const Indices& piece, const std::vector<doubl
 }
 
 // `piece` without the rings at its top and bottom whose returns cover less than `least_cover` metres
-// (gaps of over three beam spacings left out): a stand's posts or legs just behind a small board lie
-// within the plane's threshold of it, and on a spinning lidar they are whole rings across the posts'
-// width below the board, which tilt its plane. The piece as it is when fewer than three rings would be
-// left. (Bridging wider gaps, as a board's absorbing dark squares leave, also bridged the posts to each
-// other and to the stand's feet: their rings passed as wide, and the room search took board and posts
-// for a wall in a third of the messages. Not done.)
-Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const ScanSpacing& spacing, double least_cover) {
+// (gaps of over three beam spacings, or `bridged_gap` metres where wider, left out): a stand's posts or
+// legs just behind a small board lie within the plane's threshold of it, and on a spinning lidar they are
+// whole rings across the posts' width below the board, which tilt its plane. The piece as it is when
+// fewer than three rings would be left. A board whose dark squares absorb leaves gaps a square wide
+// along its rings: where nothing goes without bridging (its rings pass as narrow, too few are left, and
+// the posts' rings stay), the searches try again bridging them. Only then: bridged always, a clean
+// board's posts' rings passed as wide more often (a small board's camera came out 9.8 mrad off, isolated),
+// and in the room search the posts joined each other and the stand's feet, and board and posts passed
+// for a wall in a third of the messages.
+Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const ScanSpacing& spacing, double least_cover,
+                              double bridged_gap = 0.0) {
   std::map<int, std::vector<std::pair<double, int>>> by_ring;  // ring -> (azimuth, index)
   for (int i : piece) {
     const Eigen::Vector3f p = cloud[i].getVector3fMap();
@@ -341,7 +349,7 @@ Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const Sc
     for (std::size_t k = 1; k < points.size(); ++k) {
       const Eigen::Vector3f here = cloud[points[k].second].getVector3fMap();
       const double gap = (cloud[points[k - 1].second].getVector3fMap() - here).norm();
-      if (gap <= 3.0 * spacing.horizontal * here.norm()) covered += gap;
+      if (gap <= std::max(3.0 * spacing.horizontal * here.norm(), bridged_gap)) covered += gap;
     }
     cover.emplace_back(ring, covered);
   }
@@ -384,6 +392,12 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const double widest_gap = std::max(spacing.horizontal, spacing.vertical);
   const auto larger_than_board = [&](const Shape& s) { return s.size[0] > diagonal + options.size_slack || s.size[1] > longest + options.size_slack; };
 
+  // A spinning lidar's piece without the rings at its ends across a stand's posts only: as returned, or,
+  // where nothing went so, with a dark square's gap along a ring bridged (withoutNarrowEndRings).
+  const auto withoutPostRings = [&](const Indices& piece) {
+    const Indices kept = withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest);
+    return kept.size() < piece.size() ? kept : withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest, kBridgedSquareShare * shortest);
+  };
   // Whether a piece may be a board with thin things in its plane: at most 2.5 m long and 8 board areas
   // (a board on posts down to the floor, an arm holding it), not a room surface.
   const auto mayHoldBoardOnThinParts = [&](const Shape& shape) { return shape.size[0] <= 2.5 && shape.area <= 8.0 * board_area; };
@@ -393,8 +407,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const auto withoutThinThings = [&](const Indices& piece, const Shape& shape) -> Indices {
     if (!mayHoldBoardOnThinParts(shape)) return {};
     Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
-    if ((opened.empty() || opened.size() == piece.size()) && !spacing.rings.empty())
-      opened = withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest);
+    if ((opened.empty() || opened.size() == piece.size()) && !spacing.rings.empty()) opened = withoutPostRings(piece);
     if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return {};
     return opened;
   };
@@ -520,7 +533,7 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   // than its diagonal (the board with the arms or chest in its plane; not a long piece of furniture)
   // gives the cut-out if there is one. A piece refused as larger is a surface for the background model.
   const auto examine = [&](const Indices& found) {
-    const Indices piece = spacing.rings.empty() ? found : withoutNarrowEndRings(*cloud, found, spacing, 0.5 * shortest);
+    const Indices piece = spacing.rings.empty() ? found : withoutPostRings(found);
     const Judged judged = judge(piece, 0.0);
     const Shape& shape = judged.shape;
     if (judged.why.empty()) {
