@@ -32,8 +32,8 @@ namespace vocal {
 
 namespace {
 // The widest gap along a ring counted as covered where a piece's end rings are trimmed again, as a share
-// of the board's shorter side: a dark square that returns nothing (a pattern's squares are at most a quarter of its board's side on
-// the boards seen: 35 / 216, 60 / 700, 61.5 / 615, 95 / 610 mm).
+// of the board's shorter side: a dark square that returns nothing (squares are under a quarter of the
+// board's side on every board seen: 35 / 216, 60 / 700, 61.5 / 615, 95 / 610 mm).
 constexpr double kBridgedSquareShare = 0.25;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Indices = std::vector<int>;
@@ -328,12 +328,7 @@ int ringsUnder(const Cloud& cloud, const Indices& piece, const std::vector<doubl
 // (gaps of over three beam spacings, or `bridged_gap` metres where wider, left out): a stand's posts or
 // legs just behind a small board lie within the plane's threshold of it, and on a spinning lidar they are
 // whole rings across the posts' width below the board, which tilt its plane. The piece as it is when
-// fewer than three rings would be left. A board whose dark squares absorb leaves gaps a square wide
-// along its rings: where nothing goes without bridging (its rings pass as narrow, too few are left, and
-// the posts' rings stay), the searches try again bridging them. Only then: bridged always, a clean
-// board's posts' rings passed as wide more often (a small board's camera came out 9.8 mrad off, isolated),
-// and in the room search the posts joined each other and the stand's feet, and board and posts passed
-// for a wall in a third of the messages.
+// fewer than three rings would be left.
 Indices withoutNarrowEndRings(const Cloud& cloud, const Indices& piece, const ScanSpacing& spacing, double least_cover,
                               double bridged_gap = 0.0) {
   std::map<int, std::vector<std::pair<double, int>>> by_ring;  // ring -> (azimuth, index)
@@ -392,8 +387,12 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const double widest_gap = std::max(spacing.horizontal, spacing.vertical);
   const auto larger_than_board = [&](const Shape& s) { return s.size[0] > diagonal + options.size_slack || s.size[1] > longest + options.size_slack; };
 
-  // A spinning lidar's piece without the rings at its ends across a stand's posts only: as returned, or,
-  // where nothing went so, with a dark square's gap along a ring bridged (withoutNarrowEndRings).
+  // A spinning lidar's piece without the rings at its ends across a stand's posts only. A board whose dark
+  // squares absorb has gaps a square wide along its rings, which pass as narrow: too few would be left,
+  // nothing goes and the posts' rings stay. So where nothing went, again with those gaps bridged. Only
+  // then: bridged always, a clean small board's camera came out 9.8 mrad off the others' board and
+  // isolated, and in the room search (an earlier try) board and posts passed for a wall in a third of
+  // the messages.
   const auto withoutPostRings = [&](const Indices& piece) {
     const Indices kept = withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest);
     return kept.size() < piece.size() ? kept : withoutNarrowEndRings(*cloud, piece, spacing, 0.5 * shortest, kBridgedSquareShare * shortest);
