@@ -197,6 +197,12 @@ TEST(MessageConversions, LidarCloudHasAVelodyneDriversLayoutAndReadsBack) {
   ouster.fields.pop_back();
   vocal::fromPointCloud2(ouster, "/os_cloud_node/points", &rings);
   EXPECT_TRUE(rings.empty());
+  // Without rings (a scanning laser's driver), the cloud has no ring field.
+  const sensor_msgs::PointCloud2 scanner = vocal::toLidarPointCloud2(points, {}, "scanner", ros::Time(5));
+  ASSERT_EQ(scanner.fields.size(), 4u);
+  EXPECT_EQ(scanner.fields[3].name, "intensity");
+  EXPECT_EQ(vocal::fromPointCloud2(scanner, "/scanner/points", &rings), points);
+  EXPECT_TRUE(rings.empty());
 }
 
 TEST(VoxelCloudMap, FusesViewsOfOneSurfaceIntoOnePointPerVoxel) {

@@ -402,8 +402,14 @@ void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vecto
   ScanSpacing& spacing = lidar_spacing_[sensor];
   // Enough returns to see the spacing: a whole scan, or a scan cropped around the board when the
   // driver's ring field says which ring each return is on.
-  const std::size_t least = rings.size() == cloud.size() ? kLeastCroppedReturns : kLeastReturns;
-  if (spacing.horizontal > 0.0 || cloud.size() < least) return;
+  const bool ring_field = rings.size() == cloud.size();
+  if (spacing.horizontal > 0.0 || cloud.size() < kLeastCroppedReturns) return;
+  if (!ring_field && cloud.size() < kLeastReturns) {
+    // Without a ring field, a scan cropped round the board shows its spacing only where its returns fall
+    // into bands (a scanning laser's sweeps); else wait for a fuller cloud.
+    spacing = estimateCroppedScanSpacing(cloud);
+    return;
+  }
   spacing = estimateScanSpacing(cloud);
   // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
   // elevation at close range; a scanner without rings has none to cluster).
@@ -419,9 +425,16 @@ CalibrationSession::Extraction CalibrationSession::extractCloud(int sensor, cons
   if (!(spacing.horizontal > 0.0 && spacing.vertical > 0.0)) {
     throw InputError("sensor '" + description.spec.name + "': a cloud of " + std::to_string(cloud.size()) +
                      " points shows no ring or row spacing (a lidar's first cloud needs " + std::to_string(kLeastReturns) +
-                     " points or more, " + std::to_string(kLeastCroppedReturns) + " with a ring field)");
+                     " points or more, " + std::to_string(kLeastCroppedReturns) + " with a ring field or its returns in elevation bands)");
   }
   Extraction extraction;
+  if (spacing.rings_per_cloud) {
+    // The bands a cropped scan shows move with the board: this cloud's own.
+    ScanSpacing own = spacing;
+    own.rings = elevationBandsOf(cloud);
+    extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, own, extractionFor(sensor));
+    return extraction;
+  }
   extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
   return extraction;
 }
@@ -441,7 +454,7 @@ bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
   if (type == SensorType::kLidar3d) {
     std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
     const ScanSpacing& spacing = lidar_spacing_[sensor];
-    if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2 && ringsAreALidars(spacing))
+    if (ring_offset_options_.enabled && !offsets && spacing.rings.size() >= 2 && ringsAreALidars(spacing) && !spacing.rings_per_cloud)
       offsets.emplace(spacing.rings, ring_offset_options_);
     if (offsets) {
       offsets->addPlanes(search.room_points);
@@ -461,6 +474,10 @@ std::vector<std::optional<RingOffsets>> CalibrationSession::estimatedRingOffsets
       // A lidar whose clouds came without rings: say so rather than nothing.
       offsets[s].emplace();
       offsets[s]->verdict = "not estimated: its clouds show no rings (a solid-state or non-repeating scan pattern, and no ring field)";
+    } else if (ring_offset_options_.enabled && lidar_spacing_[s].rings_per_cloud) {
+      offsets[s].emplace();
+      offsets[s]->verdict = "not estimated: its clouds are cropped round the board and carry no ring field, so no room's planes say"
+                            " which return came from which laser";
     } else if (ring_offset_options_.enabled && lidar_spacing_[s].horizontal > 0.0 && !ringsAreALidars(lidar_spacing_[s])) {
       offsets[s].emplace();
       offsets[s]->verdict = "not estimated: its clouds carry no ring field and show " + std::to_string(lidar_spacing_[s].rings.size()) +
@@ -600,6 +617,13 @@ CalibrationSession::Extraction CalibrationSession::extractDepth(int sensor, cons
       if (isValidDepth(depth(u, v))) cloud.push_back(camera.backProject(u, v, depth(u, v)));
   const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy, ScanPattern::kPinhole};
   Extraction extraction;
+  if (spacing.rings_per_cloud) {
+    // The bands a cropped scan shows move with the board: this cloud's own.
+    ScanSpacing own = spacing;
+    own.rings = elevationBandsOf(cloud);
+    extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, own, extractionFor(sensor));
+    return extraction;
+  }
   extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
   return extraction;
 }

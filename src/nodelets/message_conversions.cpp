@@ -142,7 +142,7 @@ sensor_msgs::PointCloud2 toLidarPointCloud2(const std::vector<Eigen::Vector3d>& 
   addPointField(&msg, "y", 4, sensor_msgs::PointField::FLOAT32);
   addPointField(&msg, "z", 8, sensor_msgs::PointField::FLOAT32);
   addPointField(&msg, "intensity", 16, sensor_msgs::PointField::FLOAT32);
-  addPointField(&msg, "ring", 20, sensor_msgs::PointField::UINT16);
+  if (!rings.empty()) addPointField(&msg, "ring", 20, sensor_msgs::PointField::UINT16);
   msg.is_bigendian = false;
   msg.point_step = 32;
   msg.row_step = msg.point_step * msg.width;

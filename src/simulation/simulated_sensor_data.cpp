@@ -100,7 +100,8 @@ LidarModel parseLidarModel(const std::string& name, const std::string& what) {
   if (name == "vlp16") return LidarModel::kVlp16;
   if (name == "ouster64") return LidarModel::kOuster64;
   if (name == "livox") return LidarModel::kLivox;
-  throw InputError(what + ": '" + name + "' is unknown: expected vlp16, ouster64 or livox");
+  if (name == "scanner") return LidarModel::kScanner;
+  throw InputError(what + ": '" + name + "' is unknown: expected vlp16, ouster64, livox or scanner");
 }
 
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
@@ -128,14 +129,16 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
     }
     return points;
   }
-  const bool ouster = view.lidar_model == LidarModel::kOuster64;
-  const int rings = ouster ? 64 : 16, steps = ouster ? 1024 : 1800;
-  const double lowest = ouster ? -16.6 : -15.0, ring_step = ouster ? 33.2 / 63 : 2.0;
+  const bool ouster = view.lidar_model == LidarModel::kOuster64, scanner = view.lidar_model == LidarModel::kScanner;
+  const int rings = ouster ? 64 : scanner ? 77 : 16, steps = ouster ? 1024 : scanner ? 800 : 1800;
+  const double lowest = ouster ? -16.6 : scanner ? -19.0 : -15.0, ring_step = ouster ? 33.2 / 63 : scanner ? 0.5 : 2.0;
+  // A spinning head's steps go all round; a scanner's over 120 degrees ahead.
+  const double first_azimuth = scanner ? -M_PI / 3.0 : -M_PI, azimuth_step = scanner ? (2.0 * M_PI / 3.0) / steps : 2 * M_PI / steps;
   for (int ring = 0; ring < rings; ++ring) {
     const double elevation = (lowest + ring_step * ring) * M_PI / 180.0;
     const double bias = ring < static_cast<int>(view.ring_bias.size()) ? view.ring_bias[ring] : 0.0;
     for (int step = 0; step < steps; ++step) {
-      const double azimuth = step * 2 * M_PI / steps - M_PI;
+      const double azimuth = first_azimuth + step * azimuth_step;
       const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
       // A beam's footprint is about 3 mrad wide.
       cast(ray, 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0), ring, bias);

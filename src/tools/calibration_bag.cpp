@@ -190,7 +190,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   }
 
   std::mt19937 rng(options.seed);
-  std::vector<double> ring_bias(options.lidar_model == LidarModel::kOuster64 ? 64 : 16, 0.0);
+  const int rings = options.lidar_model == LidarModel::kOuster64 ? 64 : options.lidar_model == LidarModel::kScanner ? 77 : 16;
+  std::vector<double> ring_bias(rings, 0.0);
   if (options.ring_bias > 0.0) {
     std::uniform_real_distribution<double> bias(-options.ring_bias, options.ring_bias);
     for (double& b : ring_bias) b = bias(rng);
@@ -280,6 +281,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
           std::vector<Eigen::Vector3d> cloud = simulateLidarCloud(view, &rng, &truth);
           if (options.lidar_crop > 0.0) cropAroundBoards(&cloud, &truth.rings, placed.reference_from_sensor, summary.reference_from_target,
                                                          options.lidar_crop);
+          // A scanner's driver publishes no ring field.
+          if (options.lidar_model == LidarModel::kScanner) truth.rings.clear();
           bag.write(d.cloud_topic, stamp, toLidarPointCloud2(cloud, truth.rings, d.spec.frame_id, stamp));
           ++summary.messages;
           break;

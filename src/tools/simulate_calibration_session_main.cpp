@@ -36,9 +36,10 @@ const char kUsage[] =
     "                      with range; the clouds' ring field says which laser\n"
     "  --dark-range-offset M   lidar returns on the board's dark squares read M metres long (intensity-\n"
     "                      dependent range; default 0)\n"
-    "  --lidar-model M     vlp16 (default: 16 rings), ouster64 (64 rings over +-16.6 degrees) or livox (a\n"
-    "                      non-repeating rosette over a 70-degree cone ahead, no rings; the lidar turned to\n"
-    "                      face the target)\n"
+    "  --lidar-model M     vlp16 (default: 16 rings), ouster64 (64 rings over +-16.6 degrees), livox (a\n"
+    "                      non-repeating rosette over a 70-degree cone ahead, no rings) or scanner (77\n"
+    "                      elevation bands over +-19 degrees, 120 degrees ahead, clouds without a ring\n"
+    "                      field); livox and scanner turned to face the target\n"
     "  --mixed-pixels      returns between two surfaces where a beam straddles an edge\n"
     "  --rate HZ           messages per second of every sensor (default 10), unsynchronised\n"
     "  --camera-rate HZ --rgbd-rate HZ --lidar-rate HZ --laser-rate HZ   one sensor type's own rate\n"
@@ -166,7 +167,8 @@ int run(const vocal::CommandLine& args) {
   std::vector<vocal::SimulatedSensor> sensors =
       pan_tilt ? vocal::panTiltRig() : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
   const vocal::LidarModel lidar_model = vocal::parseLidarModel(args.text("lidar-model", "vlp16"), "option --lidar-model");
-  if (lidar_model == vocal::LidarModel::kLivox) vocal::pointLidarsAhead(&sensors);  // it sees a cone ahead, not all round
+  // They see ahead, not all round.
+  if (lidar_model == vocal::LidarModel::kLivox || lidar_model == vocal::LidarModel::kScanner) vocal::pointLidarsAhead(&sensors);
   vocal::TargetDescription target;  // the design's example board on a 0.9 x 0.7 m target, unless given
   target.width = args.number("board-width", target.width);
   target.height = args.number("board-height", target.height);

@@ -39,7 +39,7 @@ sensor_msgs::Image toDepth16UImage(const DepthImage& depth, const std::string& f
 sensor_msgs::PointCloud2 toPointCloud2(const std::vector<ColoredPoint>& points, const std::string& frame_id,
                                        const ros::Time& stamp);
 // What a Velodyne driver publishes (velodyne_pointcloud's PointXYZIR): x, y, z, intensity float32 and
-// ring uint16 in 32-byte points.
+// ring uint16 in 32-byte points; without `rings`, no ring field (a driver of a lidar without rings).
 sensor_msgs::PointCloud2 toLidarPointCloud2(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& rings,
                                             const std::string& frame_id, const ros::Time& stamp);
 geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& parent_from_child,

@@ -24,9 +24,11 @@ namespace vocal {
 // The lidars simulated: spinning ones with rings (a VLP-16: 16 rings 2 degrees apart from -15, 0.2 degree
 // azimuth steps; an Ouster OS1-64: 64 rings over +-16.6 degrees, 1024 azimuth steps) and a solid-state
 // one with a non-repeating pattern (Livox-like: a rosette over a 70-degree cone about its x axis, 10,000
-// points per 0.1 s frame, denser in the middle, never the same twice: no rings).
-enum class LidarModel { kVlp16, kOuster64, kLivox };
-// "vlp16", "ouster64", "livox"; throws InputError naming `what` for anything else.
+// points per 0.1 s frame, denser in the middle, never the same twice: no rings), and a scanning 3D laser
+// (a mirror or nodding head: 77 elevation bands 0.5 degrees apart over +-19 degrees, 0.15-degree steps
+// over 120 degrees ahead, and a driver that publishes no ring field).
+enum class LidarModel { kVlp16, kOuster64, kLivox, kScanner };
+// "vlp16", "ouster64", "livox", "scanner"; throws InputError naming `what` for anything else.
 LidarModel parseLidarModel(const std::string& name, const std::string& what);
 
 struct SimulatedRoomView {
@@ -68,7 +70,7 @@ struct SimulatedTruth {
 
 // A 2D laser's ranges in beam order (270 degrees, 0.25 degree steps from -135 degrees; infinity where
 // nothing is hit within 8 m) or a lidar's points (view.lidar_model; its hits only, a spinning lidar's
-// ring per point in `truth`, -1 for a pattern without rings).
+// ring per point in `truth` (a scanner's elevation band), -1 for a pattern without rings).
 std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.

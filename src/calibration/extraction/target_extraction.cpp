@@ -406,7 +406,14 @@ TargetSearch findTargetInCloud(const std::vector<Eigen::Vector3d>& points, doubl
   const auto withoutThinThings = [&](const Indices& piece, const Shape& shape) -> Indices {
     if (!mayHoldBoardOnThinParts(shape)) return {};
     Indices opened = withoutThinParts(*cloud, piece, shape.patch, shortest, widest_gap * shape.range);
-    if ((opened.empty() || opened.size() == piece.size()) && !spacing.rings.empty()) opened = withoutPostRings(piece);
+    // Still larger than the board (posts about as wide as the opening): a spinning lidar's or a scanner's
+    // rings across the posts only.
+    const auto boardSized = [&](const Indices& rest) {
+      return static_cast<int>(rest.size()) >= options.min_points && rest.size() < piece.size() && !larger_than_board(shapeOf(*cloud, rest));
+    };
+    if (!boardSized(opened) && !spacing.rings.empty()) {
+      if (const Indices trimmed = withoutPostRings(piece); trimmed.size() < piece.size()) opened = trimmed;
+    }
     if (static_cast<int>(opened.size()) < options.min_points || opened.size() == piece.size()) return {};
     return opened;
   };
@@ -771,6 +778,72 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
   }
   const double mean_spacing = covered > 0.0 ? std::sqrt(solid_angle / covered) : 0.0;
   if (mean_spacing > 1.5 * spacing.horizontal) spacing.horizontal = spacing.vertical = mean_spacing;
+  return spacing;
+}
+
+std::vector<double> elevationBandsOf(const std::vector<Eigen::Vector3d>& cloud, std::size_t least_returns) {
+  std::vector<double> elevations;
+  elevations.reserve(cloud.size());
+  for (const Eigen::Vector3d& p : cloud) elevations.push_back(std::atan2(p.z(), p.head<2>().norm()));
+  std::sort(elevations.begin(), elevations.end());
+  // Runs of elevations without a gap of over 0.05 degrees: a band (range noise lies along the beams and
+  // leaves a band's elevation as it is); a pattern without bands runs on.
+  constexpr double kWithinBand = 0.05 * M_PI / 180.0;
+  std::vector<double> bands, widths;
+  std::size_t in_bands = 0;
+  for (std::size_t i = 0; i < elevations.size();) {
+    std::size_t j = i + 1;
+    while (j < elevations.size() && elevations[j] - elevations[j - 1] <= kWithinBand) ++j;
+    if (j - i >= least_returns) {
+      bands.push_back(std::accumulate(elevations.begin() + i, elevations.begin() + j, 0.0) / (j - i));
+      widths.push_back(elevations[j - 1] - elevations[i]);
+      in_bands += j - i;
+    }
+    i = j;
+  }
+  // Nearly every return on a band (a few strays: mixed pixels); a pattern without bands leaves many in
+  // runs too short to count.
+  if (bands.size() < 3 || in_bands < 0.9 * elevations.size()) return {};
+  std::vector<double> gaps;
+  for (std::size_t b = 1; b < bands.size(); ++b) gaps.push_back(bands[b] - bands[b - 1]);
+  // Bands are what a scan's sweeps make only where they are far narrower than the gaps between them.
+  if (!(median(widths) < 0.25 * median(gaps))) return {};
+  return bands;
+}
+
+ScanSpacing estimateCroppedScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
+  ScanSpacing spacing;
+  const std::vector<double> bands = elevationBandsOf(cloud);
+  if (bands.empty()) return spacing;
+  std::vector<double> gaps;
+  for (std::size_t b = 1; b < bands.size(); ++b) gaps.push_back(bands[b] - bands[b - 1]);
+  // The smallest gaps are neighbouring bands; a band the crop or an absorbing square emptied doubles one.
+  std::sort(gaps.begin(), gaps.end());
+  gaps.resize((gaps.size() + 1) / 2);
+  const double vertical = median(gaps);
+  // Azimuth steps along each band, the fullest one's.
+  std::map<int, std::vector<double>> azimuths;
+  for (const Eigen::Vector3d& p : cloud) {
+    const double elevation = std::atan2(p.z(), p.head<2>().norm());
+    const auto nearest =
+        std::min_element(bands.begin(), bands.end(), [&](double a, double b) { return std::abs(a - elevation) < std::abs(b - elevation); });
+    if (std::abs(*nearest - elevation) < 0.25 * vertical)
+      azimuths[static_cast<int>(nearest - bands.begin())].push_back(std::atan2(p.y(), p.x()));
+  }
+  std::vector<double> steps;
+  const auto fullest =
+      std::max_element(azimuths.begin(), azimuths.end(), [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
+  std::sort(fullest->second.begin(), fullest->second.end());
+  for (std::size_t i = 1; i < fullest->second.size(); ++i)
+    if (fullest->second[i] - fullest->second[i - 1] > 1e-5) steps.push_back(fullest->second[i] - fullest->second[i - 1]);
+  if (steps.empty()) return spacing;
+  // Neighbouring returns: the smaller half of the steps (an absorbing square leaves gaps along the band).
+  std::sort(steps.begin(), steps.end());
+  steps.resize((steps.size() + 1) / 2);
+  spacing.horizontal = median(steps);
+  spacing.vertical = vertical;
+  spacing.rings = bands;
+  spacing.rings_per_cloud = true;
   return spacing;
 }
 

@@ -48,6 +48,9 @@ struct ScanSpacing {
   // estimateScanSpacing found its cloud to be one; empty otherwise.
   std::vector<double> rings;
   bool rings_from_driver = false;  // the cloud's ring field gave them (else: found by elevation)
+  // Found on a scan cropped round the board without a ring field (estimateCroppedScanSpacing): `rings`
+  // are the bands that scan showed, and each cloud's own bands (elevationBandsOf) stand in for them.
+  bool rings_per_cloud = false;
 };
 
 struct TargetExtractionOptions {
@@ -117,6 +120,16 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
 // A spinning lidar's ring and azimuth spacing from its cloud (elevations cluster into rings), with its
 // rings; a dense cloud's (depth camera) from the angle to each point's nearest neighbour. Zero for < 10 points.
 ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud);
+
+// The elevations (radians, ascending) of the bands a cloud's returns fall into, each of `least_returns`
+// or more and much narrower than the gaps between them (a spinning lidar's rings, a scanning laser's
+// sweeps); empty when its elevations do not fall into three such bands or more (a non-repeating pattern).
+std::vector<double> elevationBandsOf(const std::vector<Eigen::Vector3d>& cloud, std::size_t least_returns = 5);
+
+// The spacing of a scan cropped round the board and published without a ring field (too few returns for
+// estimateScanSpacing's rings): its bands' gaps and the azimuth steps along its fullest band, and
+// `rings_per_cloud` set; zero when its returns fall into no bands.
+ScanSpacing estimateCroppedScanSpacing(const std::vector<Eigen::Vector3d>& cloud);
 
 // The most board-like candidate's points (empty when none): for callers without a background model.
 std::vector<Eigen::Vector3d> extractTargetPoints(const std::vector<Eigen::Vector3d>& cloud, double target_width,
