@@ -1011,6 +1011,27 @@ TEST(ClockOffsets, ARunLaidOverTheNeighbouringPosesIsNoClock) {
   EXPECT_GT(late[0].distance_misfit_stamped, 0.1);
 }
 
+// A reference that held the board still at only four poses of fifteen (a depth camera that finds a small
+// board seldom), another sensor on time that saw it at six: laid a pose later its runs cover three of the
+// reference's where its stamps cover two. Three runs give the board's moves too few distances to vouch
+// for the poses, so no clock is applied on them (a simulated scanning laser was once moved 5 s, every
+// view laid over another pose).
+TEST(ClockOffsets, ARunOrTwoMoreOverAFewReferenceRunsIsNoClock) {
+  const std::vector<vocal::SensorSpec> specs = {{"rgbd0", vocal::SensorType::kRgbd, "rgbd0"},
+                                                {"lidar0", vocal::SensorType::kLidar3d, "lidar0"}};
+  std::set<int> reference_misses;
+  for (int k = 0; k < 15; ++k)
+    if (k != 3 && k != 4 && k != 9 && k != 11) reference_misses.insert(k);
+  const std::vector<vocal::ClockOffset> offsets =
+      vocal::estimateClockOffsets(specs, evenlyPacedSession(15, reference_misses, {3, 5, 8, 10, 11, 13}, 0.0), 0);
+  ASSERT_EQ(offsets.size(), 1u);
+  const std::string said = vocal::describeClockOffset(offsets[0], specs);
+  EXPECT_EQ(offsets[0].runs_unshifted, 2) << said;
+  EXPECT_EQ(offsets[0].runs, 3) << said;
+  EXPECT_FALSE(offsets[0].applied) << said;
+  EXPECT_EQ(said.find("corrected"), std::string::npos) << said;
+}
+
 TEST(Calibration, DisconnectedSensorGraphIsNamed) {
   vocal::RigSimulationOptions options;
   options.target_poses = 12;

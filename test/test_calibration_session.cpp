@@ -429,6 +429,17 @@ TEST(CalibrationSession, AScanningLasersCroppedScanWithoutRingsFindsASmallBoardO
     }
   }
   EXPECT_GE(boards_alone, 40) << missed;
+
+  // Cropped wider, a thousand returns and more on too few per band for a whole scan's rings: its bands still.
+  view.reference_from_target.translation().x() = 1.6;
+  view.reference_from_target.linear() = vocal::targetFacingRig();
+  const CroppedScan wider(view, scanner, 0.8, 5);
+  ASSERT_GT(wider.points.size(), 1000u);
+  vocal::CalibrationSession session(rig);
+  session.prepareCloud(0, wider.points);
+  ASSERT_TRUE(session.hasSpacing(0));
+  const vocal::CalibrationSession::Extraction extraction = session.extractCloud(0, wider.points);
+  EXPECT_FALSE(extraction.search.candidates.empty()) << extraction.search.rejection;
 }
 
 // A long session within a memory budget (SessionMemoryOptions): 10 poses held still 3 s each, the camera

@@ -205,6 +205,46 @@ TEST(SensorTrust, ASensorWithTooFewSharedPosesIsNamedAndTheRestCalibrated) {
   EXPECT_EQ(spread.solved, spread.poses);
 }
 
+// A sensor whose views cannot place it (a lidar that saw the board only at four poses, where it stood
+// turned the same way): named with why, the others calibrated without it - before, the whole rig was
+// refused with "the target planes are too close to parallel".
+TEST(SensorTrust, ASensorWhoseViewsCannotPlaceItIsNamedAndTheRestCalibrated) {
+  Rig rig = healthyRig();
+  std::vector<vocal::TargetObservation> kept;
+  for (const vocal::TargetObservation& o : rig.simulated.observations)
+    if (o.sensor != kLidar) kept.push_back(o);
+  // Four more poses, the board moved but not turned from the first pose, seen by the reference and the lidar.
+  std::mt19937 rng(13);
+  const int first_extra = static_cast<int>(rig.simulated.reference_from_target.size());
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Isometry3d board = rig.simulated.reference_from_target[0];
+    board.translation() += Eigen::Vector3d(0.1 * k, 0.15 * (k % 2), -0.1 * (k / 2));
+    for (const int sensor : {kRgbd, kLidar}) {
+      vocal::TargetObservation o = vocal::observeTarget(rig.simulated.sensors[sensor], board, 0.5 * rig.simulation.target_width,
+                                                        0.5 * rig.simulation.target_height, rig.simulation, &rng);
+      ASSERT_FALSE(o.points.empty());
+      o.sensor = sensor;
+      o.target_pose = first_extra + k;
+      kept.push_back(o);
+    }
+  }
+  rig.simulated.observations = kept;
+  // The graph alone cannot place it.
+  const std::string refusal = vocal_test::inputErrorOf([&] { vocal::calibrateRig(rig.specs, rig.simulated.observations, rig.options); });
+  EXPECT_EQ(refusal.rfind("calibration of 'lidar0' against 'rgbd0': the target planes are too close to parallel", 0), 0u) << refusal;
+  const vocal::CalibrationResult result = calibrate(rig);
+  ASSERT_TRUE(result.trusted) << result.failure;
+  EXPECT_TRUE(result.sensors[kLidar].isolated);
+  EXPECT_EQ(result.sensors[kLidar].distrust.rfind("its views of the board cannot place it (calibration of 'lidar0' against 'rgbd0': the target "
+                                                  "planes are too close to parallel",
+                                                  0),
+            0u)
+      << result.sensors[kLidar].distrust;
+  expectOthersWithin1cm(rig, result, kLidar);
+  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
+  EXPECT_EQ(spread.solved, spread.poses);
+}
+
 // A sensor that never saw the target (a wrong topic, a crop box beside the board): the others are
 // calibrated without it, and it is named rather than the whole calibration refused.
 TEST(SensorTrust, ASensorThatNeverSawTheTargetIsNamedAndTheRestCalibrated) {

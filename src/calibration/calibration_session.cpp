@@ -411,6 +411,11 @@ void CalibrationSession::prepareCloud(int sensor, const std::vector<Eigen::Vecto
     return;
   }
   spacing = estimateScanSpacing(cloud);
+  if (!ring_field && spacing.rings.empty()) {
+    // A scan cropped round the board can hold a thousand returns and more, on too few per band for the
+    // rings of a whole scan: its bands, where its returns fall into them.
+    if (ScanSpacing banded = estimateCroppedScanSpacing(cloud); banded.horizontal > 0.0) spacing = std::move(banded);
+  }
   // What the driver knows beats clustering elevations (a laser's own vertical offset spreads its
   // elevation at close range; a scanner without rings has none to cluster).
   if (rings.size() == cloud.size()) {

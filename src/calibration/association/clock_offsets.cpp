@@ -159,6 +159,10 @@ double centreDistanceMisfit(const RunMatch& match, const std::vector<std::option
   return misfits.size() < 3 ? std::numeric_limits<double>::quiet_NaN() : median(misfits);
 }
 
+// The board's moves between poses tell the right association from one a whole pose off only over four
+// runs or more (six distances): three give a median of three, as likely small by chance.
+constexpr int kLeastWitnessRuns = 4;
+
 // A shift's association of the sensor's runs with the reference's.
 struct ShiftHypothesis {
   double shift = 0.0;
@@ -206,8 +210,6 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
     shifts.erase(std::unique(shifts.begin(), shifts.end()), shifts.end());
     std::vector<ShiftHypothesis> hypotheses;
     double least_misfit = std::numeric_limits<double>::infinity();
-    // Measured over four runs or more (six distances): three give a median of three, as likely small by chance.
-    constexpr int kLeastWitnessRuns = 4;
     for (const double shift : shifts) {
       hypotheses.push_back(hypothesis(shift));
       const ShiftHypothesis& h = hypotheses.back();
@@ -266,8 +268,11 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
     // association tolerates is left alone, and a sensor moving on its own (on a head the rig does not
     // describe), whose runs start and end out of step with the board's - its own moves timed alike - is
     // not taken for a clock.
-    offset.applied = runs_shifted && best.count >= options.least_runs && (best.count > unshifted.count || wrongPoses(stamped)) &&
-                     std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
+    // A shift must also lay enough runs over for the board's moves to vouch for its poses: with a reference
+    // that held the board still at four poses of fifteen, 5 s laid 3 runs of a lidar on time over them
+    // where its stamps laid 2, each a pose off.
+    offset.applied = runs_shifted && best.count >= std::max(options.least_runs, kLeastWitnessRuns) &&
+                     (best.count > unshifted.count || wrongPoses(stamped)) && std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
     offsets.push_back(offset);
   }
   return offsets;

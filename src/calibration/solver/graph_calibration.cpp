@@ -557,6 +557,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   std::vector<Eigen::Isometry3d> initial(sensor_count, Eigen::Isometry3d::Identity());
   std::vector<bool> placed(sensor_count, false);
+  std::vector<bool> unplaced(sensor_count, false);  // isolated, and its views cannot place it
   placed[options.reference_sensor] = true;
   initial[options.reference_sensor] = options.reference_pose;
   int plane_sensors = 0;
@@ -614,10 +615,16 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       placed[best_child] = true;
       continue;
     }
-    initial[best_child] = (child_jointed ? Eigen::Isometry3d::Identity() : initial[best_parent]) *
-                          alignPlanes(in_parent, in_child,
-                                      "calibration of '" + sensors[best_child].name + "' against '" + sensors[best_parent].name + "'",
-                                      edges.enabled ? &centres : nullptr);
+    try {
+      initial[best_child] = (child_jointed ? Eigen::Isometry3d::Identity() : initial[best_parent]) *
+                            alignPlanes(in_parent, in_child,
+                                        "calibration of '" + sensors[best_child].name + "' against '" + sensors[best_parent].name + "'",
+                                        edges.enabled ? &centres : nullptr);
+    } catch (const InputError& e) {
+      // An isolated one stays where it is, named by its distrust (calibrateRigWithTrust), and places nothing.
+      if (!isolated[best_child]) throw UnplaceableSensorError(best_child, e.what());
+      unplaced[best_child] = true;
+    }
     placed[best_child] = true;
   }
 
@@ -665,8 +672,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
         scan_ends.ends.push_back(lineEnds(o.outline));
       }
     }
-    initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'",
-                                 edges.enabled ? &scan_ends : nullptr);
+    try {
+      initial[s] = alignLaserLines(seen_planes, scans, "calibration of 2D laser '" + sensors[s].name + "'",
+                                   edges.enabled ? &scan_ends : nullptr);
+    } catch (const InputError& e) {
+      if (!isolated[s]) throw UnplaceableSensorError(s, e.what());
+      unplaced[s] = true;
+    }
     placed[s] = true;
   }
 
@@ -723,7 +735,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const TargetObservation& o : observations)
       if (o.sensor == s && !rejected.count({o.sensor, o.target_pose})) its.push_back(&o);
     // None: it shares no pose the others fixed, and its closed form stays. Too few: it stays unplaced.
-    if (static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) continue;
+    if ((static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) || unplaced[s]) continue;
     isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state);
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes

@@ -191,7 +191,20 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
   CalibrationOptions seen_options = options;
   for (int s = 0; s < sensor_count; ++s)
     if ((unseen[s] || too_few[s]) && s != options.reference_sensor) seen_options.isolated_sensors.push_back(s);
-  const CalibrationResult full = calibrateRig(sensors, observations, seen_options);
+  // And so is one whose views cannot place it (its boards' planes too close to parallel): named, the rest
+  // calibrated without it.
+  std::vector<std::string> unplaceable(sensor_count);
+  CalibrationResult full;
+  for (;;) {
+    try {
+      full = calibrateRig(sensors, observations, seen_options);
+      break;
+    } catch (const UnplaceableSensorError& e) {
+      if (e.sensor == options.reference_sensor || e.sensor < 0 || e.sensor >= sensor_count || !unplaceable[e.sensor].empty()) throw;
+      unplaceable[e.sensor] = e.what();
+      seen_options.isolated_sensors.push_back(e.sensor);
+    }
+  }
   CalibrationResult result = full;
   std::vector<std::string> kept_in(sensor_count);  // per sensor: why it could not be taken out
   std::vector<PlacementChange> changes(sensor_count);
@@ -239,6 +252,11 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     if (unseen[s]) {
       sensor.distrust = "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a placeholder); "
                         "the others were solved without it";
+      continue;
+    }
+    if (!unplaceable[s].empty()) {
+      sensor.distrust = "its views of the board cannot place it (" + unplaceable[s] +
+                        "), so it is not calibrated (its pose in the result is a placeholder); the others were solved without it";
       continue;
     }
     if (too_few[s]) {

@@ -30,6 +30,7 @@
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/consensus_filter.h"
 #include "vocal/calibration/solver/observability.h"
+#include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
 namespace vocal {
@@ -83,6 +84,15 @@ struct CalibrationOptions {
 
 // Still poses a plane-seeing sensor must share with the others to be placed (three planes fix a pose).
 constexpr int kLeastSharedPoses = 3;
+
+// calibrateRig's InputError where one sensor's views cannot place it (its boards' planes too close to
+// parallel, a 2D laser's lines too few or alike): calibrateRigWithTrust leaves that sensor out and
+// calibrates the rest.
+class UnplaceableSensorError : public InputError {
+ public:
+  UnplaceableSensorError(int sensor, const std::string& message) : InputError(message), sensor(sensor) {}
+  int sensor;
+};
 
 struct SensorCalibration {
   // In the rig frame; a sensor behind joints (JointedMounts): its mount in its chain's last link.
