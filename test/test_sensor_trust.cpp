@@ -76,6 +76,26 @@ void expectOthersWithin1cm(const Rig& rig, const vocal::CalibrationResult& resul
   }
 }
 
+// The observations of every sensor but `sensor`.
+std::vector<vocal::TargetObservation> withoutSensor(const std::vector<vocal::TargetObservation>& observations, int sensor) {
+  std::vector<vocal::TargetObservation> kept;
+  for (const vocal::TargetObservation& o : observations)
+    if (o.sensor != sensor) kept.push_back(o);
+  return kept;
+}
+
+// `sensor` named (its distrust starting with `said`) and kept out of the graph, the others calibrated
+// within 1 cm as if it were not there, and every jackknife re-solve succeeding without it.
+void expectLeftOutAndTheRestCalibrated(const Rig& rig, int sensor, const std::string& said) {
+  const vocal::CalibrationResult result = calibrate(rig);
+  ASSERT_TRUE(result.trusted) << result.failure;
+  EXPECT_TRUE(result.sensors[sensor].isolated);
+  EXPECT_EQ(result.sensors[sensor].distrust.rfind(said, 0), 0u) << result.sensors[sensor].distrust;
+  expectOthersWithin1cm(rig, result, sensor);
+  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
+  EXPECT_EQ(spread.solved, spread.poses);
+}
+
 // A pan-tilt head the rig does not describe: panned by up to `amount` and tilted by half that about a
 // pivot 8 cm behind the sensor, anew at each pose.
 Eigen::Isometry3d onPanTiltHead(const Eigen::Isometry3d& mount, int pose, double amount) {
@@ -192,17 +212,8 @@ TEST(SensorTrust, ASensorWithTooFewSharedPosesIsNamedAndTheRestCalibrated) {
   for (const vocal::TargetObservation& o : rig.simulated.observations)
     if (o.sensor != kCamera1 || camera_views++ < 2) kept.push_back(o);
   rig.simulated.observations = kept;
-  const vocal::CalibrationResult result = calibrate(rig);
-  ASSERT_TRUE(result.trusted) << result.failure;
-  EXPECT_TRUE(result.sensors[kCamera1].isolated);
-  EXPECT_EQ(result.sensors[kCamera1].distrust.rfind("it shares 2 still poses at most with another sensor, and 3 are needed to place it, "
-                                                    "so it is not calibrated",
-                                                    0),
-            0u)
-      << result.sensors[kCamera1].distrust;
-  expectOthersWithin1cm(rig, result, kCamera1);
-  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
-  EXPECT_EQ(spread.solved, spread.poses);
+  expectLeftOutAndTheRestCalibrated(rig, kCamera1, "it shares 2 still poses at most with another sensor, and 3 are needed to place it, "
+                                                   "so it is not calibrated");
 }
 
 // A sensor whose views cannot place it (a lidar that saw the board only at four poses, where it stood
@@ -210,9 +221,7 @@ TEST(SensorTrust, ASensorWithTooFewSharedPosesIsNamedAndTheRestCalibrated) {
 // refused with "the target planes are too close to parallel".
 TEST(SensorTrust, ASensorWhoseViewsCannotPlaceItIsNamedAndTheRestCalibrated) {
   Rig rig = healthyRig();
-  std::vector<vocal::TargetObservation> kept;
-  for (const vocal::TargetObservation& o : rig.simulated.observations)
-    if (o.sensor != kLidar) kept.push_back(o);
+  std::vector<vocal::TargetObservation> kept = withoutSensor(rig.simulated.observations, kLidar);
   // Four more poses, the board moved but not turned from the first pose, seen by the reference and the lidar.
   std::mt19937 rng(13);
   const int first_extra = static_cast<int>(rig.simulated.reference_from_target.size());
@@ -232,40 +241,20 @@ TEST(SensorTrust, ASensorWhoseViewsCannotPlaceItIsNamedAndTheRestCalibrated) {
   // The graph alone cannot place it.
   const std::string refusal = vocal_test::inputErrorOf([&] { vocal::calibrateRig(rig.specs, rig.simulated.observations, rig.options); });
   EXPECT_EQ(refusal.rfind("calibration of 'lidar0' against 'rgbd0': the target planes are too close to parallel", 0), 0u) << refusal;
-  const vocal::CalibrationResult result = calibrate(rig);
-  ASSERT_TRUE(result.trusted) << result.failure;
-  EXPECT_TRUE(result.sensors[kLidar].isolated);
-  EXPECT_EQ(result.sensors[kLidar].distrust.rfind("its views of the board cannot place it (calibration of 'lidar0' against 'rgbd0': the target "
-                                                  "planes are too close to parallel",
-                                                  0),
-            0u)
-      << result.sensors[kLidar].distrust;
-  expectOthersWithin1cm(rig, result, kLidar);
-  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
-  EXPECT_EQ(spread.solved, spread.poses);
+  expectLeftOutAndTheRestCalibrated(rig, kLidar, "its views of the board cannot place it (calibration of 'lidar0' against 'rgbd0': the "
+                                                 "target planes are too close to parallel");
 }
 
 // A sensor that never saw the target (a wrong topic, a crop box beside the board): the others are
 // calibrated without it, and it is named rather than the whole calibration refused.
 TEST(SensorTrust, ASensorThatNeverSawTheTargetIsNamedAndTheRestCalibrated) {
   Rig rig = healthyRig();
-  std::vector<vocal::TargetObservation> without;
-  for (const vocal::TargetObservation& o : rig.simulated.observations)
-    if (o.sensor != kCamera1) without.push_back(o);
-  rig.simulated.observations = without;
-  const vocal::CalibrationResult result = calibrate(rig);
-  ASSERT_TRUE(result.trusted) << result.failure;
-  EXPECT_TRUE(result.sensors[kCamera1].isolated);
-  EXPECT_EQ(result.sensors[kCamera1].distrust,
-            "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a placeholder); the others "
-            "were solved without it");
-  expectOthersWithin1cm(rig, result, kCamera1);
-  const vocal::PoseJackknife spread = vocal::jackknifeOverPoses(rig.specs, rig.simulated.observations, rig.options, result);
-  EXPECT_EQ(spread.solved, spread.poses);
+  rig.simulated.observations = withoutSensor(rig.simulated.observations, kCamera1);
+  expectLeftOutAndTheRestCalibrated(rig, kCamera1,
+                                    "it never saw the target in a still pose, so it is not calibrated (its pose in the result is a "
+                                    "placeholder); the others were solved without it");
   // The reference itself cannot be left out.
-  std::vector<vocal::TargetObservation> no_reference;
-  for (const vocal::TargetObservation& o : rig.simulated.observations)
-    if (o.sensor != kRgbd) no_reference.push_back(o);
+  const std::vector<vocal::TargetObservation> no_reference = withoutSensor(rig.simulated.observations, kRgbd);
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRigWithTrust(rig.specs, no_reference, rig.options); }),
             "calibration: sensor 'rgbd0' never sees the target: its pose is unconstrained in all 6 DoF");
 }

@@ -622,13 +622,6 @@ CalibrationSession::Extraction CalibrationSession::extractDepth(int sensor, cons
       if (isValidDepth(depth(u, v))) cloud.push_back(camera.backProject(u, v, depth(u, v)));
   const ScanSpacing spacing{kStep / camera.fx, kStep / camera.fy, ScanPattern::kPinhole};
   Extraction extraction;
-  if (spacing.rings_per_cloud) {
-    // The bands a cropped scan shows move with the board: this cloud's own.
-    ScanSpacing own = spacing;
-    own.rings = elevationBandsOf(cloud);
-    extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, own, extractionFor(sensor));
-    return extraction;
-  }
   extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
   return extraction;
 }

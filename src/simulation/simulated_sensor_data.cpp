@@ -133,12 +133,12 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
   const int rings = ouster ? 64 : scanner ? 77 : 16, steps = ouster ? 1024 : scanner ? 800 : 1800;
   const double lowest = ouster ? -16.6 : scanner ? -19.0 : -15.0, ring_step = ouster ? 33.2 / 63 : scanner ? 0.5 : 2.0;
   // A spinning head's steps go all round; a scanner's over 120 degrees ahead.
-  const double first_azimuth = scanner ? -M_PI / 3.0 : -M_PI, azimuth_step = scanner ? (2.0 * M_PI / 3.0) / steps : 2 * M_PI / steps;
+  const double sweep = scanner ? 2.0 * M_PI / 3.0 : 2 * M_PI;
   for (int ring = 0; ring < rings; ++ring) {
     const double elevation = (lowest + ring_step * ring) * M_PI / 180.0;
     const double bias = ring < static_cast<int>(view.ring_bias.size()) ? view.ring_bias[ring] : 0.0;
     for (int step = 0; step < steps; ++step) {
-      const double azimuth = first_azimuth + step * azimuth_step;
+      const double azimuth = step * sweep / steps - 0.5 * sweep;
       const Eigen::Vector3d ray(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
       // A beam's footprint is about 3 mrad wide.
       cast(ray, 0.0015 * Eigen::Vector3d(-std::sin(azimuth), std::cos(azimuth), 0.0), ring, bias);

@@ -272,7 +272,8 @@ std::vector<ClockOffset> estimateClockOffsets(const std::vector<SensorSpec>& sen
     // that held the board still at four poses of fifteen, 5 s laid 3 runs of a lidar on time over them
     // where its stamps laid 2, each a pose off.
     offset.applied = runs_shifted && best.count >= std::max(options.least_runs, kLeastWitnessRuns) &&
-                     (best.count > unshifted.count || wrongPoses(stamped)) && std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
+                     (best.count > unshifted.count || wrongPoses(stamped)) &&
+                     std::abs(offset.late) >= std::max(options.least_offset, 3.0 * offset.sigma);
     offsets.push_back(offset);
   }
   return offsets;
