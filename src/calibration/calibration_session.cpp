@@ -432,15 +432,11 @@ CalibrationSession::Extraction CalibrationSession::extractCloud(int sensor, cons
                      " points shows no ring or row spacing (a lidar's first cloud needs " + std::to_string(kLeastReturns) +
                      " points or more, " + std::to_string(kLeastCroppedReturns) + " with a ring field or its returns in elevation bands)");
   }
+  // The bands a cropped scan shows move with the board: this cloud's own.
+  ScanSpacing own = spacing;
+  if (spacing.rings_per_cloud) own.rings = elevationBandsOf(cloud);
   Extraction extraction;
-  if (spacing.rings_per_cloud) {
-    // The bands a cropped scan shows move with the board: this cloud's own.
-    ScanSpacing own = spacing;
-    own.rings = elevationBandsOf(cloud);
-    extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, own, extractionFor(sensor));
-    return extraction;
-  }
-  extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, spacing, extractionFor(sensor));
+  extraction.search = findTargetInCloud(cloud, rig_.target.width, rig_.target.height, own, extractionFor(sensor));
   return extraction;
 }
 

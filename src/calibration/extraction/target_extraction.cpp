@@ -721,6 +721,21 @@ TargetSearch findTargetInScan(const std::vector<Eigen::Vector3d>& scan, double t
   return finished(std::move(search), "no straight segment of 10 points or more");
 }
 
+namespace {
+// The azimuth steps (radians, ascending) between neighbouring returns of a cloud within `within` of
+// elevation `band`: a ring's or a scan band's.
+std::vector<double> azimuthStepsAlong(const std::vector<Eigen::Vector3d>& cloud, double band, double within) {
+  std::vector<double> azimuths, steps;
+  for (const Eigen::Vector3d& p : cloud)
+    if (std::abs(std::atan2(p.z(), p.head<2>().norm()) - band) < within) azimuths.push_back(std::atan2(p.y(), p.x()));
+  std::sort(azimuths.begin(), azimuths.end());
+  for (std::size_t i = 1; i < azimuths.size(); ++i)
+    if (azimuths[i] - azimuths[i - 1] > 1e-5) steps.push_back(azimuths[i] - azimuths[i - 1]);
+  std::sort(steps.begin(), steps.end());
+  return steps;
+}
+}  // namespace
+
 ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
   ScanSpacing spacing;
   if (cloud.size() < 10) return spacing;
@@ -732,12 +747,7 @@ ScanSpacing estimateScanSpacing(const std::vector<Eigen::Vector3d>& cloud) {
     spacing.vertical = median(gaps);
     // Azimuth steps within the ring with the most points.
     const double ring = std::max_element(rings.begin(), rings.end(), [](const LidarRing& a, const LidarRing& b) { return a.returns < b.returns; })->elevation;
-    std::vector<double> azimuths;
-    for (const Eigen::Vector3d& p : cloud)
-      if (std::abs(std::atan2(p.z(), p.head<2>().norm()) - ring) < 0.1 * M_PI / 180.0) azimuths.push_back(std::atan2(p.y(), p.x()));
-    std::sort(azimuths.begin(), azimuths.end());
-    for (std::size_t i = 1; i < azimuths.size(); ++i)
-      if (azimuths[i] - azimuths[i - 1] > 1e-5) steps.push_back(azimuths[i] - azimuths[i - 1]);
+    steps = azimuthStepsAlong(cloud, ring, 0.1 * M_PI / 180.0);
     spacing.horizontal = median(steps);
     if (spacing.horizontal > 0.0) {
       for (const LidarRing& r : rings)
@@ -821,24 +831,18 @@ ScanSpacing estimateCroppedScanSpacing(const std::vector<Eigen::Vector3d>& cloud
   std::sort(gaps.begin(), gaps.end());
   gaps.resize((gaps.size() + 1) / 2);
   const double vertical = median(gaps);
-  // Azimuth steps along each band, the fullest one's.
-  std::map<int, std::vector<double>> azimuths;
+  // Azimuth steps along the band with the most returns.
+  std::vector<int> returns(bands.size(), 0);
   for (const Eigen::Vector3d& p : cloud) {
     const double elevation = std::atan2(p.z(), p.head<2>().norm());
     const auto nearest =
         std::min_element(bands.begin(), bands.end(), [&](double a, double b) { return std::abs(a - elevation) < std::abs(b - elevation); });
-    if (std::abs(*nearest - elevation) < 0.25 * vertical)
-      azimuths[static_cast<int>(nearest - bands.begin())].push_back(std::atan2(p.y(), p.x()));
+    if (std::abs(*nearest - elevation) < 0.25 * vertical) ++returns[nearest - bands.begin()];
   }
-  std::vector<double> steps;
-  const auto fullest =
-      std::max_element(azimuths.begin(), azimuths.end(), [](const auto& a, const auto& b) { return a.second.size() < b.second.size(); });
-  std::sort(fullest->second.begin(), fullest->second.end());
-  for (std::size_t i = 1; i < fullest->second.size(); ++i)
-    if (fullest->second[i] - fullest->second[i - 1] > 1e-5) steps.push_back(fullest->second[i] - fullest->second[i - 1]);
+  const double fullest = bands[std::max_element(returns.begin(), returns.end()) - returns.begin()];
+  std::vector<double> steps = azimuthStepsAlong(cloud, fullest, 0.25 * vertical);
   if (steps.empty()) return spacing;
   // Neighbouring returns: the smaller half of the steps (an absorbing square leaves gaps along the band).
-  std::sort(steps.begin(), steps.end());
   steps.resize((steps.size() + 1) / 2);
   spacing.horizontal = median(steps);
   spacing.vertical = vertical;
