@@ -443,6 +443,47 @@ TEST(PatternObservation, PlaneCovarianceMatchesTheScatterOfRepeatedViews) {
   EXPECT_NEAR(measured, correlation, 0.15);
 }
 
+// What a view says of the intrinsics it was fitted with (PlaneMeasurement::pose_per_intrinsics,
+// evidence_*): the pose it predicts for changed intrinsics is the pose PnP finds with them, and its
+// evidence is least where the intrinsics are the ones that made the corners.
+TEST(PatternObservation, TheViewsIntrinsicsResponseMatchesPnPSolvedAgain) {
+  vocal::PinholeCamera truth;
+  truth.width = 1280, truth.height = 800;
+  truth.fx = 900.0, truth.fy = 905.0, truth.cx = 650.0, truth.cy = 390.0;
+  const vocal::TargetPattern pattern{6, 8, 0.06};
+  Eigen::Isometry3d camera_from_board = Eigen::Isometry3d::Identity();
+  camera_from_board.linear() = vocal::rotationFromRollPitchYaw(0.35, -0.45, 0.1);
+  camera_from_board.translation() = Eigen::Vector3d(0.25, -0.1, 1.7);
+  const vocal::LensDistortion distortion = vocal::LensDistortion::fromCameraInfo("plumb_bob", {-0.12, 0.05, 0.0, 0.0, 0.0}, "camera0");
+  std::vector<Eigen::Vector2d> corners;
+  for (const Eigen::Vector3d& corner : pattern.corners()) corners.push_back(vocal::projectThroughLens(truth, distortion, camera_from_board * corner));
+  // The camera_info 1.5 % long in focal length and 8 px off in its principal point.
+  vocal::PinholeCamera given = truth;
+  given.fx *= 1.015, given.fy *= 1.015, given.cx += 8.0, given.cy -= 6.0;
+  const vocal::PlaneMeasurement seen = vocal::observePattern(corners, pattern, given, "camera0", distortion).plane;
+  EXPECT_TRUE(seen.intrinsics.isApprox(Eigen::Vector4d(given.fx, given.fy, given.cx, given.cy)));
+  // Relative changes back to the truth.
+  const Eigen::Vector4d dk((truth.fx - given.fx) / given.fx, (truth.fy - given.fy) / given.fy, (truth.cx - given.cx) / given.fx,
+                           (truth.cy - given.cy) / given.fy);
+  const Eigen::Matrix<double, 6, 1> moved = seen.pose_per_intrinsics * dk;
+  const Eigen::Matrix3d predicted_rotation = seen.sensor_from_pattern.linear() * Eigen::AngleAxisd(moved.head<3>().norm(), moved.head<3>().normalized()).toRotationMatrix();
+  const Eigen::Vector3d predicted_translation = seen.sensor_from_pattern.translation() + moved.tail<3>();
+  // PnP with the true intrinsics finds the true pose; the first-order prediction lands near it.
+  const double before = (seen.sensor_from_pattern.translation() - camera_from_board.translation()).norm();
+  const double after = (predicted_translation - camera_from_board.translation()).norm();
+  const double turned = Eigen::AngleAxisd(predicted_rotation.transpose() * camera_from_board.linear()).angle();
+  std::cout << "board off by " << 1000 * before << " mm with the given intrinsics, " << 1000 * after << " mm / " << 1000 * turned
+            << " mrad as predicted for the true ones\n";
+  EXPECT_GT(before, 0.02);
+  EXPECT_LT(after, 0.05 * before);
+  EXPECT_LT(turned, 1e-3);
+  // The evidence: |M dk + b|^2 is smaller at the truth than as given (the corners fit the truth exactly).
+  const double at_given = seen.evidence_offset.squaredNorm();
+  const double at_truth = (seen.evidence_matrix * dk + seen.evidence_offset).squaredNorm();
+  std::cout << "evidence " << at_given << " as given, " << at_truth << " at the truth\n";
+  EXPECT_LT(at_truth, 0.05 * at_given);
+}
+
 // A 1920x1208 camera behind a wide-angle (plumb_bob, k1 -0.3) and a fisheye (equidistant) lens, the
 // board off-centre where the lens bends most: with camera_info's distortion the pose comes out
 // unbiased and its covariance matches the scatter of repeated noisy views; ignoring the distortion (as

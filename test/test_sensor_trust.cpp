@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/calibration/solver/sensor_trust.h"
 #include "vocal/core/se3.h"
@@ -191,6 +192,52 @@ TEST(SensorTrust, ACameraWithAWrongFocalLengthIsNamedAsAScaleError) {
             std::string::npos)
       << result.sensors[kCamera1].distrust;
   expectOthersWithin1cm(rig, result, kCamera1);
+}
+
+// The same camera_info 5 % long, the camera's views fitted from its corners with it, and the cameras'
+// intrinsics refined (CalibrationOptions::intrinsics): the corners' perspective and the other sensors'
+// boards put the focal length back within a pixel, and the camera is right and trusted.
+TEST(SensorTrust, ACameraWithAWrongFocalLengthIsRightWithItsIntrinsicsRefined) {
+  Rig rig = healthyRig();
+  const vocal::PinholeCamera truth = vocal::defaultKinectCamera();
+  vocal::PinholeCamera given = truth;
+  given.fx *= 1.05, given.fy *= 1.05;
+  std::mt19937 rng(12);
+  std::normal_distribution<double> pixel_noise(0.0, rig.simulation.pixel_noise);
+  int refitted = 0;
+  for (vocal::TargetObservation& o : rig.simulated.observations) {
+    if (o.sensor != kCamera1) continue;
+    const Eigen::Isometry3d camera_from_board =
+        rig.simulated.sensors[kCamera1].reference_from_sensor.inverse() * rig.simulated.reference_from_target[o.target_pose];
+    std::vector<Eigen::Vector2d> corners;
+    for (const Eigen::Vector3d& corner : rig.simulation.pattern.corners())
+      corners.push_back(truth.project(camera_from_board * corner) + Eigen::Vector2d(pixel_noise(rng), pixel_noise(rng)));
+    const vocal::PatternObservation seen = vocal::observePattern(corners, rig.simulation.pattern, given, "camera1");
+    o.points = seen.points;
+    o.plane_measurements = {seen.plane};
+    ++refitted;
+  }
+  ASSERT_GE(refitted, 10);
+  rig.options.intrinsics.enabled = true;
+  const vocal::CalibrationResult result = calibrate(rig);
+  const vocal::SensorCalibration& camera = result.sensors[kCamera1];
+  ASSERT_TRUE(camera.intrinsicsRefined());
+  EXPECT_NEAR(camera.given_intrinsics[0], given.fx, 1e-9);
+  std::cout << "camera1 fx " << camera.given_intrinsics[0] << " -> " << camera.refined_intrinsics[0] << " (sigma " << camera.intrinsics_sigma[0]
+            << "), truth " << truth.fx << "\n";
+  EXPECT_NEAR(camera.refined_intrinsics[0], truth.fx, 1.0);
+  EXPECT_NEAR(camera.refined_intrinsics[1], truth.fy, 1.0);
+  EXPECT_EQ(camera.refined_intrinsics[2], given.cx);  // the principal point held (IntrinsicsRefinementOptions::principal_point)
+  EXPECT_GT(camera.intrinsics_sigma[0], 0.0);
+  EXPECT_FALSE(camera.isolated);
+  EXPECT_EQ(camera.distrust, "");
+  const auto [t, r] = errorOf(rig, result, kCamera1);
+  std::cout << "camera1 " << 1000 * t << " mm / " << 1000 * r << " mrad from the truth\n";
+  EXPECT_LT(t, 0.005);
+  EXPECT_LT(r, 0.005);
+  expectOthersWithin1cm(rig, result, kCamera1);
+  // The cameras with the right camera_info move less than a pixel.
+  EXPECT_NEAR(result.sensors[kCamera0].refined_intrinsics[0], truth.fx, 1.0);
 }
 
 // The reference is the frame everything is expressed in: it cannot be the one kept out.

@@ -56,6 +56,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     consensus_filter_ = pnh.param("consensus_filter", true);
     board_edges_ = pnh.param("board_edges", false);
+    refine_intrinsics_ = pnh.param("refine_intrinsics", false);
     ring_offsets_.enabled = pnh.param("ring_offsets", true);
     publish_uncertain_ = pnh.param("publish_uncertain", false);
     isolate_ = pnh.param("isolate", true);
@@ -320,6 +321,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       CalibrationOptions options;
       options.consensus_filter = consensus_filter_;
       options.board_edges.enabled = board_edges_;
+      options.intrinsics.enabled = refine_intrinsics_;
       options.trust.isolate = isolate_;
       const RigDescription rig = session_->rig();  // a copy: ~reset may replace the session meanwhile
       const std::vector<SensorSpec> specs = rig.specs();
@@ -509,6 +511,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
   bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
+  bool refine_intrinsics_ = false;  // the cameras' focal lengths refined with the poses
   RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
   SessionMemoryOptions memory_;     // ~max_held_mb: the session's budget for target data
   bool publish_uncertain_ = false;  // ~publish_uncertain: uncertain and untrusted sensors go to /tf_static too

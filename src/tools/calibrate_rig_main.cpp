@@ -35,6 +35,9 @@ const char kUsage[] =
     "  --no-filter         keep every observation (no sampling-consensus filter)\n"
     "  --edges             hold the board's outline as well as its plane (range sensors' scan-line ends on its\n"
     "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
+    "  --refine-intrinsics refine each camera's focal lengths with the poses (a 2 % prior on camera_info's;\n"
+    "                      fixed by the corners' perspective and the other sensors' boards): for a camera_info\n"
+    "                      whose focal length is off; printed and written to calibration.yaml\n"
     "  --report            also print, per range sensor, why messages gave no target (by the check that\n"
     "                      refused the most board-like segment), and per still pose when it was held still\n"
     "                      (bag stamps) and each sensor's residual, and each sensor's clock against the\n"
@@ -370,6 +373,7 @@ int run(const vocal::CommandLine& args) {
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
   options.board_edges.enabled = args.has("edges");
+  options.intrinsics.enabled = args.has("refine-intrinsics");
   options.trust.isolate = !args.has("no-isolation");
   // Before association: the lidars' board points depend on whether their offsets are applied.
   const std::vector<std::optional<vocal::RingOffsets>> ring_offsets = session.chooseRingOffsets(options);
@@ -418,6 +422,18 @@ int run(const vocal::CommandLine& args) {
                 c.isolated ? " (isolated)" : "", parent == rig.reference_frame ? "" : (" (in " + parent + ")").c_str());
   }
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    const vocal::SensorCalibration& c = result.sensors[s];
+    if (!c.intrinsicsRefined()) continue;
+    const double change = 100.0 * (c.refined_intrinsics[0] / c.given_intrinsics[0] - 1.0);
+    std::printf("intrinsics: %s: focal lengths fx %.1f -> %.1f, fy %.1f -> %.1f px (%+.1f %%, sigma %.1f px)", rig.sensors[s].spec.name.c_str(),
+                c.given_intrinsics[0], c.refined_intrinsics[0], c.given_intrinsics[1], c.refined_intrinsics[1], change, c.intrinsics_sigma[0]);
+    if (c.refined_intrinsics.tail<2>() != c.given_intrinsics.tail<2>()) {
+      std::printf(", principal point (%.1f, %.1f) -> (%.1f, %.1f) px", c.given_intrinsics[2], c.given_intrinsics[3], c.refined_intrinsics[2],
+                  c.refined_intrinsics[3]);
+    }
+    std::printf("%s\n", std::abs(change) > 1.0 ? ": its camera_info is off by more than 1 %; put the refined values in its K" : "");
+  }
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
   std::optional<vocal::PoseJackknife> spread;
   try {
@@ -465,5 +481,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads"}, {"no-filter", "quiet", "report", "edges", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads"}, {"no-filter", "quiet", "report", "edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

@@ -30,6 +30,14 @@ struct PlaneMeasurement {
   // Of the whole pose, perturbed as R exp([w]x), t + dt, in the order (w, dt): what a camera on an arm
   // (hand_eye_calibration.h) is weighted by, where the board's place within its plane counts too.
   Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Identity();
+  // What the corners say of the intrinsics (fx, fy, cx, cy) the pose was fitted with, to first order in
+  // their relative change dk = (dfx / fx, dfy / fy, dcx / fx, dcy / fy), so a graph can refine them
+  // without the corners: the pose's perturbation (w, dt) per dk, and the corners' own misfit beyond the
+  // pose's as |evidence_matrix dk + evidence_offset|^2 (pixel-noise whitened; zero: no evidence).
+  Eigen::Vector4d intrinsics = Eigen::Vector4d::Zero();  // (fx, fy, cx, cy) as used; zero: not from corners
+  Eigen::Matrix<double, 6, 4> pose_per_intrinsics = Eigen::Matrix<double, 6, 4>::Zero();
+  Eigen::Matrix4d evidence_matrix = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d evidence_offset = Eigen::Vector4d::Zero();
 };
 
 // One sensor's view of the target while it was held at one pose: points on the target in the sensor

@@ -82,6 +82,12 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) rotation(r, c) = R(r, c);
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  // ... and against the intrinsics' relative change dk (a pixel u = fx xd + cx of the distorted
+  // normalised point moves by fx xd dk_fx + fx dk_cx), for the graph's refinement of them.
+  Eigen::Matrix<double, 6, 4> pose_by_intrinsics = Eigen::Matrix<double, 6, 4>::Zero();
+  Eigen::Matrix4d intrinsics_information = Eigen::Matrix4d::Zero();
+  Eigen::Matrix<double, 6, 1> pose_gradient = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Vector4d intrinsics_gradient = Eigen::Vector4d::Zero();
   for (std::size_t i = 0; i < object.size(); ++i) {
     const Eigen::Vector3d& p = observation.points[i];
     // Pixel <- distorted <- normalised <- camera point: the noise is the detected (distorted) pixels'.
@@ -95,6 +101,15 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
     motion.rightCols<3>() = Eigen::Matrix3d::Identity();
     const Eigen::Matrix<double, 2, 6> J = projection * motion;
     information += J.transpose() * J;
+    const Eigen::Vector2d pixel = projectThroughLens(camera, distortion, p);
+    Eigen::Matrix<double, 2, 4> by_intrinsics;
+    by_intrinsics << pixel.x() - camera.cx, 0.0, camera.fx, 0.0,  //
+        0.0, pixel.y() - camera.cy, 0.0, camera.fy;
+    const Eigen::Vector2d misfit = pixel - image_corners[i];
+    pose_by_intrinsics += J.transpose() * by_intrinsics;
+    intrinsics_information += by_intrinsics.transpose() * by_intrinsics;
+    pose_gradient += J.transpose() * misfit;
+    intrinsics_gradient += by_intrinsics.transpose() * misfit;
   }
   const int n = static_cast<int>(object.size());
   // Per image axis: 2n residuals less the pose's 6 degrees of freedom.
@@ -111,6 +126,24 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   observation.plane.sensor_from_pattern.translation() = Eigen::Vector3d(tvec[0], tvec[1], tvec[2]);
   observation.plane.covariance = to_plane * pose_covariance * to_plane.transpose();
   observation.plane.pose_covariance = pose_covariance;
+  // The pose's best response to dk (the PnP solved again: -A^-1 B dk), and what is left of the corners'
+  // misfit once the pose has responded (the Schur complement), whitened by the pixel noise.
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> pose_solve(information);
+  observation.plane.intrinsics = Eigen::Vector4d(camera.fx, camera.fy, camera.cx, camera.cy);
+  observation.plane.pose_per_intrinsics = -pose_solve.solve(pose_by_intrinsics);
+  const Eigen::Matrix4d left = (intrinsics_information - pose_by_intrinsics.transpose() * pose_solve.solve(pose_by_intrinsics)) /
+                               (pixel_sigma * pixel_sigma);
+  const Eigen::Vector4d gradient = (intrinsics_gradient - pose_by_intrinsics.transpose() * pose_solve.solve(pose_gradient)) /
+                                   (pixel_sigma * pixel_sigma);
+  // |L dk + b|^2 = dk^T left dk + 2 gradient^T dk + constant, over the directions the view fixes.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(0.5 * (left + left.transpose()));
+  for (int k = 0; k < 4; ++k) {
+    const double lambda = eigen.eigenvalues()[k];
+    if (!(lambda > 1e-9 * std::max(1.0, eigen.eigenvalues()[3]))) continue;
+    const Eigen::Vector4d v = eigen.eigenvectors().col(k);
+    observation.plane.evidence_matrix.row(k) = std::sqrt(lambda) * v.transpose();
+    observation.plane.evidence_offset[k] = v.dot(gradient) / std::sqrt(lambda);
+  }
   return observation;
 }
 

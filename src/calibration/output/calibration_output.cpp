@@ -104,6 +104,17 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       file << "    published: " << (why.empty() ? "true" : "false") << "\n";
       if (!why.empty()) file << "    withheld_because: " << quoted(why) << "\n";
     }
+    if (c.intrinsicsRefined()) {
+      const auto list = [&](const Eigen::Vector4d& v) {
+        std::ostringstream out;
+        out << "[" << v[0] << ", " << v[1] << ", " << v[2] << ", " << v[3] << "]";
+        return out.str();
+      };
+      file << "    intrinsics:  # fx fy cx cy, px: refined with the poses (--refine-intrinsics); the refined ones go in its camera_info's K\n"
+           << "      given: " << list(c.given_intrinsics) << "\n"
+           << "      refined: " << list(c.refined_intrinsics) << "\n"
+           << "      stddev: " << list(c.intrinsics_sigma) << "\n";
+    }
     if (spread && s < spread->standard_deviation.size()) {
       const Vector6d& jk = spread->standard_deviation[s];
       file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"

@@ -7,6 +7,9 @@
 #include <optional>
 #include <memory>
 #include <set>
+#include <array>
+#include <type_traits>
+#include <utility>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -32,58 +35,138 @@ namespace {
 // measurement's covariance.
 struct PlaneMeasurementResidual {
   explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
-      : x_axis(measurement.sensor_from_pattern.linear().col(0)),
-        y_axis(measurement.sensor_from_pattern.linear().col(1)),
-        centre(measurement.sensor_from_pattern.translation()) {
+      : rotation(measurement.sensor_from_pattern.linear()),
+        centre(measurement.sensor_from_pattern.translation()),
+        pose_per_intrinsics(measurement.pose_per_intrinsics) {
     // |L^-1 r|^2 = r^T covariance^-1 r for covariance = L L^T.
     whitening = measurement.covariance.llt().matrixL().solve(Eigen::Matrix3d::Identity());
   }
 
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal);
+    return evaluate<T>(rotation, translation, normal, offset, nullptr, residual);
+  }
+
+  // With the camera's intrinsics changed by `intrinsics` (relative, PlaneMeasurement::pose_per_intrinsics;
+  // null: as given), the pattern's pose as the corners would then put it, to first order.
+  template <typename T>
+  bool evaluate(const T* sensor_rotation, const T* sensor_translation, const T* normal_block, const T* offset, const T* intrinsics,
+                T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(sensor_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(sensor_translation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal_block);
+    Eigen::Matrix<T, 3, 1> x_axis = rotation.col(0).cast<T>(), y_axis = rotation.col(1).cast<T>(), seen_centre = centre.cast<T>();
+    if (intrinsics) {
+      const Eigen::Matrix<T, 6, 1> moved = pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics);
+      const Eigen::Matrix<T, 3, 1> w = moved.template head<3>();
+      // R exp([w]x) e to first order: R (e + w x e).
+      x_axis = rotation.cast<T>() * (Eigen::Matrix<T, 3, 1>::UnitX() + w.cross(Eigen::Matrix<T, 3, 1>::UnitX()));
+      y_axis = rotation.cast<T>() * (Eigen::Matrix<T, 3, 1>::UnitY() + w.cross(Eigen::Matrix<T, 3, 1>::UnitY()));
+      seen_centre += moved.template tail<3>();
+    }
     const Eigen::Matrix<T, 3, 1> n_camera = q.conjugate() * n;
-    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis.cast<T>()), n_camera.dot(y_axis.cast<T>()),
-                                   n_camera.dot(centre.cast<T>()) + n.dot(t) + offset[0]);
+    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis), n_camera.dot(y_axis), n_camera.dot(seen_centre) + n.dot(t) + offset[0]);
     Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
     out = whitening.cast<T>() * r;
     return true;
   }
 
-  Eigen::Vector3d x_axis, y_axis, centre;
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d centre;
+  Eigen::Matrix<double, 6, 4> pose_per_intrinsics;
   Eigen::Matrix3d whitening;
 };
 
-// A plane residual on a board pose (rig_from_board): its plane is the board's z = 0.
+// The same measurement with the camera's intrinsics correction as a fifth block.
+struct PlaneMeasurementWithIntrinsics {
+  PlaneMeasurementResidual measurement;
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, const T* intrinsics, T* residual) const {
+    return measurement.evaluate<T>(rotation, translation, normal, offset, intrinsics, residual);
+  }
+};
+
+// What one view's corners say of the intrinsics correction beyond the pose (PlaneMeasurement::evidence_*).
+struct IntrinsicsEvidenceResidual {
+  Eigen::Matrix4d matrix;
+  Eigen::Vector4d offset;
+  template <typename T>
+  bool operator()(const T* intrinsics, T* residual) const {
+    Eigen::Map<Eigen::Matrix<T, 4, 1>> out(residual);
+    out = matrix.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics) + offset.cast<T>();
+    return true;
+  }
+};
+
+// The camera_info's intrinsics as a prior: each relative change in its sigma.
+struct IntrinsicsPrior {
+  Eigen::Vector4d sigma;
+  template <typename T>
+  bool operator()(const T* intrinsics, T* residual) const {
+    for (int k = 0; k < 4; ++k) residual[k] = intrinsics[k] / T(sigma[k]);
+    return true;
+  }
+};
+
+// A plane residual on a board pose (rig_from_board): its plane is the board's z = 0. Blocks after the
+// board's (an intrinsics correction) and the residual pass through.
 template <typename PlaneResidual>
 struct OnBoardPlane {
   PlaneResidual plane;
 
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+  template <typename T, typename... Rest>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, Rest... rest) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(board_rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(board_translation);
     const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
     const T offset = -normal.dot(t);
-    return plane(rotation, translation, normal.data(), &offset, residual);
+    return plane(rotation, translation, normal.data(), &offset, rest...);
   }
 };
 
-// A camera view's board outline from its PnP pose: three points along each edge (the pattern is
+// A camera view's board outline in the pattern's frame: three points along each edge (the pattern is
 // centred on the board, its x along the board's width).
-std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
+std::vector<Eigen::Vector3d> patternOutline(const BoardEdgeOptions& edges) {
   const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
   std::vector<Eigen::Vector3d> outline;
   for (double s : {-0.5, 0.0, 0.5}) {
     for (double side : {-1.0, 1.0}) {
-      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(side * half_width, s * 2.0 * half_height, 0.0));
-      outline.push_back(view.sensor_from_pattern * Eigen::Vector3d(s * 2.0 * half_width, side * half_height, 0.0));
+      outline.emplace_back(side * half_width, s * 2.0 * half_height, 0.0);
+      outline.emplace_back(s * 2.0 * half_width, side * half_height, 0.0);
     }
   }
   return outline;
 }
+
+// ... and in the camera's frame, placed by its PnP pose.
+std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
+  std::vector<Eigen::Vector3d> outline = patternOutline(edges);
+  for (Eigen::Vector3d& p : outline) p = view.sensor_from_pattern * p;
+  return outline;
+}
+
+// A camera view's outline point (pattern frame) placed by its pose with the camera's intrinsics
+// correction (a fifth block, as PlaneMeasurementResidual::evaluate), against the board's outline.
+struct CameraOutlineWithIntrinsics {
+  Eigen::Vector3d on_pattern;
+  Eigen::Isometry3d sensor_from_pattern;
+  Eigen::Matrix<double, 6, 4> pose_per_intrinsics;
+  double sigma, half_width, half_height;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, const T* intrinsics,
+                  T* residual) const {
+    const Eigen::Matrix<T, 6, 1> moved = pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics);
+    const Eigen::Matrix<T, 3, 1> q = on_pattern.cast<T>();
+    const Eigen::Matrix<T, 3, 1> point = sensor_from_pattern.linear().cast<T>() * (q + moved.template head<3>().cross(q)) +
+                                         sensor_from_pattern.translation().cast<T>() + moved.template tail<3>();
+    const Eigen::Map<const Eigen::Quaternion<T>> q_sensor(rotation), q_board(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_sensor(translation), t_board(board_translation);
+    const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q_sensor * point + t_sensor - t_board);
+    residual[0] = distanceToOutline(on_board.x(), on_board.y(), half_width, half_height) / T(sigma);
+    return true;
+  }
+};
 
 // Where a sensor saw the board's centre: a camera's pattern, a range sensor's edge points (both ends of
 // every line) or, with too few of them, its points.
@@ -147,10 +230,10 @@ struct ChainAt {
   std::vector<double*> corrections;  // the pose's reading corrections, one per chain joint
 };
 
-// A residual on (sensor rotation, sensor translation, a, b) for a sensor behind joints: the sensor's pose
-// is the chain's at the pose's positions plus the offsets (blocks 4...) and the pose's reading corrections
-// (the next blocks) times its mount (blocks 0, 1).
-template <typename Residual>
+// A residual on (sensor rotation, sensor translation, then kBlocks more) for a sensor behind joints: the
+// sensor's pose is the chain's at the pose's positions plus the offsets (the blocks after those) and the
+// pose's reading corrections (the next blocks) times its mount (blocks 0, 1).
+template <typename Residual, int kBlocks>
 struct ThroughJoints {
   Residual residual;
   const std::vector<JointDescription>* joints;
@@ -161,44 +244,67 @@ struct ThroughJoints {
   bool operator()(T const* const* blocks, T* out) const {
     Eigen::Quaternion<T> chain_rotation;
     Eigen::Matrix<T, 3, 1> chain_translation;
-    correctedChainTransform<T>(*joints, chain, positions.data(), blocks + 4, blocks + 4 + chain.size(), &chain_rotation, &chain_translation);
+    const int first = 2 + kBlocks;
+    correctedChainTransform<T>(*joints, chain, positions.data(), blocks + first, blocks + first + chain.size(), &chain_rotation,
+                               &chain_translation);
     const Eigen::Map<const Eigen::Quaternion<T>> mount_rotation(blocks[0]);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> mount_translation(blocks[1]);
     const Eigen::Quaternion<T> rotation = chain_rotation * mount_rotation;
     const Eigen::Matrix<T, 3, 1> translation = chain_translation + chain_rotation * mount_translation;
-    return residual(rotation.coeffs().data(), translation.data(), blocks[2], blocks[3], out);
+    return call(rotation.coeffs().data(), translation.data(), blocks + 2, out, std::make_index_sequence<kBlocks>());
+  }
+  template <typename T, std::size_t... I>
+  bool call(const T* rotation, const T* translation, T const* const* rest, T* out, std::index_sequence<I...>) const {
+    return residual(rotation, translation, rest[I]..., out);
   }
 };
 
-// A residual on (sensor rotation, sensor translation, a, b), through the sensor's joints when `chain` is set.
-template <typename Residual, int kSize, int kA, int kB>
+// A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes), through the
+// sensor's joints when `chain` is set.
+template <typename Residual, int kSize, int... kSizes>
 void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                       const ChainAt* chain, double* a, double* b) {
+                       const ChainAt* chain, std::array<double*, sizeof...(kSizes)> blocks) {
+  std::vector<double*> all = {sensor->rotation.coeffs().data(), sensor->translation.data()};
+  all.insert(all.end(), blocks.begin(), blocks.end());
   if (!chain) {
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kA, kB>(new Residual(residual)), loss,
-                              sensor->rotation.coeffs().data(), sensor->translation.data(), a, b);
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual)), loss, all);
     return;
   }
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<ThroughJoints<Residual>, 4>(
-      new ThroughJoints<Residual>{residual, chain->joints, chain->chain, chain->positions});
-  std::vector<double*> blocks = {sensor->rotation.coeffs().data(), sensor->translation.data(), a, b};
-  for (const int size : {4, 3, kA, kB}) cost->AddParameterBlock(size);
-  for (double* offset : chain->offsets) cost->AddParameterBlock(1), blocks.push_back(offset);
-  for (double* correction : chain->corrections) cost->AddParameterBlock(1), blocks.push_back(correction);
+  constexpr int kBlocks = sizeof...(kSizes);
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<ThroughJoints<Residual, kBlocks>, 4>(
+      new ThroughJoints<Residual, kBlocks>{residual, chain->joints, chain->chain, chain->positions});
+  for (const int size : {4, 3, kSizes...}) cost->AddParameterBlock(size);
+  for (double* offset : chain->offsets) cost->AddParameterBlock(1), all.push_back(offset);
+  for (double* correction : chain->corrections) cost->AddParameterBlock(1), all.push_back(correction);
   cost->SetNumResiduals(kSize);
-  problem->AddResidualBlock(cost, loss, blocks);
+  problem->AddResidualBlock(cost, loss, all);
 }
 
-// A plane residual on the target pose's plane, or (with board edges) on its board's pose.
+// A plane residual on the target pose's plane, or (with board edges) on its board's pose; a camera's
+// with its intrinsics correction where `intrinsics` is set (then Residual is PlaneMeasurementResidual).
 template <typename Residual, int kSize>
 void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                      PlaneState* plane, SensorState* board, const ChainAt* chain) {
+                      PlaneState* plane, SensorState* board, const ChainAt* chain, double* intrinsics = nullptr) {
+  if constexpr (std::is_same_v<Residual, PlaneMeasurementResidual>) {
+    if (intrinsics) {
+      const PlaneMeasurementWithIntrinsics with{residual};
+      if (plane) {
+        addSensorResidual<PlaneMeasurementWithIntrinsics, kSize, 3, 1, 4>(problem, with, loss, sensor, chain,
+                                                                          {plane->normal.data(), &plane->offset, intrinsics});
+      } else {
+        addSensorResidual<OnBoardPlane<PlaneMeasurementWithIntrinsics>, kSize, 4, 3, 4>(
+            problem, OnBoardPlane<PlaneMeasurementWithIntrinsics>{with}, loss, sensor, chain,
+            {board->rotation.coeffs().data(), board->translation.data(), intrinsics});
+      }
+      return;
+    }
+  }
   if (plane) {
-    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, plane->normal.data(), &plane->offset);
+    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, {plane->normal.data(), &plane->offset});
     return;
   }
   addSensorResidual<OnBoardPlane<Residual>, kSize, 4, 3>(problem, OnBoardPlane<Residual>{residual}, loss, sensor, chain,
-                                                         board->rotation.coeffs().data(), board->translation.data());
+                                                         {board->rotation.coeffs().data(), board->translation.data()});
 }
 
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
@@ -206,7 +312,7 @@ void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vecto
   for (const Eigen::Vector3d& p : outline) {
     addSensorResidual<OutlinePointResidual, 1, 4, 3>(problem, OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height},
                                                      new ceres::CauchyLoss(edges.loss_sigmas), sensor, chain,
-                                                     board->rotation.coeffs().data(), board->translation.data());
+                                                     {board->rotation.coeffs().data(), board->translation.data()});
   }
 }
 
@@ -246,7 +352,7 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
 // standard deviations on average.
 void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o, SensorType type, const CalibrationOptions& options,
                              SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                             const JointOffsets& joints) {
+                             const JointOffsets& joints, double* intrinsics) {
   const BoardEdgeOptions& edges = options.board_edges;
   PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
@@ -262,8 +368,24 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
   if (!o.plane_measurements.empty()) {
     for (const PlaneMeasurement& measurement : o.plane_measurements) {
       addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
-                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board, chain);
-      if (board) addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board, chain);
+                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board, chain,
+                                                    intrinsics);
+      if (intrinsics && !measurement.evidence_matrix.isZero()) {
+        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<IntrinsicsEvidenceResidual, 4, 4>(
+                                      new IntrinsicsEvidenceResidual{measurement.evidence_matrix, measurement.evidence_offset}),
+                                  nullptr, intrinsics);
+      }
+      if (board && intrinsics) {
+        for (const Eigen::Vector3d& q : patternOutline(edges)) {
+          addSensorResidual<CameraOutlineWithIntrinsics, 1, 4, 3, 4>(
+              problem,
+              CameraOutlineWithIntrinsics{q, measurement.sensor_from_pattern, measurement.pose_per_intrinsics, edges.camera_sigma,
+                                          0.5 * edges.width, 0.5 * edges.height},
+              new ceres::CauchyLoss(edges.loss_sigmas), sensor, chain, {board->rotation.coeffs().data(), board->translation.data(), intrinsics});
+        }
+      } else if (board) {
+        addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board, chain);
+      }
     }
     return;
   }
@@ -271,6 +393,13 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
   addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
                                                   new ceres::HuberLoss(threshold), sensor, plane, board, chain);
   if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
+}
+
+// The prior on a camera's intrinsics correction; its principal point held unless the options free it.
+void addIntrinsicsPrior(ceres::Problem* problem, double* intrinsics, const IntrinsicsRefinementOptions& options) {
+  const Eigen::Vector4d sigma(options.focal_sigma, options.focal_sigma, options.centre_sigma, options.centre_sigma);
+  problem->AddResidualBlock(new ceres::AutoDiffCostFunction<IntrinsicsPrior, 4, 4>(new IntrinsicsPrior{sigma}), nullptr, intrinsics);
+  if (!options.principal_point) problem->SetManifold(intrinsics, new ceres::SubsetManifold(4, {2, 3}));
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
@@ -286,20 +415,24 @@ ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
 
 // One sensor fitted alone to solved boards held constant: its observations at poses with a board, from
 // `sensor`'s current state. The problem, for its covariance; none when no observation has a board.
+// `intrinsics`: a camera's intrinsics correction, refined with it where `free_intrinsics`, else held.
 std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservation*>& its, SensorType type, const CalibrationOptions& options,
                                          SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                                         const JointOffsets& joints) {
+                                         const JointOffsets& joints, double* intrinsics, bool free_intrinsics) {
   auto alone = std::make_unique<ceres::Problem>();
   for (const TargetObservation* o : its) {
     if (!planes->count(o->target_pose)) continue;
-    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints);
+    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints, intrinsics);
   }
   if (alone->NumResidualBlocks() == 0) return nullptr;
+  if (intrinsics && free_intrinsics) addIntrinsicsPrior(alone.get(), intrinsics, options.intrinsics);
   alone->SetManifold(sensor->rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   std::vector<double*> blocks;
   alone->GetParameterBlocks(&blocks);
-  for (double* block : blocks)
-    if (block != sensor->rotation.coeffs().data() && block != sensor->translation.data()) alone->SetParameterBlockConstant(block);
+  for (double* block : blocks) {
+    const bool own = block == sensor->rotation.coeffs().data() || block == sensor->translation.data() || (free_intrinsics && block == intrinsics);
+    if (!own) alone->SetParameterBlockConstant(block);
+  }
   ceres::Solver::Options solver_options = solverOptions(options);
   solver_options.linear_solver_type = ceres::DENSE_QR;  // one sensor: 6 unknowns
   solver_options.num_threads = 1;
@@ -330,6 +463,19 @@ void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& list
     // rotation sigmas in radians of angle are twice the tangent's.
     result->sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
   }
+}
+
+// A refined camera's intrinsics' standard deviations (pixels) from `problem`'s covariance (null: none).
+void setIntrinsicsStandardDeviations(ceres::Problem* problem, int s, double* intrinsics, CalibrationResult* result) {
+  if (!problem || !problem->HasParameterBlock(intrinsics)) return;
+  ceres::Covariance covariance{ceres::Covariance::Options{}};
+  const std::vector<std::pair<const double*, const double*>> blocks = {{intrinsics, intrinsics}};
+  if (!covariance.Compute(blocks, problem)) return;
+  Eigen::Matrix4d relative;
+  covariance.GetCovarianceBlock(intrinsics, intrinsics, relative.data());
+  SensorCalibration& out = result->sensors[s];
+  const Eigen::Vector4d scale(out.given_intrinsics[0], out.given_intrinsics[1], out.given_intrinsics[0], out.given_intrinsics[1]);
+  out.intrinsics_sigma = relative.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseProduct(scale);
 }
 
 // Each joint's range over the still poses of the sensors behind it (in the graph), and whether its offset
@@ -693,12 +839,24 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::map<int, SensorState> board_state;  // with edges: rig_from_board per target pose, instead of its plane
   for (const auto& entry : rig_boards) board_state[entry.first] = {Eigen::Quaterniond(entry.second.rotation()), entry.second.translation()};
 
+  // Cameras' intrinsics corrections (relative, PlaneMeasurement::pose_per_intrinsics), where refined: a
+  // camera whose views came from corners.
+  std::vector<Eigen::Vector4d> intrinsics_state(sensor_count, Eigen::Vector4d::Zero());
+  std::vector<Eigen::Vector4d> given_intrinsics(sensor_count, Eigen::Vector4d::Zero());
+  for (const TargetObservation& o : observations)
+    for (const PlaneMeasurement& m : o.plane_measurements)
+      if (options.intrinsics.enabled && given_intrinsics[o.sensor].isZero()) given_intrinsics[o.sensor] = m.intrinsics;
+  const auto intrinsicsOf = [&](int s) { return given_intrinsics[s].isZero() ? nullptr : intrinsics_state[s].data(); };
+
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers (or isolated sensors) saw it: no plane
     if (rejected.count({o.sensor, o.target_pose}) || isolated[o.sensor]) continue;
-    addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state);
+    addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state,
+                            intrinsicsOf(o.sensor));
   }
+  for (int s = 0; s < sensor_count; ++s)
+    if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
   // Joint offsets: each solved where a joint after it in some sensor's chain moved over the session, else
   // held (the mount takes it up).
   std::vector<JointCalibration> joint_results = jointOffsetsSolvable(mounts, observations, isolated);
@@ -736,7 +894,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       if (o.sensor == s && !rejected.count({o.sensor, o.target_pose})) its.push_back(&o);
     // None: it shares no pose the others fixed, and its closed form stays. Too few: it stays unplaced.
     if ((static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) || unplaced[s]) continue;
-    isolated_problems[s] = fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state);
+    isolated_problems[s] =
+        fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state, intrinsicsOf(s), true);
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes
     const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
@@ -763,6 +922,12 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     out.reference_from_sensor.translation() = sensor_state[s].translation;
     out.pairwise_estimate = initial[s];
     out.observations = observation_count[s];
+    if (intrinsicsOf(s)) {
+      const Eigen::Vector4d& given = given_intrinsics[s];
+      const Eigen::Vector4d& dk = intrinsics_state[s];
+      out.given_intrinsics = given;
+      out.refined_intrinsics = given + Eigen::Vector4d(given[0] * dk[0], given[1] * dk[1], given[0] * dk[2], given[1] * dk[3]);
+    }
   }
   // Per pose, how many sensors in the graph fixed its plane: an observation is compared with the board
   // the others put there only where another did.
@@ -775,7 +940,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::vector<std::size_t> sensor_points(sensor_count, 0);
   std::vector<std::vector<double>> distances(sensor_count), angles(sensor_count);
   std::vector<std::vector<std::pair<double, double>>> ranged(sensor_count);  // (range, signed distance) per compared view
-  for (const TargetObservation& o : observations) {
+  for (const TargetObservation& given : observations) {
+    // A refined camera's view as its intrinsics put it (a copy only then: range views are large).
+    const bool moved = result.sensors[given.sensor].intrinsicsRefined() && !given.plane_measurements.empty();
+    const TargetObservation solved_view = moved ? result.viewAsSolved(given) : TargetObservation{};
+    const TargetObservation& o = moved ? solved_view : given;
     ObservationResidual residual;
     residual.sensor = o.sensor;
     residual.target_pose = o.target_pose;
@@ -846,6 +1015,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int s = 0; s < sensor_count; ++s)
     if (s != options.reference_sensor && !isolated[s] && !mounts.knownMount(s)) in_graph.push_back(s);
   setStandardDeviations(&problem, in_graph, sensor_state, &result);
+  for (int s = 0; s < sensor_count; ++s) {
+    ceres::Problem* own = isolated[s] ? isolated_problems[s].get() : &problem;
+    if (intrinsicsOf(s)) setIntrinsicsStandardDeviations(own, s, intrinsicsOf(s), &result);
+  }
   setJointStandardDeviations(&problem, joint_offsets, &result);
   for (int s = 0; s < sensor_count; ++s)
     if (isolated_problems[s]) setStandardDeviations(isolated_problems[s].get(), {s}, sensor_state, &result);
@@ -885,6 +1058,25 @@ ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometr
   return view;
 }
 
+TargetObservation CalibrationResult::viewAsSolved(const TargetObservation& o) const {
+  const SensorCalibration& sensor = sensors.at(o.sensor);
+  if (!sensor.intrinsicsRefined() || o.plane_measurements.empty()) return o;
+  const Eigen::Vector4d& given = sensor.given_intrinsics;
+  const Eigen::Vector4d change = sensor.refined_intrinsics - given;
+  const Eigen::Vector4d dk(change[0] / given[0], change[1] / given[1], change[2] / given[0], change[3] / given[1]);
+  TargetObservation solved = o;
+  for (PlaneMeasurement& m : solved.plane_measurements) {
+    const Eigen::Matrix<double, 6, 1> moved = m.pose_per_intrinsics * dk;
+    const double angle = moved.head<3>().norm();
+    if (angle > 0.0) m.sensor_from_pattern.linear() = m.sensor_from_pattern.linear() * Eigen::AngleAxisd(angle, moved.head<3>() / angle).toRotationMatrix();
+    m.sensor_from_pattern.translation() += moved.tail<3>();
+  }
+  // The corners were placed by the first view's pose.
+  const Eigen::Isometry3d shift = solved.plane_measurements.front().sensor_from_pattern * o.plane_measurements.front().sensor_from_pattern.inverse();
+  for (Eigen::Vector3d& p : solved.points) p = shift * p;
+  return solved;
+}
+
 Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
   const Eigen::Isometry3d& pose = sensors.at(o.sensor).reference_from_sensor;
   if (!mounts.jointed(o.sensor)) return pose;
@@ -910,7 +1102,16 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   std::vector<double> joint_offsets;
   for (const JointDescription& joint : solved.mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;
-  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections})) {
+  // A refined camera's intrinsics as solved, held.
+  const SensorCalibration& as_solved = solved.sensors.at(s);
+  Eigen::Vector4d intrinsics = Eigen::Vector4d::Zero();
+  if (as_solved.intrinsicsRefined()) {
+    const Eigen::Vector4d& given = as_solved.given_intrinsics;
+    const Eigen::Vector4d change = as_solved.refined_intrinsics - given;
+    intrinsics = Eigen::Vector4d(change[0] / given[0], change[1] / given[1], change[2] / given[0], change[3] / given[1]);
+  }
+  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections},
+                as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false)) {
     return std::nullopt;
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -59,6 +59,19 @@ struct SensorTrustOptions {
   double max_scale = 0.01;
 };
 
+// The cameras' intrinsics refined with their poses: each camera's focal lengths and principal point move
+// from its camera_info's under a prior, fixed by its corners' own perspective and by the other sensors'
+// boards (a lidar's ranges are metric; a focal length 1 % off puts every board 1 % too far).
+struct IntrinsicsRefinementOptions {
+  bool enabled = false;
+  double focal_sigma = 0.02;  // the prior on each focal length, as a share of it
+  // The principal point too (off: held at camera_info's). A shift of it is nearly a turn of the camera,
+  // which its pose takes up; freed, the real OS1-64 lab's pair moved 12 mm from the factory's extrinsic
+  // where the focal lengths alone left it 8 mm.
+  bool principal_point = false;
+  double centre_sigma = 0.03;  // its prior, as a share of the focal length (20 px at 650)
+};
+
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
@@ -80,6 +93,7 @@ struct CalibrationOptions {
   std::vector<int> isolated_sensors;
   SensorTrustOptions trust;
   JointedMounts mounts;
+  IntrinsicsRefinementOptions intrinsics;
 };
 
 // Still poses a plane-seeing sensor must share with the others to be placed (three planes fix a pose).
@@ -114,6 +128,11 @@ struct SensorCalibration {
   // slope): a scale error - wrong focal length or square size - that the sensor's translation along its
   // view cannot take up once the board stands at several distances; and the slope's standard error.
   double disagreement_scale = 0.0, disagreement_scale_sigma = 0.0;
+  // A camera with its intrinsics refined (CalibrationOptions::intrinsics): (fx, fy, cx, cy) in pixels as its
+  // camera_info gave them and as solved, and the solved ones' standard deviations; all zero otherwise.
+  Eigen::Vector4d given_intrinsics = Eigen::Vector4d::Zero(), refined_intrinsics = Eigen::Vector4d::Zero();
+  Eigen::Vector4d intrinsics_sigma = Eigen::Vector4d::Zero();
+  bool intrinsicsRefined() const { return given_intrinsics[0] > 0.0; }
   bool isolated = false;  // kept out of the graph (CalibrationOptions::isolated_sensors)
   std::string distrust;   // why this sensor's result is not trusted, for the user (empty: trusted); sensor_trust.h
 };
@@ -149,6 +168,9 @@ struct CalibrationResult {
   // Where the sensor of `o` was in the rig frame when it made it: its pose, or behind joints its chain
   // at o's joint positions (offsets as solved) times its mount.
   Eigen::Isometry3d rigFromSensorAt(const TargetObservation& o) const;
+  // `o` as the solution sees it: a camera's views (and the corners placed by them) moved to where its
+  // refined intrinsics put them (SensorCalibration::refined_intrinsics); any other view as it is.
+  TargetObservation viewAsSolved(const TargetObservation& o) const;
 };
 
 // One view against a board (rig frame) with the sensor at `rig_from_sensor`: the distance at the view's
