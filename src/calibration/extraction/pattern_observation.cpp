@@ -70,10 +70,12 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   cv::Rodrigues(rvec, R);
   PatternObservation observation;
   double squared = 0.0;
+  std::vector<Eigen::Vector2d> reprojected;  // each corner through the lens at the fitted pose
   for (std::size_t i = 0; i < object.size(); ++i) {
     const cv::Vec3d p = R * cv::Vec3d(object[i].x(), object[i].y(), object[i].z()) + tvec;
     observation.points.emplace_back(p[0], p[1], p[2]);
-    squared += (projectThroughLens(camera, distortion, observation.points.back()) - image_corners[i]).squaredNorm();
+    reprojected.push_back(projectThroughLens(camera, distortion, observation.points.back()));
+    squared += (reprojected.back() - image_corners[i]).squaredNorm();
   }
   observation.reprojection_rms_px = std::sqrt(squared / object.size());
   // Pose covariance sigma^2 (J^T J)^-1 with the pose perturbed as R exp([w]x), t + dt: a corner X moves
@@ -101,7 +103,7 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
     motion.rightCols<3>() = Eigen::Matrix3d::Identity();
     const Eigen::Matrix<double, 2, 6> J = projection * motion;
     information += J.transpose() * J;
-    const Eigen::Vector2d pixel = projectThroughLens(camera, distortion, p);
+    const Eigen::Vector2d& pixel = reprojected[i];
     Eigen::Matrix<double, 2, 4> by_intrinsics;
     by_intrinsics << pixel.x() - camera.cx, 0.0, camera.fx, 0.0,  //
         0.0, pixel.y() - camera.cy, 0.0, camera.fy;
@@ -131,7 +133,7 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
   const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> pose_solve(information);
   observation.plane.intrinsics = Eigen::Vector4d(camera.fx, camera.fy, camera.cx, camera.cy);
   observation.plane.pose_per_intrinsics = -pose_solve.solve(pose_by_intrinsics);
-  const Eigen::Matrix4d left = (intrinsics_information - pose_by_intrinsics.transpose() * pose_solve.solve(pose_by_intrinsics)) /
+  const Eigen::Matrix4d left = (intrinsics_information + pose_by_intrinsics.transpose() * observation.plane.pose_per_intrinsics) /
                                (pixel_sigma * pixel_sigma);
   const Eigen::Vector4d gradient = (intrinsics_gradient - pose_by_intrinsics.transpose() * pose_solve.solve(pose_gradient)) /
                                    (pixel_sigma * pixel_sigma);

@@ -33,11 +33,27 @@ namespace {
 // camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
 // pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
 // measurement's covariance.
+// The pattern's pose as a camera's intrinsics correction `intrinsics` (relative,
+// PlaneMeasurement::pose_per_intrinsics) moves it, to first order: R exp([w]x) ~ R (I + [w]x), t + dt.
+template <typename T>
+struct PatternPoseCorrected {
+  PatternPoseCorrected(const Eigen::Isometry3d& measured, const Eigen::Matrix<double, 6, 4>& pose_per_intrinsics, const T* intrinsics)
+      : measured(measured), moved(pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics)) {}
+  // A direction, and a point, of the pattern's frame in the camera's.
+  Eigen::Matrix<T, 3, 1> direction(const Eigen::Vector3d& in_pattern) const {
+    const Eigen::Matrix<T, 3, 1> e = in_pattern.cast<T>();
+    return measured.linear().cast<T>() * (e + moved.template head<3>().cross(e));
+  }
+  Eigen::Matrix<T, 3, 1> point(const Eigen::Vector3d& in_pattern) const {
+    return direction(in_pattern) + measured.translation().cast<T>() + moved.template tail<3>();
+  }
+  const Eigen::Isometry3d& measured;
+  Eigen::Matrix<T, 6, 1> moved;
+};
+
 struct PlaneMeasurementResidual {
   explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
-      : rotation(measurement.sensor_from_pattern.linear()),
-        centre(measurement.sensor_from_pattern.translation()),
-        pose_per_intrinsics(measurement.pose_per_intrinsics) {
+      : sensor_from_pattern(measurement.sensor_from_pattern), pose_per_intrinsics(measurement.pose_per_intrinsics) {
     // |L^-1 r|^2 = r^T covariance^-1 r for covariance = L L^T.
     whitening = measurement.covariance.llt().matrixL().solve(Eigen::Matrix3d::Identity());
   }
@@ -47,32 +63,30 @@ struct PlaneMeasurementResidual {
     return evaluate<T>(rotation, translation, normal, offset, nullptr, residual);
   }
 
-  // With the camera's intrinsics changed by `intrinsics` (relative, PlaneMeasurement::pose_per_intrinsics;
-  // null: as given), the pattern's pose as the corners would then put it, to first order.
+  // With the camera's intrinsics changed by `intrinsics` (null: as given), the pattern's pose as the
+  // corners would then put it (PatternPoseCorrected).
   template <typename T>
   bool evaluate(const T* sensor_rotation, const T* sensor_translation, const T* normal_block, const T* offset, const T* intrinsics,
                 T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(sensor_rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(sensor_translation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal_block);
-    Eigen::Matrix<T, 3, 1> x_axis = rotation.col(0).cast<T>(), y_axis = rotation.col(1).cast<T>(), seen_centre = centre.cast<T>();
+    Eigen::Matrix<T, 3, 1> x_axis = sensor_from_pattern.linear().col(0).cast<T>(), y_axis = sensor_from_pattern.linear().col(1).cast<T>();
+    Eigen::Matrix<T, 3, 1> centre = sensor_from_pattern.translation().cast<T>();
     if (intrinsics) {
-      const Eigen::Matrix<T, 6, 1> moved = pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics);
-      const Eigen::Matrix<T, 3, 1> w = moved.template head<3>();
-      // R exp([w]x) e to first order: R (e + w x e).
-      x_axis = rotation.cast<T>() * (Eigen::Matrix<T, 3, 1>::UnitX() + w.cross(Eigen::Matrix<T, 3, 1>::UnitX()));
-      y_axis = rotation.cast<T>() * (Eigen::Matrix<T, 3, 1>::UnitY() + w.cross(Eigen::Matrix<T, 3, 1>::UnitY()));
-      seen_centre += moved.template tail<3>();
+      const PatternPoseCorrected<T> corrected(sensor_from_pattern, pose_per_intrinsics, intrinsics);
+      x_axis = corrected.direction(Eigen::Vector3d::UnitX());
+      y_axis = corrected.direction(Eigen::Vector3d::UnitY());
+      centre = corrected.point(Eigen::Vector3d::Zero());
     }
     const Eigen::Matrix<T, 3, 1> n_camera = q.conjugate() * n;
-    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis), n_camera.dot(y_axis), n_camera.dot(seen_centre) + n.dot(t) + offset[0]);
+    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis), n_camera.dot(y_axis), n_camera.dot(centre) + n.dot(t) + offset[0]);
     Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
     out = whitening.cast<T>() * r;
     return true;
   }
 
-  Eigen::Matrix3d rotation;
-  Eigen::Vector3d centre;
+  Eigen::Isometry3d sensor_from_pattern;
   Eigen::Matrix<double, 6, 4> pose_per_intrinsics;
   Eigen::Matrix3d whitening;
 };
@@ -146,7 +160,7 @@ std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const B
 }
 
 // A camera view's outline point (pattern frame) placed by its pose with the camera's intrinsics
-// correction (a fifth block, as PlaneMeasurementResidual::evaluate), against the board's outline.
+// correction (a fifth block; PatternPoseCorrected), against the board's outline.
 struct CameraOutlineWithIntrinsics {
   Eigen::Vector3d on_pattern;
   Eigen::Isometry3d sensor_from_pattern;
@@ -156,10 +170,7 @@ struct CameraOutlineWithIntrinsics {
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, const T* intrinsics,
                   T* residual) const {
-    const Eigen::Matrix<T, 6, 1> moved = pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics);
-    const Eigen::Matrix<T, 3, 1> q = on_pattern.cast<T>();
-    const Eigen::Matrix<T, 3, 1> point = sensor_from_pattern.linear().cast<T>() * (q + moved.template head<3>().cross(q)) +
-                                         sensor_from_pattern.translation().cast<T>() + moved.template tail<3>();
+    const Eigen::Matrix<T, 3, 1> point = PatternPoseCorrected<T>(sensor_from_pattern, pose_per_intrinsics, intrinsics).point(on_pattern);
     const Eigen::Map<const Eigen::Quaternion<T>> q_sensor(rotation), q_board(board_rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_sensor(translation), t_board(board_translation);
     const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q_sensor * point + t_sensor - t_board);
@@ -941,10 +952,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::vector<std::vector<double>> distances(sensor_count), angles(sensor_count);
   std::vector<std::vector<std::pair<double, double>>> ranged(sensor_count);  // (range, signed distance) per compared view
   for (const TargetObservation& given : observations) {
-    // A refined camera's view as its intrinsics put it (a copy only then: range views are large).
-    const bool moved = result.sensors[given.sensor].intrinsicsRefined() && !given.plane_measurements.empty();
-    const TargetObservation solved_view = moved ? result.viewAsSolved(given) : TargetObservation{};
-    const TargetObservation& o = moved ? solved_view : given;
+    TargetObservation moved;
+    const TargetObservation& o = result.viewAsSolved(given, &moved);
     ObservationResidual residual;
     residual.sensor = o.sensor;
     residual.target_pose = o.target_pose;
@@ -1058,23 +1067,27 @@ ViewDisagreement viewDisagreement(const ViewInSensor& seen, const Eigen::Isometr
   return view;
 }
 
-TargetObservation CalibrationResult::viewAsSolved(const TargetObservation& o) const {
+Eigen::Vector4d SensorCalibration::intrinsicsCorrection() const {
+  if (!intrinsicsRefined()) return Eigen::Vector4d::Zero();
+  const Eigen::Vector4d change = refined_intrinsics - given_intrinsics;
+  const double fx = given_intrinsics[0], fy = given_intrinsics[1];
+  return Eigen::Vector4d(change[0] / fx, change[1] / fy, change[2] / fx, change[3] / fy);
+}
+
+const TargetObservation& CalibrationResult::viewAsSolved(const TargetObservation& o, TargetObservation* moved) const {
   const SensorCalibration& sensor = sensors.at(o.sensor);
   if (!sensor.intrinsicsRefined() || o.plane_measurements.empty()) return o;
-  const Eigen::Vector4d& given = sensor.given_intrinsics;
-  const Eigen::Vector4d change = sensor.refined_intrinsics - given;
-  const Eigen::Vector4d dk(change[0] / given[0], change[1] / given[1], change[2] / given[0], change[3] / given[1]);
-  TargetObservation solved = o;
-  for (PlaneMeasurement& m : solved.plane_measurements) {
-    const Eigen::Matrix<double, 6, 1> moved = m.pose_per_intrinsics * dk;
-    const double angle = moved.head<3>().norm();
-    if (angle > 0.0) m.sensor_from_pattern.linear() = m.sensor_from_pattern.linear() * Eigen::AngleAxisd(angle, moved.head<3>() / angle).toRotationMatrix();
-    m.sensor_from_pattern.translation() += moved.tail<3>();
+  const Eigen::Vector4d dk = sensor.intrinsicsCorrection();
+  *moved = o;
+  for (PlaneMeasurement& m : moved->plane_measurements) {
+    const Eigen::Matrix<double, 6, 1> change = m.pose_per_intrinsics * dk;
+    m.sensor_from_pattern.linear() = m.sensor_from_pattern.linear() * so3Exp(change.head<3>());
+    m.sensor_from_pattern.translation() += change.tail<3>();
   }
   // The corners were placed by the first view's pose.
-  const Eigen::Isometry3d shift = solved.plane_measurements.front().sensor_from_pattern * o.plane_measurements.front().sensor_from_pattern.inverse();
-  for (Eigen::Vector3d& p : solved.points) p = shift * p;
-  return solved;
+  const Eigen::Isometry3d shift = moved->plane_measurements.front().sensor_from_pattern * o.plane_measurements.front().sensor_from_pattern.inverse();
+  for (Eigen::Vector3d& p : moved->points) p = shift * p;
+  return *moved;
 }
 
 Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
@@ -1104,12 +1117,7 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   std::map<std::pair<int, int>, double> reading_corrections;
   // A refined camera's intrinsics as solved, held.
   const SensorCalibration& as_solved = solved.sensors.at(s);
-  Eigen::Vector4d intrinsics = Eigen::Vector4d::Zero();
-  if (as_solved.intrinsicsRefined()) {
-    const Eigen::Vector4d& given = as_solved.given_intrinsics;
-    const Eigen::Vector4d change = as_solved.refined_intrinsics - given;
-    intrinsics = Eigen::Vector4d(change[0] / given[0], change[1] / given[1], change[2] / given[0], change[3] / given[1]);
-  }
+  Eigen::Vector4d intrinsics = as_solved.intrinsicsCorrection();
   if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections},
                 as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false)) {
     return std::nullopt;

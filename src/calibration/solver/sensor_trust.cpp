@@ -128,7 +128,11 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
   // Each view's centre and normal once, not once per split.
   std::vector<ViewInSensor> views;
   std::vector<const Plane*> boards;
-  for (const TargetObservation* o : its) views.push_back(viewInSensor(result.sensors[sensor].intrinsicsRefined() ? result.viewAsSolved(*o) : *o, sensors[sensor].type)), boards.push_back(&result.board_planes.at(o->target_pose));
+  for (const TargetObservation* o : its) {
+    TargetObservation moved;
+    views.push_back(viewInSensor(result.viewAsSolved(*o, &moved), sensors[sensor].type));
+    boards.push_back(&result.board_planes.at(o->target_pose));
+  }
   const std::size_t n = its.size();
   const double whole = misfit(views, boards, 0, n, result.sensors[sensor].reference_from_sensor, trust);
   double best = 0.0;

@@ -59,9 +59,9 @@ struct SensorTrustOptions {
   double max_scale = 0.01;
 };
 
-// The cameras' intrinsics refined with their poses: each camera's focal lengths and principal point move
-// from its camera_info's under a prior, fixed by its corners' own perspective and by the other sensors'
-// boards (a lidar's ranges are metric; a focal length 1 % off puts every board 1 % too far).
+// The cameras' intrinsics refined with their poses: each camera's focal lengths (and, where freed, its
+// principal point) move from its camera_info's under a prior, fixed by its corners' own perspective and by
+// the other sensors' boards (a lidar's ranges are metric; a focal length 1 % off puts every board 1 % too far).
 struct IntrinsicsRefinementOptions {
   bool enabled = false;
   double focal_sigma = 0.02;  // the prior on each focal length, as a share of it
@@ -133,6 +133,9 @@ struct SensorCalibration {
   Eigen::Vector4d given_intrinsics = Eigen::Vector4d::Zero(), refined_intrinsics = Eigen::Vector4d::Zero();
   Eigen::Vector4d intrinsics_sigma = Eigen::Vector4d::Zero();
   bool intrinsicsRefined() const { return given_intrinsics[0] > 0.0; }
+  // The refinement as the graph holds it: the relative change (dfx / fx, dfy / fy, dcx / fx, dcy / fy)
+  // of PlaneMeasurement::pose_per_intrinsics; zero when not refined.
+  Eigen::Vector4d intrinsicsCorrection() const;
   bool isolated = false;  // kept out of the graph (CalibrationOptions::isolated_sensors)
   std::string distrust;   // why this sensor's result is not trusted, for the user (empty: trusted); sensor_trust.h
 };
@@ -169,8 +172,9 @@ struct CalibrationResult {
   // at o's joint positions (offsets as solved) times its mount.
   Eigen::Isometry3d rigFromSensorAt(const TargetObservation& o) const;
   // `o` as the solution sees it: a camera's views (and the corners placed by them) moved to where its
-  // refined intrinsics put them (SensorCalibration::refined_intrinsics); any other view as it is.
-  TargetObservation viewAsSolved(const TargetObservation& o) const;
+  // refined intrinsics put them (SensorCalibration::refined_intrinsics), written to `moved`; any other
+  // view is `o` itself (no copy: range views are large).
+  const TargetObservation& viewAsSolved(const TargetObservation& o, TargetObservation* moved) const;
 };
 
 // One view against a board (rig frame) with the sensor at `rig_from_sensor`: the distance at the view's
