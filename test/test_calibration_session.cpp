@@ -65,7 +65,7 @@ TEST(RigDescription, MistakesNameTheFileAndTheKey) {
             file + ": no sensor has a 'pose': give the reference sensor's pose in base_link");
   EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
                                    "sensors:\n  - {name: l, type: sonar, frame_id: v, cloud_topic: /p}\n"),
-            file + ": sensors[0] 'l': sensor type 'sonar' is unknown: expected camera, rgbd, lidar3d or laser2d");
+            file + ": sensors[0] 'l': sensor type 'sonar' is unknown: expected camera, rgbd, lidar3d, laser2d or imu");
   EXPECT_EQ(errorOfRig(folder, "reference_frame: base_link\n" + target +
                                    "sensors:\n  - {name: s, type: laser2d, frame_id: v, scan_topic: /s, pose: [0,0,0,0,0,0,1]}\n"),
             file + ": the reference sensor 's' (the first with a pose) is a 2D laser; give the pose of a sensor that sees "

@@ -3,6 +3,10 @@
 
 #include <random>
 
+#include <yaml-cpp/yaml.h>
+
+#include "test_support.h"
+#include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/solver/camera_imu_calibration.h"
 #include "vocal/calibration/solver/cumulative_bspline.h"
 #include "vocal/core/errors.h"
@@ -156,6 +160,95 @@ TEST(CameraImuCalibration, BadInputIsNamed) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("do the two streams come from the same rig and the same minutes?"), std::string::npos) << e.what();
   }
+}
+
+Eigen::Isometry3d poseFromList(const YAML::Node& list) {
+  return poseFromTranslationQuaternion({list[0].as<double>(), list[1].as<double>(), list[2].as<double>()},
+                                       Eigen::Quaterniond(list[6].as<double>(), list[3].as<double>(), list[4].as<double>(), list[5].as<double>()));
+}
+
+// Through the tools as a user runs them: a waved session recorded as a bag (rendered images, sensor_msgs/Imu),
+// calibrate_rig, its files against the truth.
+TEST(CameraImuCalibration, AWavedSessionThroughTheTools) {
+  const std::string folder = vocal_test::makeTempFolder("cli_camera_imu");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --waved-imu --seconds 30 --seed 2 --time-offset -0.012 --compressed");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("imu 'imu' against camera 'camera': the board in "), std::string::npos) << r.output;
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const Eigen::Isometry3d camera_in_imu = poseFromList(truth["camera_in_imu"]);
+  // Kalibr's layout: T_cam_imu and timeshift_cam_imu.
+  const YAML::Node chain = YAML::LoadFile(folder + "/camchain-imucam.yaml");
+  Eigen::Matrix4d t_cam_imu;
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 4; ++col) t_cam_imu(row, col) = chain["cam0"]["T_cam_imu"][row][col].as<double>();
+  const Eigen::Isometry3d kalibr_error = Eigen::Isometry3d(t_cam_imu) * camera_in_imu;
+  EXPECT_LT(kalibr_error.translation().norm(), 0.001);
+  EXPECT_LT(rotationAngle(kalibr_error), 0.001);
+  EXPECT_NEAR(chain["cam0"]["timeshift_cam_imu"].as<double>(), truth["time_offset"].as<double>(), 0.0005);
+  EXPECT_EQ(chain["cam0"]["rostopic"].as<std::string>(), "/camera/image_raw/compressed");
+  // The IMU in the rig, through the camera the rig gives.
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  const YAML::Node imu = result["imus"][0];
+  EXPECT_EQ(imu["name"].as<std::string>(), "imu");
+  EXPECT_TRUE(imu["published"].as<bool>());
+  const YAML::Node t = imu["translation"], q = imu["rotation"];
+  const Eigen::Isometry3d imu_in_rig = poseFromTranslationQuaternion(
+      {t[0].as<double>(), t[1].as<double>(), t[2].as<double>()},
+      Eigen::Quaterniond(q[3].as<double>(), q[0].as<double>(), q[1].as<double>(), q[2].as<double>()));
+  const Eigen::Isometry3d rig_error = poseFromList(truth["imu_in_rig"]).inverse() * imu_in_rig;
+  EXPECT_LT(rig_error.translation().norm(), 0.001);
+  EXPECT_LT(rotationAngle(rig_error), 0.001);
+  EXPECT_NE(vocal_test::readText(folder + "/calibration.launch").find("base_link imu_link"), std::string::npos);
+
+  // A rig turned about its optical axis only: withheld with the reason, nothing published, exit 1.
+  const std::string one_axis = vocal_test::makeTempFolder("cli_camera_imu_one_axis");
+  r = vocal_test::runTool("simulate_calibration_session " + one_axis + " --waved-imu --seconds 10 --motion one-axis");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + one_axis + "/rig.yaml " + one_axis + "/session.bag --quiet --output-dir " + one_axis);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("withheld: imu 'imu' not calibrated: camera-IMU calibration: the camera turns about one axis only"), std::string::npos)
+      << r.output;
+  EXPECT_NE(vocal_test::readText(one_axis + "/calibration.urdf").find("<!-- imu_link withheld: not calibrated: "), std::string::npos);
+}
+
+TEST(CameraImuCalibration, TheRigsImuEntryIsChecked) {
+  const std::string folder = vocal_test::makeTempFolder("rig_imu_checks");
+  const std::string head = "reference_frame: base_link\ntarget: {type: checkerboard, rows: 6, cols: 7, square_size: 0.05}\nsensors:\n"
+                           "  - {name: cam, type: camera, frame_id: cam, image_topic: /i, camera_info_topic: /c, pose: [0, 0, 0, 0, 0, 0, 1]}\n";
+  const auto refusal = [&](const std::string& imu_line) {
+    vocal_test::writeText(folder + "/rig.yaml", head + imu_line);
+    try {
+      readRigDescription(folder + "/rig.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string file = folder + "/rig.yaml";
+  EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu}\n"),
+            file + ": sensors[1] 'imu': an imu sensor needs 'imu_topic' (its sensor_msgs/Imu)");
+  EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, camera: left}\n"),
+            file + ": imu 'imu': its camera 'left' is no camera of the rig");
+  EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, gyroscope_noise_density: -1}\n"),
+            file + ": sensors[1] 'imu': 'gyroscope_noise_density' must be a positive number (got -1)");
+  EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, pose: [0, 0, 0, 0, 0, 0, 1]}\n"),
+            file + ": imu 'imu': an IMU is the reference (its 'pose') only in a rig of its camera and itself; give the pose of a sensor that "
+                   "sees the board instead");
+  EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, rate: 200}\n"),
+            file + ": sensors[1] 'imu': unknown key 'rate'");
+  // Read back as written.
+  vocal_test::writeText(file, head + "  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, accelerometer_noise_density: 0.004}\n");
+  const RigDescription rig = readRigDescription(file);
+  ASSERT_EQ(rig.imus.size(), 1u);
+  EXPECT_EQ(rig.imus[0].camera, 0);
+  EXPECT_EQ(rig.imus[0].noise.accel_noise_density, 0.004);
+  writeRigDescription(folder + "/again.yaml", rig);
+  const RigDescription again = readRigDescription(folder + "/again.yaml");
+  ASSERT_EQ(again.imus.size(), 1u);
+  EXPECT_EQ(again.imus[0].imu_topic, "/imu");
+  EXPECT_EQ(again.imus[0].noise.accel_noise_density, 0.004);
 }
 
 }  // namespace

@@ -73,3 +73,21 @@ TEST(Se3, OpticalFrameConvention) {
   const Eigen::Vector3d forward = vocal::rotationFromRollPitchYaw(0, 0.3, 0) * Eigen::Vector3d::UnitX();
   EXPECT_LT(forward.z(), 0.0);
 }
+
+namespace vocal {
+namespace {
+TEST(Se3, RollPitchYawRoundTripsWithSmallAnglesForSmallTurns) {
+  // Eigen's eulerAngles may give a turn near the identity as three angles near pi; URDF readers want ~0.
+  const Eigen::Vector3d small = rollPitchYawFromRotation(rotationFromRollPitchYaw(-0.008, 0.012, -0.02));
+  EXPECT_NEAR(small[0], -0.008, 1e-12);
+  EXPECT_NEAR(small[1], 0.012, 1e-12);
+  EXPECT_NEAR(small[2], -0.02, 1e-12);
+  for (const Eigen::Vector3d& rpy : {Eigen::Vector3d(2.9, -1.2, -3.0), Eigen::Vector3d(-1.5708, 0.0, -1.5708), Eigen::Vector3d(0.3, 1.5707963267948966, 0.1)}) {
+    const Eigen::Matrix3d r = rotationFromRollPitchYaw(rpy[0], rpy[1], rpy[2]);
+    const Eigen::Vector3d back = rollPitchYawFromRotation(r);
+    EXPECT_LT((rotationFromRollPitchYaw(back[0], back[1], back[2]) - r).norm(), 1e-7) << rpy.transpose();  // asin loses half the digits at pitch pi/2
+    EXPECT_LE(std::abs(back[1]), M_PI / 2 + 1e-12);
+  }
+}
+}  // namespace
+}  // namespace vocal

@@ -309,12 +309,80 @@ void finishRig(RigDescription* rig_out, const std::string& path) {
     rig.reference_sensor = -1;
     return;
   }
+  if (rig.reference_sensor < 0 && rig.reference_imu >= 0) {
+    // Its camera, placed through it once calibrated: the reference of what the rig's still poses would solve.
+    rig.reference_sensor = rig.imus[rig.reference_imu].camera;
+    return;
+  }
   if (rig.reference_sensor < 0) {
     throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
   }
   if (rig.sensors[rig.reference_sensor].spec.type == SensorType::kLaser2d) {
     throw InputError(path + ": the reference sensor '" + rig.sensors[rig.reference_sensor].spec.name +
                      "' (the first with a pose) is a 2D laser; give the pose of a sensor that sees the target's plane first");
+  }
+}
+}  // namespace
+
+namespace {
+// An `imu` entry of sensors: its topic, noise figures and pose; returns the camera it names ("" for none).
+std::string readImu(const YAML::Node& node, const std::string& name, const std::string& where, RigDescription* rig) {
+  rejectUnknownKeys(node, {"name", "type", "frame_id", "imu_topic", "camera", "pose", "gyroscope_noise_density", "gyroscope_random_walk",
+                           "accelerometer_noise_density", "accelerometer_random_walk"},
+                    where);
+  RigImuDescription imu;
+  imu.name = name;
+  imu.frame_id = required<std::string>(node, "frame_id", where);
+  if (!node["imu_topic"]) throw InputError(where + ": an imu sensor needs 'imu_topic' (its sensor_msgs/Imu)");
+  imu.imu_topic = required<std::string>(node, "imu_topic", where);
+  const std::pair<const char*, double*> figures[] = {{"gyroscope_noise_density", &imu.noise.gyro_noise_density},
+                                                     {"gyroscope_random_walk", &imu.noise.gyro_bias_random_walk},
+                                                     {"accelerometer_noise_density", &imu.noise.accel_noise_density},
+                                                     {"accelerometer_random_walk", &imu.noise.accel_bias_random_walk}};
+  for (const auto& [key, value] : figures) {
+    if (!node[key]) continue;
+    *value = required<double>(node, key, where);
+    if (!(*value > 0.0) || !std::isfinite(*value)) {
+      throw InputError(where + ": '" + key + "' must be a positive number (got " + node[key].Scalar() + ")");
+    }
+  }
+  if (node["pose"]) imu.pose = readPose(node["pose"], where);
+  rig->imus.push_back(imu);
+  return node["camera"] ? required<std::string>(node, "camera", where) : std::string();
+}
+
+// Each IMU's camera by name (default: the rig's first camera), and what an IMU may be in a rig.
+void pairImusWithCameras(RigDescription* rig_out, const std::vector<std::string>& cameras, const std::string& path) {
+  RigDescription& rig = *rig_out;
+  for (std::size_t i = 0; i < rig.imus.size(); ++i) {
+    RigImuDescription& imu = rig.imus[i];
+    const std::string where = path + ": imu '" + imu.name + "'";
+    for (std::size_t s = 0; s < rig.sensors.size() && imu.camera < 0; ++s) {
+      const bool named = cameras[i].empty() || rig.sensors[s].spec.name == cameras[i];
+      if (named && rig.sensors[s].spec.type == SensorType::kCamera) imu.camera = static_cast<int>(s);
+    }
+    if (imu.camera < 0) {
+      throw InputError(where + ": " + (cameras[i].empty() ? std::string("the rig has no camera to calibrate it against (type: camera)")
+                                                          : "its camera '" + cameras[i] + "' is no camera of the rig"));
+    }
+    if (!rig.joints.empty() || !rig.urdf.empty() || !rig.urdf_param.empty() || !rig.target.parent.empty()) {
+      throw InputError(where + ": an IMU in a rig with joints or an arm is not supported yet: calibrate it with its camera in a session "
+                       "of their own");
+    }
+    if (!rig.sensors[imu.camera].parent.empty()) {
+      throw InputError(where + ": its camera '" + rig.sensors[imu.camera].spec.name + "' is on a moving frame; an IMU is calibrated "
+                       "against a camera fixed in the rig");
+    }
+    if (imu.pose) {
+      if (rig.reference_imu >= 0) throw InputError(where + ": two IMUs have a 'pose'; give one reference");
+      bool other_pose = false;
+      for (const RigSensorDescription& sensor : rig.sensors) other_pose = other_pose || sensor.pose.has_value();
+      if (other_pose || rig.sensors.size() > 1) {
+        throw InputError(where + ": an IMU is the reference (its 'pose') only in a rig of its camera and itself; give the pose of a "
+                         "sensor that sees the board instead");
+      }
+      rig.reference_imu = static_cast<int>(i);
+    }
   }
 }
 }  // namespace
@@ -329,7 +397,8 @@ RigDescription readRigDescription(const std::string& path) {
   bool cameras_only = root["sensors"] && root["sensors"].IsSequence();
   if (cameras_only) {
     for (const YAML::Node& sensor : root["sensors"]) {
-      cameras_only = cameras_only && sensor.IsMap() && sensor["type"] && sensor["type"].IsScalar() && sensor["type"].Scalar() == "camera";
+      cameras_only = cameras_only && sensor.IsMap() && sensor["type"] && sensor["type"].IsScalar() &&
+                     (sensor["type"].Scalar() == "camera" || sensor["type"].Scalar() == "imu");
     }
   }
   rig.target = readTarget(root["target"], path + ": target", cameras_only);
@@ -352,6 +421,7 @@ RigDescription readRigDescription(const std::string& path) {
     throw InputError(path + ": 'sensors' must list at least one sensor");
   }
   std::set<std::string> names;
+  std::vector<std::string> imu_cameras;  // per IMU, the camera named (empty: the first)
   rig.reference_sensor = -1;
   for (std::size_t i = 0; i < root["sensors"].size(); ++i) {
     const YAML::Node node = root["sensors"][i];
@@ -360,10 +430,14 @@ RigDescription readRigDescription(const std::string& path) {
     RigSensorDescription sensor;
     sensor.spec.name = required<std::string>(node, "name", where);
     where += " '" + sensor.spec.name + "'";
+    if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
+    if (node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "imu") {
+      imu_cameras.push_back(readImu(node, sensor.spec.name, where, &rig));
+      continue;
+    }
     rejectUnknownKeys(node, {"name", "type", "frame_id", "image_topic", "camera_info_topic", "depth_topic", "cloud_topic",
                              "scan_topic", "pose", "crop_box", "parent", "pose_known"},
                       where);
-    if (!names.insert(sensor.spec.name).second) throw InputError(where + ": the name is used twice");
     try {
       sensor.spec.type = parseSensorType(required<std::string>(node, "type", where));
     } catch (const InputError& e) {
@@ -392,6 +466,7 @@ RigDescription readRigDescription(const std::string& path) {
     if (node["pose"]) sensor.pose = readPose(node["pose"], where);
     rig.sensors.push_back(sensor);
   }
+  pairImusWithCameras(&rig, imu_cameras, path);
   // With the joints on the parameter server, the nodelet finishes the rig once it has read them (setRigJoints).
   if (rig.urdf_param.empty()) finishRig(&rig, path);
   return rig;
@@ -449,6 +524,17 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
     if (s.pose) {
       file << ",\n     pose: ";
       writePose(*s.pose);
+    }
+    file << "}\n";
+  }
+  for (const RigImuDescription& imu : rig.imus) {
+    file << "  - {name: " << imu.name << ", type: imu, frame_id: " << imu.frame_id << ", imu_topic: " << imu.imu_topic
+         << ", camera: " << rig.sensors.at(imu.camera).spec.name << ",\n     gyroscope_noise_density: " << imu.noise.gyro_noise_density
+         << ", gyroscope_random_walk: " << imu.noise.gyro_bias_random_walk << ", accelerometer_noise_density: " << imu.noise.accel_noise_density
+         << ", accelerometer_random_walk: " << imu.noise.accel_bias_random_walk;
+    if (imu.pose) {
+      file << ",\n     pose: ";
+      writePose(*imu.pose);
     }
     file << "}\n";
   }

@@ -87,6 +87,15 @@ Eigen::Matrix3d rotationFromRollPitchYaw(double roll, double pitch, double yaw) 
       .toRotationMatrix();
 }
 
+Eigen::Vector3d rollPitchYawFromRotation(const Eigen::Matrix3d& r) {
+  const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  if (std::abs(r(2, 0)) > 1.0 - 1e-12) {
+    // Gimbal lock: roll and yaw turn about one axis; all of it given to yaw.
+    return {0.0, pitch, std::atan2(-r(0, 1), r(1, 1))};
+  }
+  return {std::atan2(r(2, 1), r(2, 2)), pitch, std::atan2(r(1, 0), r(0, 0))};
+}
+
 Eigen::Matrix3d bodyFromOpticalRotation() {
   Eigen::Matrix3d R;
   R << 0, 0, 1,  //

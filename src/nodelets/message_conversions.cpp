@@ -245,6 +245,18 @@ std::pair<std::uint32_t, std::uint32_t> declaredImageSize(const std::vector<std:
 }
 }  // namespace
 
+sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
+  cv::Mat grey(image.height(), image.width(), CV_8UC1);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) grey.at<std::uint8_t>(y, x) = luma8(image(x, y));
+  sensor_msgs::CompressedImage msg;
+  msg.header.frame_id = frame_id;
+  msg.header.stamp = stamp;
+  msg.format = "mono8; jpeg compressed ";
+  cv::imencode(".jpg", grey, msg.data, {cv::IMWRITE_JPEG_QUALITY, 95});
+  return msg;
+}
+
 ColorImage fromCompressedColorImage(const sensor_msgs::CompressedImage& msg, const std::string& what) {
   if (msg.data.empty()) throw InputError(what + ": the compressed image is empty");
   // No camera gives more than 64 megapixels; a header that says so is not believed.

@@ -85,6 +85,11 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     }
     try {
       RigDescription described = readRigDescription(rig_path);
+      if (!described.imus.empty()) {
+        // A waved session's every frame and IMU sample: calibrate_rig on its recording, not live yet.
+        throw InputError(rig_path + ": imu '" + described.imus.front().name + "' is calibrated from a recorded session (rosbag record its "
+                         "camera and IMU topics while waving the rig before the board, then calibrate_rig RIG.yaml BAG), not live yet");
+      }
       if (!described.urdf_param.empty()) {
         // The robot's joints from its URDF on the parameter server (what robot_state_publisher reads).
         std::string urdf;

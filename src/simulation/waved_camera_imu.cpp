@@ -79,20 +79,22 @@ WavedCameraImuSession simulateWavedCameraImu(const WavedCameraImuOptions& o) {
   const Eigen::Matrix3d imu_from_camera = session.camera_in_imu.linear();
   const Eigen::Vector3d camera_to_imu_in_camera = session.camera_in_imu.inverse().translation();
 
-  // The camera, at the motion's centre, faces the board square on from `distance` (board z into it); the
-  // board leans back 0.1 rad, its y axis down.
+  // The camera, at the motion's centre, faces the board square on from `distance` on the side its z axis
+  // points to (its printed face: camera x and z opposite the board's); the board leans back 0.1 rad, its y
+  // axis down.
+  const Eigen::Matrix3d facing = Eigen::Vector3d(-1.0, 1.0, -1.0).asDiagonal();
   const Eigen::Vector3d turn_amplitude =
       o.motion == WavedMotion::kNoTurns ? Eigen::Vector3d::Zero()
       : o.motion == WavedMotion::kOneAxisTurns ? Eigen::Vector3d(0.0, 0.0, 1.5 * o.turn_amplitude)
                                                : Eigen::Vector3d(o.turn_amplitude, o.turn_amplitude, 1.5 * o.turn_amplitude);
   const Wave turn = randomWave(turn_amplitude, random);
   const Wave move = randomWave(Eigen::Vector3d::Constant(o.move_amplitude), random);
-  const Eigen::Vector3d centre_of_imu = Eigen::Vector3d(0.0, 0.0, -o.distance) + camera_to_imu_in_camera;
+  const Eigen::Vector3d centre_of_imu = Eigen::Vector3d(0.0, 0.0, o.distance) + facing * camera_to_imu_in_camera;
   session.gravity_in_board = 9.80665 * (so3Exp(Eigen::Vector3d(0.1, 0.0, 0.0)) * Eigen::Vector3d::UnitY());
-  // board <- camera = Exp(turn); board <- IMU = board <- camera * camera <- IMU; the IMU's position waves.
+  // board <- camera = facing Exp(turn); board <- IMU = board <- camera * camera <- IMU; the IMU's position waves.
   auto boardFromCamera = [&](double t) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = so3Exp(turn.value(t));
+    pose.linear() = facing * so3Exp(turn.value(t));
     pose.translation() = centre_of_imu + move.value(t) - pose.linear() * camera_to_imu_in_camera;
     return pose;
   };
@@ -113,7 +115,7 @@ WavedCameraImuSession simulateWavedCameraImu(const WavedCameraImuOptions& o) {
   for (int j = 0; j < samples; ++j) {
     const double t = -padding + j * dt;
     const Eigen::Vector3d phi = turn.value(t);
-    const Eigen::Matrix3d board_from_imu = so3Exp(phi) * imu_from_camera.transpose();
+    const Eigen::Matrix3d board_from_imu = facing * so3Exp(phi) * imu_from_camera.transpose();
     ImuSample s;
     s.stamp = t + o.time_offset;
     const Eigen::Vector3d camera_rate = rightJacobian(phi) * turn.rate(t);
@@ -138,7 +140,9 @@ WavedCameraImuSession simulateWavedCameraImu(const WavedCameraImuOptions& o) {
   for (int k = 0; k < frames; ++k) {
     const double t = k / o.camera_rate;
     ++session.frames;
-    const Eigen::Isometry3d camera_from_board = boardFromCamera(t).inverse();
+    session.frame_stamps.push_back(t);
+    session.board_from_camera.push_back(boardFromCamera(t));
+    const Eigen::Isometry3d camera_from_board = session.board_from_camera.back().inverse();
     std::vector<Eigen::Vector2d> pixels;
     bool in_view = true;
     for (const Eigen::Vector3d& corner : corners) {

@@ -2,7 +2,11 @@
 
 #include <sys/stat.h>
 
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+
 #include "vocal/core/errors.h"
+#include "vocal/nodelets/message_conversions.h"
 
 namespace vocal {
 
@@ -19,6 +23,22 @@ void openBag(rosbag::Bag* bag, const std::string& path, rosbag::BagMode mode) {
     }
     throw InputError(message);
   }
+}
+
+bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCamera* camera, LensDistortion* lens) {
+  rosbag::View infos(bag, rosbag::TopicQuery(topic));
+  for (const rosbag::MessageInstance& m : infos) {
+    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+      try {
+        *camera = fromCameraInfo(*info, m.getTopic());
+        *lens = lensDistortionFromCameraInfo(*info, m.getTopic());
+        return true;
+      } catch (const InputError&) {
+        continue;
+      }
+    }
+  }
+  return false;
 }
 
 }  // namespace vocal

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <cstdio>
+#include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -15,6 +18,7 @@
 #include "vocal/calibration/calibration_session.h"
 #include "vocal/calibration/output/calibrated_urdf.h"
 #include "vocal/calibration/output/calibration_output.h"
+#include "vocal/calibration/output/camera_imu_output.h"
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
@@ -24,6 +28,7 @@
 #include "vocal/tools/bag_tool_poses.h"
 #include "vocal/tools/calibration_bag.h"
 #include "vocal/tools/calibration_overlays.h"
+#include "vocal/tools/camera_imu_bag.h"
 #include "vocal/tools/command_line.h"
 
 namespace {
@@ -69,7 +74,12 @@ const char kUsage[] =
     "A sensor whose `parent` is a link of the rig's joints (a `joints:` list or a `urdf:`) is behind them (a camera\n"
     "on a pan-tilt head): the joints' positions come from the bag's sensor_msgs/JointState (joint_states_topic,\n"
     "/joint_states), its views count only where they were still, and each joint's zero offset is solved with the\n"
-    "rest; --report adds the range each joint covered.\n";
+    "rest; --report adds the range each joint covered.\n"
+    "A rig with an `imu` sensor: the IMU is calibrated against its camera from the frames where the rig was waved\n"
+    "before the fixed board (every frame with the board, and the IMU's sensor_msgs/Imu): the camera's pose in the IMU\n"
+    "frame and the time offset between their clocks; the IMU is placed in the rig through its camera, and\n"
+    "--output-dir adds DIR/camchain-imucam.yaml (Kalibr's layout). A rig of the camera and the IMU alone needs no still\n"
+    "poses.\n";
 
 // Per sensor, its range messages without the target by the check that refused the most board-like segment.
 std::vector<std::map<std::string, int>> refusedByCheck(const vocal::RigDescription& rig, const vocal::CalibrationSession& session) {
@@ -335,6 +345,142 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   return any_withheld ? 1 : 0;
 }
 
+
+// Every IMU of the rig against its camera from the waved frames, placed in the rig through its camera:
+// `camera_pose` gives a sensor's pose in the rig, or none with why (withheld, not placed).
+std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag,
+                                                       const std::function<std::optional<Eigen::Isometry3d>(int, std::string*)>& camera_pose) {
+  std::vector<vocal::ImuCalibrationOutput> outputs;
+  for (std::size_t i = 0; i < rig.imus.size(); ++i) {
+    const vocal::RigImuDescription& imu = rig.imus[i];
+    const vocal::RigSensorDescription& camera = rig.sensors[imu.camera];
+    vocal::ImuCalibrationOutput out;
+    out.name = imu.name;
+    out.frame_id = imu.frame_id;
+    out.camera_name = camera.spec.name;
+    out.camera_frame = camera.spec.frame_id;
+    out.camera_topic = camera.image_topic;
+    const vocal::CameraImuRecording recording = vocal::readCameraImuBag(bag, rig, static_cast<int>(i), args.integer("threads", 0));
+    out.camera = recording.camera;
+    out.lens = recording.lens;
+    const double span = recording.imu.size() > 1 ? recording.imu.back().stamp - recording.imu.front().stamp : 0.0;
+    std::printf("imu '%s' against camera '%s': the board in %zu of %zu frames, %zu IMU samples (%.1f Hz), %zu messages dropped\n", imu.name.c_str(),
+                camera.spec.name.c_str(), recording.views.size(), recording.images, recording.imu.size(),
+                span > 0 ? (recording.imu.size() - 1) / span : 0.0, recording.dropped);
+    for (const std::string& problem : recording.problems) std::printf("  dropped: %s\n", problem.c_str());
+    try {
+      out.result = vocal::calibrateCameraImu(recording.views, recording.imu, imu.noise);
+    } catch (const vocal::InputError& e) {
+      out.withheld = std::string("not calibrated: ") + e.what();
+      std::printf("withheld: imu '%s' %s\n", imu.name.c_str(), out.withheld.c_str());
+      outputs.push_back(out);
+      continue;
+    }
+    const vocal::CameraImuResult& r = out.result;
+    std::printf("  closed forms: time offset %+.2f ms (the angular speeds correlate %.3f there), rotation from the angular velocities\n",
+                1000 * r.initial_time_offset, r.angular_speed_correlation);
+    printPose((camera.spec.name + " in " + imu.name).c_str(), r.camera_in_imu, &r.sigma, nullptr);
+    std::printf("  time offset: IMU stamp = camera stamp %+.3f ms (sigma %.3f ms)\n", 1000 * r.time_offset, 1000 * r.time_offset_sigma);
+    std::printf("  biases: gyro [%.5f, %.5f, %.5f] rad/s, accelerometer [%.4f, %.4f, %.4f] m/s^2\n", r.gyro_bias.x(), r.gyro_bias.y(),
+                r.gyro_bias.z(), r.accel_bias.x(), r.accel_bias.y(), r.accel_bias.z());
+    const double rate = span > 0 ? (recording.imu.size() - 1) / span : 0.0;
+    std::printf("  residuals (rms): gyro %.4f rad/s, accelerometer %.4f m/s^2 (its noise figures say %.4f / %.4f), board views %.2f mm / "
+                "%.2f mrad; %d views, %d IMU samples, %d iterations\n",
+                r.gyro_rms, r.accel_rms, imu.noise.gyro_noise_density * std::sqrt(rate), imu.noise.accel_noise_density * std::sqrt(rate),
+                1000 * r.view_translation_rms, 1000 * r.view_rotation_rms, r.views, r.imu_samples, r.iterations);
+    out.withheld = r.withheld;
+    if (rig.reference_imu == static_cast<int>(i)) {
+      out.rig_from_imu = *imu.pose;
+    } else {
+      std::string why;
+      if (const std::optional<Eigen::Isometry3d> placed = camera_pose(imu.camera, &why)) {
+        out.rig_from_imu = *placed * r.camera_in_imu.inverse();
+      } else if (out.withheld.empty()) {
+        out.withheld = "its camera '" + camera.spec.name + "' is not placed in the rig (" + why + ")";
+      }
+    }
+    if (out.rig_from_imu) printPose((imu.name + " in " + rig.reference_frame).c_str(), *out.rig_from_imu, nullptr, nullptr);
+    if (!out.withheld.empty()) {
+      std::printf("withheld: imu '%s' is kept out of calibration.urdf and calibration.launch: %s\n", imu.name.c_str(), out.withheld.c_str());
+    }
+    outputs.push_back(out);
+  }
+  return outputs;
+}
+
+// The IMUs' results beside the rig's files: their block of calibration.yaml, their joints and transforms in
+// the URDF snippet and launch file, and Kalibr's camchain-imucam.yaml.
+void writeImuOutputs(const std::string& dir, const vocal::RigDescription& rig, const std::vector<vocal::ImuCalibrationOutput>& imus) {
+  const auto append = [](const std::string& path, const std::string& text, const std::string& before) {
+    std::ifstream in(path);
+    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = before.empty() ? std::string::npos : content.rfind(before);
+    content.insert(at == std::string::npos ? content.size() : at, text);
+    std::ofstream out(path);
+    if (!(out << content) || !out.flush()) throw vocal::InputError(path + ": cannot write calibration output");
+  };
+  append(dir + "/calibration.yaml", vocal::imuCalibrationYaml(imus, rig.reference_frame), "");
+  append(dir + "/calibration.urdf", vocal::imuUrdfJoints(imus, rig.reference_frame), "");
+  append(dir + "/calibration.launch", vocal::imuStaticTransformNodes(imus, rig.reference_frame), "</launch>");
+  vocal::writeKalibrCamchain(dir + "/camchain-imucam.yaml", imus);
+  std::printf("wrote %s/camchain-imucam.yaml (Kalibr's layout) and the IMUs into calibration.yaml, calibration.urdf, calibration.launch\n",
+              dir.c_str());
+}
+
+// A rig of one camera and its IMU: no still poses; the camera where the rig gives it, or placed through the
+// IMU when the IMU is the reference.
+int runCameraImu(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag) {
+  const vocal::RigSensorDescription& camera = rig.sensors.front();
+  const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why) {
+    if (rig.sensors[s].pose) return rig.sensors[s].pose;
+    *why = "the rig gives it no pose";
+    return std::optional<Eigen::Isometry3d>();
+  });
+  std::optional<Eigen::Isometry3d> camera_in_rig = camera.pose;
+  std::string camera_withheld;
+  if (rig.reference_imu >= 0) {
+    const vocal::ImuCalibrationOutput& reference = imus[rig.reference_imu];
+    if (reference.withheld.empty()) {
+      camera_in_rig = *reference.rig_from_imu * reference.result.camera_in_imu;
+      printPose((camera.spec.name + " in " + rig.reference_frame).c_str(), *camera_in_rig, &reference.result.sigma, nullptr);
+    } else {
+      camera_withheld = "placed through imu '" + reference.name + "', which is withheld";
+    }
+  }
+  bool any_withheld = !camera_withheld.empty();
+  for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
+  if (args.has("output-dir")) {
+    const std::string dir = args.text("output-dir", "");
+    {
+      std::ofstream yaml(dir + "/calibration.yaml"), urdf(dir + "/calibration.urdf"), launch(dir + "/calibration.launch");
+      yaml << "# vocal MSG-Cal result: pose of each sensor frame in " << rig.reference_frame << "\nreference_frame: " << rig.reference_frame
+           << "\nsensors:\n  - name: " << camera.spec.name << "\n    type: camera\n    frame_id: " << camera.spec.frame_id
+           << "\n    parent: " << rig.reference_frame << "\n";
+      urdf << "<!-- vocal MSG-Cal result: paste into the robot's URDF -->\n";
+      launch << "<launch>\n  <!-- vocal MSG-Cal result as static transforms -->\n";
+      if (camera_in_rig) {
+        const Eigen::Quaterniond q(camera_in_rig->rotation());
+        const Eigen::Vector3d t = camera_in_rig->translation();
+        yaml << std::setprecision(9) << "    translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n    rotation: [" << q.x() << ", "
+             << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
+      }
+      yaml << "    " << (rig.reference_imu >= 0 ? "placed_through: " + rig.imus[rig.reference_imu].name : std::string("held: true  # the rig's reference"))
+           << "\n    published: " << (camera_withheld.empty() ? "true" : "false") << "\n";
+      if (!camera_withheld.empty()) {
+        yaml << "    withheld_because: " << vocal::yamlQuoted(camera_withheld) << "\n";
+        urdf << "<!-- " << camera.spec.frame_id << " withheld: " << camera_withheld << " -->\n";
+      } else if (rig.reference_imu >= 0) {
+        urdf << vocal::urdfFixedJoint(rig.reference_frame, camera.spec.frame_id, *camera_in_rig);
+        launch << vocal::staticTransformNode(camera.spec.name + "_extrinsic", rig.reference_frame, camera.spec.frame_id, *camera_in_rig);
+      }
+      launch << "</launch>\n";
+      if (!yaml.flush() || !urdf.flush() || !launch.flush()) throw vocal::InputError(dir + ": cannot write calibration output");
+    }
+    writeImuOutputs(dir, rig, imus);
+  }
+  return any_withheld ? 1 : 0;
+}
+
 int run(const vocal::CommandLine& args) {
   if (args.has("overlays") && !args.has("output-dir")) throw vocal::InputError("--overlays needs --output-dir (where the PNGs go)");
   const vocal::SpreadTolerance tolerance{positiveOption(args, "tolerance-mm", 10.0) / 1000, positiveOption(args, "tolerance-mrad", 10.0) / 1000};
@@ -348,6 +494,7 @@ int run(const vocal::CommandLine& args) {
   }
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
+  if (!rig.imus.empty() && rig.sensors.size() == 1) return runCameraImu(args, rig, bag);
   vocal::RingOffsetOptions ring_offset_options;
   ring_offset_options.enabled = !args.has("no-ring-offsets");
   vocal::CalibrationSession session(rig, {}, {}, ring_offset_options, memory);
@@ -474,6 +621,14 @@ int run(const vocal::CommandLine& args) {
       if (result.joints[j].held.empty()) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
     writeRobotUrdf(rig, offsets, dir);
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
+  }
+  if (!rig.imus.empty()) {
+    const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why) {
+      *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
+      return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
+    });
+    for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
+    if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
   }
   // Non-zero when a sensor was left out, so a script applying the result notices.
   return any_withheld ? 1 : 0;

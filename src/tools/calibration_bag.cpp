@@ -301,25 +301,6 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   return summary;
 }
 
-namespace {
-// The first camera_info on `topic` that converts; false when none does (each bad one is reported when
-// the main pass reaches it).
-bool firstUsableCameraInfo(rosbag::Bag& bag, const std::string& topic, PinholeCamera* camera, LensDistortion* lens) {
-  rosbag::View infos(bag, rosbag::TopicQuery(topic));
-  for (const rosbag::MessageInstance& m : infos) {
-    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
-      try {
-        *camera = fromCameraInfo(*info, m.getTopic());
-        *lens = lensDistortionFromCameraInfo(*info, m.getTopic());
-        return true;
-      } catch (const InputError&) {
-        continue;
-      }
-    }
-  }
-  return false;
-}
-}  // namespace
 
 BagReadSummary readCalibrationBag(const std::string& bag_path, CalibrationSession* session,
                                   const std::function<void(std::size_t)>& progress, int threads) {

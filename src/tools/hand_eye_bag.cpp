@@ -31,19 +31,6 @@ Eigen::Isometry3d flangeFromTool() {
   pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.1);
   return pose;
 }
-// What image_transport's compressed transport publishes: a JPEG of the image (grey, as the rendered one is).
-sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp) {
-  cv::Mat grey(image.height(), image.width(), CV_8UC1);
-  for (int y = 0; y < image.height(); ++y)
-    for (int x = 0; x < image.width(); ++x) grey.at<std::uint8_t>(y, x) = luma8(image(x, y));
-  sensor_msgs::CompressedImage msg;
-  msg.header.frame_id = frame_id;
-  msg.header.stamp = stamp;
-  msg.format = "mono8; jpeg compressed ";
-  cv::imencode(".jpg", grey, msg.data, {cv::IMWRITE_JPEG_QUALITY, 95});
-  return msg;
-}
-
 // A sensor of the rig in its parent: the camera's (on the tool, or fixed; on the forearm), the fixed
 // others' by type.
 Eigen::Isometry3d sensorPoseInParent(const SimulatedArm& arm, const RigSensorDescription& sensor) {

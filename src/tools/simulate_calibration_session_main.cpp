@@ -3,6 +3,8 @@
 // room and held still at each pose), with the rig description calibrate_rig needs and the ground truth.
 
 #include <cstdio>
+#include <fstream>
+#include <iomanip>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -14,6 +16,7 @@
 #include "vocal/simulation/rig_simulator.h"
 #include "vocal/simulation/simulated_arm.h"
 #include "vocal/tools/calibration_bag.h"
+#include "vocal/tools/camera_imu_bag.h"
 #include "vocal/tools/hand_eye_bag.h"
 #include "vocal/tools/command_line.h"
 
@@ -97,7 +100,20 @@ const char kUsage[] =
     "                      joints on /joint_states with the arm's, their zeros off like the arm's\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
-    "in their parents, every still pose's tool)\n";
+    "in their parents, every still pose's tool)\n"
+    "\n"
+    "A camera and an IMU waved before a fixed board instead (a camera-IMU session, as Kalibr's users record one):\n"
+    "  --waved-imu         a 640x480 camera (wide-angle lens) with a consumer MEMS IMU beside it, waved before a 6 x 7\n"
+    "                      board of 5 cm squares, turning about and moving along all three axes; images on\n"
+    "                      /camera/image_raw (mono8), camera_info, the IMU's sensor_msgs/Imu on /imu/data\n"
+    "  --seconds S         how long (default 60)\n"
+    "  --camera-rate HZ --imu-rate HZ   (default 20 and 200)\n"
+    "  --time-offset S     the IMU's stamps S seconds ahead of the camera's (default 0.01)\n"
+    "  --motion M          all (default), one-axis (turns about the optical axis only) or none (never turns)\n"
+    "  --compressed        images as JPEG on /camera/image_raw/compressed\n"
+    "  --seed S\n"
+    "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the camera the reference, the IMU without a pose) and\n"
+    "OUT_DIR/ground_truth.yaml (the camera in the IMU, the IMU in the rig, the time offset and the biases)\n";
 
 // A robot arm's hand-eye session (hand_eye_bag.h).
 int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
@@ -155,9 +171,65 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   return 0;
 }
 
+
+// A camera and an IMU waved before a board (camera_imu_bag.h).
+int simulateWavedImu(const vocal::CommandLine& args, const std::string& dir) {
+  vocal::WavedCameraImuOptions options;
+  options.duration = args.number("seconds", 60.0);
+  options.camera_rate = args.number("camera-rate", options.camera_rate);
+  options.imu_rate = args.number("imu-rate", options.imu_rate);
+  options.time_offset = args.number("time-offset", 0.01);
+  options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
+  if (!(options.duration > 1.0)) throw vocal::InputError("option --seconds: must be over 1");
+  if (!(options.camera_rate > 0.0 && options.imu_rate > 0.0)) throw vocal::InputError("options --camera-rate, --imu-rate: must be > 0");
+  const std::string motion = args.text("motion", "all");
+  if (motion == "one-axis") {
+    options.motion = vocal::WavedMotion::kOneAxisTurns;
+  } else if (motion == "none") {
+    options.motion = vocal::WavedMotion::kNoTurns;
+  } else if (motion != "all") {
+    throw vocal::InputError("option --motion: '" + motion + "' is unknown: expected all, one-axis or none");
+  }
+  const vocal::WavedCameraImuSession session = vocal::simulateWavedCameraImu(options);
+  // The camera on the rig's body, looking ahead (REP-103 body to optical), a little up and to the left.
+  Eigen::Isometry3d camera_in_rig = Eigen::Isometry3d::Identity();
+  camera_in_rig.linear() = vocal::bodyFromOpticalRotation();
+  camera_in_rig.translation() = Eigen::Vector3d(0.05, 0.02, 0.1);
+  const vocal::RigDescription rig = vocal::simulatedCameraImuRig(options, camera_in_rig, args.has("compressed"));
+  vocal::writeRigDescription(dir + "/rig.yaml", rig);
+  {
+    std::ofstream truth(dir + "/ground_truth.yaml");
+    const auto pose = [&](const Eigen::Isometry3d& p) {
+      const Eigen::Quaterniond q(p.rotation());
+      std::ostringstream out;
+      out << std::setprecision(10) << "[" << p.translation().x() << ", " << p.translation().y() << ", " << p.translation().z() << ", " << q.x()
+          << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]";
+      return out.str();
+    };
+    const auto vector = [](const Eigen::Vector3d& v) {
+      std::ostringstream out;
+      out << std::setprecision(10) << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+      return out.str();
+    };
+    truth << std::setprecision(10) << "# the truth of a simulated waved camera-IMU session\nreference_frame: base_link\n"
+          << "camera_in_imu: " << pose(session.camera_in_imu) << "  # x y z qx qy qz qw: x_imu = T x_camera\n"
+          << "imu_in_rig: " << pose(camera_in_rig * session.camera_in_imu.inverse()) << "\n"
+          << "time_offset: " << session.time_offset << "  # s: IMU stamp = camera stamp + time_offset\n"
+          << "gyro_bias: " << vector(session.gyro_bias) << "  # rad/s, the session's mean\n"
+          << "accelerometer_bias: " << vector(session.accel_bias) << "  # m/s^2\n";
+    if (!truth.flush()) throw vocal::InputError(dir + "/ground_truth.yaml: cannot write");
+  }
+  vocal::writeSimulatedWavedBag(session, options, rig, dir + "/session.bag");
+  std::printf("wrote a waved camera-IMU session of %.0f s (%d frames, the board in %zu; %zu IMU samples) to %s/session.bag; rig.yaml, "
+              "ground_truth.yaml\n",
+              options.duration, session.frames, session.views.size(), session.imu.size(), dir.c_str());
+  return 0;
+}
+
 int run(const vocal::CommandLine& args) {
   const std::string dir = args.positional()[0];
   vocal::makeFolders(dir);
+  if (args.has("waved-imu")) return simulateWavedImu(args, dir);
   if (args.has("eye-in-hand") || args.has("eye-to-hand")) return simulateHandEye(args, dir);
   if (args.has("arm")) throw vocal::InputError("option --arm: with --eye-in-hand or --eye-to-hand");
   const bool pan_tilt = args.has("pan-tilt");
@@ -255,7 +327,8 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets"},
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets",
+                         "seconds", "imu-rate", "time-offset", "motion"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head"}, 1);
+                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);
 }

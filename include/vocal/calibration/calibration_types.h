@@ -40,6 +40,11 @@ struct PlaneMeasurement {
   Eigen::Vector4d evidence_offset = Eigen::Vector4d::Zero();
 };
 
+// The view as it reads when the board's corners were found in the other order (a checkerboard is found
+// either way round): the board turned 180 degrees about its normal; its covariances and intrinsics
+// response follow the pattern frame.
+PlaneMeasurement turnedHalfway(const PlaneMeasurement& view);
+
 // One sensor's view of the target while it was held at one pose: points on the target in the sensor
 // frame (a depth or lidar sensor's inliers, a 2D laser's scan points, a camera's pattern corners
 // placed by its pose estimate).

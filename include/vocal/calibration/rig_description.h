@@ -34,6 +34,16 @@
 //     - {name: head_tilt_joint, type: revolute, parent: head_pan_link, child: head_tilt_link, origin: [...], axis: [0, 1, 0]}
 //   sensors:
 //     - {name: head_camera, type: rgbd, frame_id: head_camera_optical_frame, parent: head_tilt_link, depth_topic: ...}
+//
+// An IMU (camera_imu_calibration.h) is calibrated against a camera of the rig from a session where the rig
+// was waved before the fixed board: every frame of `camera` (default: the rig's first camera) with the
+// board in view and the IMU's sensor_msgs/Imu on `imu_topic`. Its noise figures take Kalibr's imu.yaml
+// names (continuous time; consumer MEMS defaults). With a `pose` it is the rig's reference and its camera
+// is then placed through it (a rig of that camera and the IMU only):
+//
+//     - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu, camera: cam0,
+//        gyroscope_noise_density: 2.4e-4, gyroscope_random_walk: 2.0e-5,
+//        accelerometer_noise_density: 2.0e-3, accelerometer_random_walk: 3.0e-4}
 
 #include <optional>
 #include <string>
@@ -45,6 +55,7 @@
 #include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/extraction/target_extraction.h"
 #include "vocal/calibration/joint_chain.h"
+#include "vocal/core/imu_samples.h"
 
 namespace vocal {
 
@@ -69,6 +80,14 @@ struct RigSensorDescription {
   // reference_frame reads as empty).
   std::string parent;
   bool pose_known = false;  // behind joints: `pose` is its mount in `parent`, known (held)
+};
+
+// An IMU of the rig: not one of its plane-seeing sensors, so kept apart from them (RigDescription::imus).
+struct RigImuDescription {
+  std::string name, frame_id, imu_topic;
+  int camera = -1;  // the camera sensor it is calibrated against (index into RigDescription::sensors)
+  ImuNoise noise;
+  std::optional<Eigen::Isometry3d> pose;  // in reference_frame: the rig's reference
 };
 
 // Where an arm moves a camera or the board (RigDescription::handEye), in the rig's terms.
@@ -100,6 +119,9 @@ struct RigDescription {
   // empty and the rig unfinished; the reader of the parameter gives them with setRigJoints.
   std::string urdf_param;
   std::string joint_states_topic = "/joint_states";
+  std::vector<RigImuDescription> imus;
+  // The IMU whose `pose` makes it the reference (its camera then has none), or -1.
+  int reference_imu = -1;
 
   std::vector<SensorSpec> specs() const;
   // Set when a sensor or the board is on a frame that moves (tf's, not a link of `joints`).
@@ -126,7 +148,10 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // the tool over a board moved by hand, a range sensor on the board's side, a 2D laser, no camera on the
 // other side from the board; for joints: a joint with a missing or malformed key, an unknown type, a zero
 // axis, a name or child used twice, a URDF that cannot be read, a sensor's parent no joint chain reaches
-// from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig.
+// from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig; for an
+// IMU: no imu_topic, a `camera` that is no camera of the rig (or no camera at all), a negative noise figure,
+// an IMU in a rig with joints or an arm, an IMU with a pose beside another sensor with one or in a rig of
+// more sensors than its camera.
 RigDescription readRigDescription(const std::string& path);
 
 // A rig read with `urdf_param`: its joints (urdfJointsFromString of the parameter), then what depends on

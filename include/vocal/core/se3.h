@@ -35,6 +35,9 @@ Eigen::Isometry3d interpolatePose(const Eigen::Isometry3d& a, const Eigen::Isome
 
 // Rotation from roll (about x), pitch (about y), yaw (about z): R = Rz(yaw) Ry(pitch) Rx(roll).
 Eigen::Matrix3d rotationFromRollPitchYaw(double roll, double pitch, double yaw);
+// Its inverse, (roll, pitch, yaw) with pitch in [-pi/2, pi/2] and the others in [-pi, pi] (URDF's rpy: a
+// rotation near the identity reads near zero, not near pi as Eigen's eulerAngles may give it).
+Eigen::Vector3d rollPitchYawFromRotation(const Eigen::Matrix3d& rotation);
 
 // Maps the REP-103 body frame (x forward, y left, z up) to the optical frame (z forward, x right,
 // y down): R_body_optical, whose columns are the optical axes in body coordinates.

@@ -48,6 +48,8 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
 
 // rgb8, bgr8, rgba8, bgra8 or mono8 (grey copied to all three channels).
 ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what);
+// What image_transport's compressed transport publishes: a JPEG (quality 95) of the image's luma.
+sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
 // image_transport's compressed images (JPEG or PNG, colour or grey), as robots often record cameras.
 ColorImage fromCompressedColorImage(const sensor_msgs::CompressedImage& msg, const std::string& what);
 // Whether a topic is image_transport's compressed one (".../compressed"): subscribe CompressedImage there.

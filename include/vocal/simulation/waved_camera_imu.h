@@ -51,6 +51,9 @@ struct WavedCameraImuSession {
   std::vector<CameraImuView> views;  // frames with the whole board in view, camera clock
   std::vector<ImuSample> imu;        // IMU clock
   int frames = 0;                    // camera frames taken, the board in view or not
+  // Every frame's stamp (camera clock) and the camera's pose in the board's frame then (to render it).
+  std::vector<double> frame_stamps;
+  std::vector<Eigen::Isometry3d> board_from_camera;
   // The truth.
   Eigen::Isometry3d camera_in_imu = Eigen::Isometry3d::Identity();
   double time_offset = 0.0;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
@@ -29,17 +30,17 @@ void checkSizes(const std::vector<SensorSpec>& sensors, const CalibrationResult&
   }
 }
 // A YAML double-quoted scalar.
-std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
-  return out + "\"";
-}
-
 // The reason sensor s is withheld, empty when it is published (or nothing was withheld).
 std::string withheldReason(const std::vector<std::string>* withheld, std::size_t s) {
   return withheld && s < withheld->size() ? (*withheld)[s] : std::string();
 }
 }  // namespace
+
+std::string yamlQuoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+  return out + "\"";
+}
 
 std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
                                          const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain) {
@@ -93,7 +94,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
          << "    solver_translation_stddev: [" << c.standard_deviation[0] << ", " << c.standard_deviation[1] << ", " << c.standard_deviation[2] << "]\n"
          << "    solver_rotation_stddev: [" << c.standard_deviation[3] << ", " << c.standard_deviation[4] << ", " << c.standard_deviation[5] << "]\n"
          << "    trusted: " << (c.distrust.empty() && result.trusted ? "true" : "false") << "\n";
-    if (!c.distrust.empty()) file << "    not_trusted_because: " << quoted(c.distrust) << "\n";
+    if (!c.distrust.empty()) file << "    not_trusted_because: " << yamlQuoted(c.distrust) << "\n";
     if (c.isolated) file << "    isolated: true  # kept out of the graph: the others were solved without it\n";
     if (c.compared_poses > 0) {
       file << "    disagreement: {distance_m: " << c.disagreement_distance << ", angle_rad: " << c.disagreement_angle
@@ -102,7 +103,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     if (withheld) {
       const std::string why = withheldReason(withheld, s);
       file << "    published: " << (why.empty() ? "true" : "false") << "\n";
-      if (!why.empty()) file << "    withheld_because: " << quoted(why) << "\n";
+      if (!why.empty()) file << "    withheld_because: " << yamlQuoted(why) << "\n";
     }
     if (c.intrinsicsRefined()) {
       const auto list = [&](const Eigen::Vector4d& v) {
@@ -129,8 +130,8 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       };
       file << "    ring_offsets:  # from " << rings.planes << " room planes; applied: the board's returns were moved back along their rays by them\n"
            << "      applied: " << (rings.applied ? "true" : "false") << "\n"
-           << "      verdict: " << quoted(rings.verdict) << "\n";
-      if (!rings.warning.empty()) file << "      warning: " << quoted(rings.warning) << "\n";
+           << "      verdict: " << yamlQuoted(rings.verdict) << "\n";
+      if (!rings.warning.empty()) file << "      warning: " << yamlQuoted(rings.warning) << "\n";
       file << "      common_offset_m: " << rings.common_offset << "  # one offset for all rings, the room's planes one by one (median)\n"
            << "      planes_agreeing: " << rings.planes_agreeing << "  # their share within " << rings.agreement << " m of it\n";
       list("elevation_deg", [&](std::size_t r) { return rings.elevations[r] * 180.0 / M_PI; }, "");
@@ -151,9 +152,9 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
            << "    offset_stddev: " << joint.standard_deviation << "\n"
            << "    motion: " << joint.motion << "  # the range its readings covered over the still poses\n"
            << "    solved: " << (joint.held.empty() ? "true" : "false") << "\n";
-      if (!joint.held.empty()) file << "    held_because: " << quoted(joint.held) << "\n";
-      if (!joint.fixed_by.empty()) file << "    fixed_by: " << quoted(joint.fixed_by) << "\n";
-      if (!joint.weak.empty()) file << "    weak: " << quoted(joint.weak) << "\n";
+      if (!joint.held.empty()) file << "    held_because: " << yamlQuoted(joint.held) << "\n";
+      if (!joint.fixed_by.empty()) file << "    fixed_by: " << yamlQuoted(joint.fixed_by) << "\n";
+      if (!joint.weak.empty()) file << "    weak: " << yamlQuoted(joint.weak) << "\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";
     for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
@@ -181,14 +182,14 @@ std::string sensorParent(const CalibrationResult& result, std::size_t s, const s
 
 std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child) {
   // URDF rpy: fixed axes, R = Rz(yaw) Ry(pitch) Rx(roll).
-  const Eigen::Vector3d ypr = parent_from_child.rotation().eulerAngles(2, 1, 0);
+  const Eigen::Vector3d rpy = rollPitchYawFromRotation(parent_from_child.rotation());
   const Eigen::Vector3d t = parent_from_child.translation();
   std::ostringstream out;
   out << "<link name=\"" << child << "\"/>\n"
       << "<joint name=\"" << parent << "_to_" << child << "\" type=\"fixed\">\n"
       << "  <parent link=\"" << parent << "\"/>\n"
       << "  <child link=\"" << child << "\"/>\n"
-      << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << ypr[2] << " " << ypr[1] << " " << ypr[0] << "\"/>\n"
+      << "  <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << rpy[0] << " " << rpy[1] << " " << rpy[2] << "\"/>\n"
       << "</joint>\n";
   return out.str();
 }
@@ -330,7 +331,7 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << "    rotation_spread: " << listOf(result.sensor_spreads[s].tail<3>()) << "  # rad\n"
          << "    published: " << (withheld[s].empty() ? "true" : "false") << "\n";
     if (s < result.held.size() && result.held[s]) file << "    held: true  # at the pose the rig gives\n";
-    if (!withheld[s].empty()) file << "    withheld_because: " << quoted(withheld[s]) << "\n";
+    if (!withheld[s].empty()) file << "    withheld_because: " << yamlQuoted(withheld[s]) << "\n";
   }
   file << "target:\n"
        << "  parent: " << board_parent << "\n";
@@ -356,7 +357,7 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
       if (!joint.reported) continue;
       file << "  - {name: " << frames.joint_names[i] << ", offset: " << joint.offset << ", offset_stddev: " << joint.standard_deviation
            << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false");
-      if (!joint.fixed_by.empty()) file << ", fixed_by: " << quoted(joint.fixed_by);
+      if (!joint.fixed_by.empty()) file << ", fixed_by: " << yamlQuoted(joint.fixed_by);
       file << "}\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";

@@ -175,6 +175,23 @@ void checkInput(const std::vector<CameraImuView>& views, const std::vector<ImuSa
   }
 }
 
+// A checkerboard's corners are found either way round: each view turned to the way nearer the one before
+// (a hand does not turn the rig half a turn about the board's normal between two frames).
+std::vector<CameraImuView> numberedAlike(const std::vector<CameraImuView>& views, int* turned) {
+  std::vector<CameraImuView> out = views;
+  for (std::size_t k = 1; k < out.size(); ++k) {
+    const Eigen::Matrix3d before = out[k - 1].board.sensor_from_pattern.linear();
+    const PlaneMeasurement other = turnedHalfway(out[k].board);
+    const double as_found = so3Log(before.transpose() * out[k].board.sensor_from_pattern.linear()).norm();
+    const double as_turned = so3Log(before.transpose() * other.sensor_from_pattern.linear()).norm();
+    if (as_turned < as_found) {
+      out[k].board = other;
+      ++*turned;
+    }
+  }
+  return out;
+}
+
 struct Unknowns {
   SplineKnots knots;
   std::vector<Eigen::Quaterniond> rotations;
@@ -189,10 +206,11 @@ struct Unknowns {
 
 }  // namespace
 
-CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& views, const std::vector<ImuSample>& imu, const ImuNoise& noise,
+CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, const std::vector<ImuSample>& imu, const ImuNoise& noise,
                                    const CameraImuOptions& options) {
-  checkInput(views, imu);
+  checkInput(found, imu);
   CameraImuResult result;
+  const std::vector<CameraImuView> views = numberedAlike(found, &result.turned_views);
 
   // 1. Closed forms: the time offset from the angular speeds, the rotation (and gyro bias) from the rates.
   const std::vector<CameraRate> rates = cameraRates(views);

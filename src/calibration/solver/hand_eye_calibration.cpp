@@ -110,18 +110,6 @@ Eigen::Isometry3d chordalMean(const std::vector<Eigen::Isometry3d>& poses) {
   return mean;
 }
 
-// The board's pose as seen when its corners were found in the other order: turned 180 degrees about
-// its normal; the covariance's rotation part follows the pattern frame.
-PlaneMeasurement turnedHalfway(const PlaneMeasurement& view) {
-  PlaneMeasurement turned = view;
-  const Eigen::Matrix3d half_turn = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  turned.sensor_from_pattern.linear() = view.sensor_from_pattern.linear() * half_turn;
-  Eigen::Matrix<double, 6, 6> change = Eigen::Matrix<double, 6, 6>::Identity();
-  change.topLeftCorner<3, 3>() = half_turn.transpose();
-  turned.pose_covariance = change * view.pose_covariance * change.transpose();
-  return turned;
-}
-
 // The main camera's first view at a station, or null.
 const PlaneMeasurement* firstView(const HandEyeStation& station, int camera) {
   for (const HandEyeView& v : station.views)

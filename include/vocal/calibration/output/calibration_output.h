@@ -44,6 +44,8 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
                           const PoseJackknife* spread = nullptr,
                           const std::vector<std::optional<RingOffsets>>* ring_offsets = nullptr,
                           const std::vector<std::string>* withheld = nullptr);
+// A YAML double-quoted scalar of `text` (quotes and backslashes escaped).
+std::string yamlQuoted(const std::string& text);
 // One fixed URDF joint (with the child's link) and one static_transform_publisher node, as the files
 // above write each sensor.
 std::string urdfFixedJoint(const std::string& parent, const std::string& child, const Eigen::Isometry3d& parent_from_child);

@@ -63,6 +63,7 @@ struct CameraImuResult {
   // Root mean square residuals: gyro (rad/s), accelerometer (m/s^2), camera views (PnP pose: m and rad).
   double gyro_rms = 0.0, accel_rms = 0.0, view_translation_rms = 0.0, view_rotation_rms = 0.0;
   int views = 0, imu_samples = 0, iterations = 0;
+  int turned_views = 0;  // views whose board's corners were found the other way round, turned back
   std::string withheld;  // why the result is not to be used (empty: it is)
 };
 
