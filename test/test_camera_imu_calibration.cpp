@@ -108,6 +108,55 @@ TEST(CameraImuCalibration, WavedSessionsGiveTheCameraInTheImuAndTheClockOffset) 
   }
 }
 
+// Frames as a detector gives them: corners found the other way round (half a turn about the board's normal),
+// and PnP's mirrored solution of a board seen square on (a turn away and back): the first turned back, the
+// second left out, the result as without them.
+TEST(CameraImuCalibration, BoardsFoundTheOtherWayRoundOrMirroredByPnPAreTakenCareOf) {
+  const WavedCameraImuSession session = simulateWavedCameraImu(sessionOptions(1, 20.0, 0.005));
+  const CameraImuResult clean = calibrateCameraImu(session.views, session.imu, ImuNoise{});
+  EXPECT_EQ(clean.turned_views, 0);
+  EXPECT_EQ(clean.left_out_views, 0);
+  std::vector<CameraImuView> views = session.views;
+  for (std::size_t k = 100; k < 200; ++k) views[k].board = turnedHalfway(views[k].board);  // found the other way from frame 100 to 199
+  views[250].board.sensor_from_pattern.linear() =
+      views[250].board.sensor_from_pattern.linear() * so3Exp(Eigen::Vector3d(1.1, 0.4, 0.0));  // a mirrored PnP pose
+  const CameraImuResult result = calibrateCameraImu(views, session.imu, ImuNoise{});
+  EXPECT_EQ(result.turned_views, 100);
+  EXPECT_EQ(result.left_out_views, 1);
+  EXPECT_LT((result.camera_in_imu.translation() - clean.camera_in_imu.translation()).norm(), 0.0001);
+  EXPECT_NEAR(result.time_offset, clean.time_offset, 0.0001);
+}
+
+// A recording that starts with the rig at rest while the board is moved before it (the still poses of the
+// rig's other sensors): those views are not of a fixed board and are not used.
+TEST(CameraImuCalibration, ViewsWhileTheRigRestsAreNotUsed) {
+  const WavedCameraImuSession session = simulateWavedCameraImu(sessionOptions(1, 20.0, 0.005));
+  const CameraImuResult clean = calibrateCameraImu(session.views, session.imu, ImuNoise{});
+  std::vector<CameraImuView> views;
+  std::vector<ImuSample> imu;
+  std::mt19937 random(7);
+  std::normal_distribution<double> noise(0.0, 0.0034);
+  for (double t = -12.0; t < -0.5; t += 0.005) {  // at rest: the gyro's noise, gravity
+    ImuSample s = session.imu.front();
+    s.stamp = t;
+    s.angular_velocity = session.gyro_bias + Eigen::Vector3d(noise(random), noise(random), noise(random));
+    imu.push_back(s);
+  }
+  for (double t = -12.0; t < -1.0; t += 0.05) {  // the board carried from pose to pose before it
+    CameraImuView v = session.views.front();
+    v.stamp = t;
+    v.board.sensor_from_pattern.translation() += Eigen::Vector3d(0.1 * std::sin(t), 0.05 * std::cos(2 * t), 0.0);
+    v.board.sensor_from_pattern.linear() = v.board.sensor_from_pattern.linear() * so3Exp(Eigen::Vector3d(0.2 * std::sin(t), 0.0, 0.1));
+    views.push_back(v);
+  }
+  views.insert(views.end(), session.views.begin(), session.views.end());
+  imu.insert(imu.end(), session.imu.begin(), session.imu.end());
+  const CameraImuResult result = calibrateCameraImu(views, imu, ImuNoise{});
+  EXPECT_GE(result.views_at_rest, 200);
+  EXPECT_LT((result.camera_in_imu.translation() - clean.camera_in_imu.translation()).norm(), 0.0002);
+  EXPECT_NEAR(result.time_offset, clean.time_offset, 0.0001);
+}
+
 void expectRefused(WavedMotion motion, const std::string& phrase) {
   WavedCameraImuOptions options = sessionOptions(4, 12.0, 0.01);
   options.motion = motion;

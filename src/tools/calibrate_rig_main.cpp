@@ -379,6 +379,14 @@ std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine&
     const vocal::CameraImuResult& r = out.result;
     std::printf("  closed forms: time offset %+.2f ms (the angular speeds correlate %.3f there), rotation from the angular velocities\n",
                 1000 * r.initial_time_offset, r.angular_speed_correlation);
+    if (r.views_at_rest > 0) {
+      std::printf("  %d view%s outside the span where the gyro turns (the rig at rest): not used\n", r.views_at_rest,
+                  r.views_at_rest == 1 ? "" : "s");
+    }
+    if (r.left_out_views > 0) {
+      std::printf("  %d view%s left out: the board turned away and straight back between its neighbours (PnP's mirrored solution of "
+                  "a board seen small or square on)\n", r.left_out_views, r.left_out_views == 1 ? "" : "s");
+    }
     printPose((camera.spec.name + " in " + imu.name).c_str(), r.camera_in_imu, &r.sigma, nullptr);
     std::printf("  time offset: IMU stamp = camera stamp %+.3f ms (sigma %.3f ms)\n", 1000 * r.time_offset, 1000 * r.time_offset_sigma);
     std::printf("  biases: gyro [%.5f, %.5f, %.5f] rad/s, accelerometer [%.4f, %.4f, %.4f] m/s^2\n", r.gyro_bias.x(), r.gyro_bias.y(),

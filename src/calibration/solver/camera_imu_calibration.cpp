@@ -184,12 +184,58 @@ std::vector<CameraImuView> numberedAlike(const std::vector<CameraImuView>& views
     const PlaneMeasurement other = turnedHalfway(out[k].board);
     const double as_found = so3Log(before.transpose() * out[k].board.sensor_from_pattern.linear()).norm();
     const double as_turned = so3Log(before.transpose() * other.sensor_from_pattern.linear()).norm();
-    if (as_turned < as_found) {
+    // A board found the other way round is half a turn away; a view nearer than two thirds of that is
+    // another matter (withoutSpikes).
+    if (as_found > 2.0 && as_turned < as_found) {
       out[k].board = other;
       ++*turned;
     }
   }
   return out;
+}
+
+// Views whose board turned away and straight back between their neighbours (a planar board's PnP has a
+// second, mirrored solution where it is seen small or square on, with as small a reprojection error):
+// left out. A spike: the way through it longer than the neighbours' direct turn by over `threshold` (on a
+// smooth motion the two are equal to second order).
+std::vector<CameraImuView> withoutSpikes(const std::vector<CameraImuView>& views, int* left_out) {
+  const auto turn = [&](std::size_t a, std::size_t b) {
+    return so3Log(views[a].board.sensor_from_pattern.linear().transpose() * views[b].board.sensor_from_pattern.linear()).norm();
+  };
+  std::vector<double> turns;
+  for (std::size_t k = 1; k < views.size(); ++k) turns.push_back(turn(k - 1, k));
+  std::nth_element(turns.begin(), turns.begin() + turns.size() / 2, turns.end());
+  const double threshold = std::max(0.15, 5.0 * turns[turns.size() / 2]);
+  std::vector<CameraImuView> out;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    if (k > 0 && k + 1 < views.size() && turn(k - 1, k) + turn(k, k + 1) - turn(k - 1, k + 1) > threshold) {
+      ++*left_out;
+      continue;
+    }
+    out.push_back(views[k]);
+  }
+  return out;
+}
+
+// The IMU-clock span where the rig was waved: from the first to the last 1 s window whose gyro turns (its
+// RMS about the window's mean over `min_rate`), half a window either side. False when none turns.
+bool wavedSpan(const std::vector<ImuSample>& imu, double min_rate, double* start, double* end) {
+  bool any = false;
+  for (std::size_t first = 0; first < imu.size();) {
+    std::size_t last = first;
+    while (last < imu.size() && imu[last].stamp < imu[first].stamp + 1.0) ++last;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (std::size_t i = first; i < last; ++i) mean += imu[i].angular_velocity / static_cast<double>(last - first);
+    double square = 0.0;
+    for (std::size_t i = first; i < last; ++i) square += (imu[i].angular_velocity - mean).squaredNorm() / static_cast<double>(last - first);
+    if (last - first > 2 && std::sqrt(square) > min_rate) {
+      if (!any) *start = imu[first].stamp - 0.5;
+      *end = imu[last - 1].stamp + 0.5;
+      any = true;
+    }
+    first = last;
+  }
+  return any;
 }
 
 struct Unknowns {
@@ -210,7 +256,20 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
                                    const CameraImuOptions& options) {
   checkInput(found, imu);
   CameraImuResult result;
-  const std::vector<CameraImuView> views = numberedAlike(found, &result.turned_views);
+  // Only the waved part: where the rig rests (set down, or held still while a board was moved before it
+  // for the other sensors' still poses) its views are not of a fixed board.
+  std::vector<CameraImuView> waved;
+  double waved_start = imu.front().stamp, waved_end = imu.back().stamp;
+  if (wavedSpan(imu, options.min_axis_rate, &waved_start, &waved_end)) {
+    for (const CameraImuView& v : found) {
+      if (v.stamp >= waved_start - options.max_time_offset && v.stamp <= waved_end + options.max_time_offset) waved.push_back(v);
+    }
+    result.views_at_rest = static_cast<int>(found.size() - waved.size());
+  } else {
+    waved = found;  // the motion check below says it never turns
+  }
+  checkInput(waved, imu);
+  const std::vector<CameraImuView> views = withoutSpikes(numberedAlike(waved, &result.turned_views), &result.left_out_views);
 
   // 1. Closed forms: the time offset from the angular speeds, the rotation (and gyro bias) from the rates.
   const std::vector<CameraRate> rates = cameraRates(views);
@@ -219,7 +278,10 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
                      " pairs of consecutive camera views, at least " + std::to_string(kLeastViews) +
                      " are needed (the board must stay in view for most frames)");
   }
-  const std::string problem = motionProblem(imu, options.min_axis_rate);
+  std::vector<ImuSample> turning;
+  for (const ImuSample& s : imu)
+    if (s.stamp >= waved_start && s.stamp <= waved_end) turning.push_back(s);
+  const std::string problem = motionProblem(turning.size() > 2 ? turning : imu, options.min_axis_rate);
   if (!problem.empty()) throw InputError("camera-IMU calibration: " + problem);
   const GyroMeans gyro(imu);
   const double step = 0.001;
@@ -345,7 +407,8 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
     const int i = seg.index;
     auto* cost = new ceres::AutoDiffCostFunction<SplineCameraViewResidual, 6, 4, 4, 4, 4, 3, 3, 3, 3, 4, 3, 1>(
         new SplineCameraViewResidual(v.board, v.stamp, x.knots.start + i * x.knots.spacing, x.knots.spacing));
-    problem_graph.AddResidualBlock(cost, nullptr,
+    // Robust: a view PnP placed on its mirrored solution at a run's start has no neighbours to show it.
+    problem_graph.AddResidualBlock(cost, new ceres::CauchyLoss(3.0),
                                    {x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
                                     x.rotations[i + 3].coeffs().data(), x.positions[i].data(), x.positions[i + 1].data(),
                                     x.positions[i + 2].data(), x.positions[i + 3].data(), x.camera_q.coeffs().data(), x.camera_t.data(),

@@ -64,10 +64,13 @@ struct CameraImuResult {
   double gyro_rms = 0.0, accel_rms = 0.0, view_translation_rms = 0.0, view_rotation_rms = 0.0;
   int views = 0, imu_samples = 0, iterations = 0;
   int turned_views = 0;  // views whose board's corners were found the other way round, turned back
+  int left_out_views = 0;  // views whose board turned away and straight back (PnP's mirrored solution), left out
+  int views_at_rest = 0;   // views outside the span where the gyro turns (the rig at rest), not used
   std::string withheld;  // why the result is not to be used (empty: it is)
 };
 
-// Throws InputError for fewer than 20 views or 100 IMU samples, stamps not increasing, no overlap of the
+// Only the views within the span where the gyro turns are used (a recording may start and end at rest, or
+// hold still poses for the rig's other sensors). Throws InputError for fewer than 20 views or 100 IMU samples, stamps not increasing, no overlap of the
 // two streams, a motion that cannot fix the rotation (the camera never turns, or turns about one axis
 // only: the message says which and what to do), or angular speeds that do not correlate at any offset
 // within max_time_offset.
