@@ -262,6 +262,43 @@ TEST(CameraImuCalibration, AWavedSessionThroughTheTools) {
   EXPECT_NE(vocal_test::readText(one_axis + "/calibration.urdf").find("<!-- imu_link withheld: not calibrated: "), std::string::npos);
 }
 
+// One rig: a still-pose session of an RGB-D camera (the reference), a lidar and a camera, and the camera
+// waved with an IMU in a recording of its own; every sensor, the IMU included, in base_link.
+TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
+  const std::string still = vocal_test::makeTempFolder("cli_imu_rig_still"), waved = vocal_test::makeTempFolder("cli_imu_rig_waved");
+  vocal_test::RunResult r =
+      vocal_test::runTool("simulate_calibration_session " + still + " --rgbd 1 --lidar 1 --laser 0 --camera 1 --poses 8 --seed 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("simulate_calibration_session " + waved + " --waved-imu --seconds 20 --camera-name camera0 --seed 4"
+                          " --pattern-cols 8 --pattern-rows 6 --square 0.06 --board-width 0.9 --board-height 0.7");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  vocal_test::writeText(still + "/rig_imu.yaml", vocal_test::readText(still + "/rig.yaml") +
+                                                      "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: camera0}\n");
+  r = vocal_test::runTool("calibrate_rig " + still + "/rig_imu.yaml " + still + "/session.bag --imu-bag " + waved +
+                          "/session.bag --quiet --output-dir " + still);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The truth: camera0's mount from the still session's, the camera in the IMU from the waved one's.
+  const RigDescription truth = readRigDescription(still + "/ground_truth.yaml");
+  const Eigen::Isometry3d imu_truth = *truth.sensors[2].pose * poseFromList(YAML::LoadFile(waved + "/ground_truth.yaml")["camera_in_imu"]).inverse();
+  const YAML::Node result = YAML::LoadFile(still + "/calibration.yaml");
+  const auto posed = [](const YAML::Node& entry) {
+    const YAML::Node t = entry["translation"], q = entry["rotation"];
+    return poseFromTranslationQuaternion({t[0].as<double>(), t[1].as<double>(), t[2].as<double>()},
+                                         Eigen::Quaterniond(q[3].as<double>(), q[0].as<double>(), q[1].as<double>(), q[2].as<double>()));
+  };
+  const Eigen::Isometry3d camera_error = truth.sensors[2].pose->inverse() * posed(result["sensors"][2]);
+  const Eigen::Isometry3d imu_error = imu_truth.inverse() * posed(result["imus"][0]);
+  // The IMU as right as the camera it is placed through, to a millimetre / milliradian more.
+  EXPECT_LT(imu_error.translation().norm(), camera_error.translation().norm() + 0.001 + 0.05 * rotationAngle(camera_error));
+  EXPECT_LT(rotationAngle(imu_error), rotationAngle(camera_error) + 0.001);
+  EXPECT_LT(imu_error.translation().norm(), 0.005);
+  EXPECT_NE(vocal_test::readText(still + "/calibration.launch").find("base_link imu_link"), std::string::npos);
+  EXPECT_NE(vocal_test::readText(still + "/calibration.launch").find("base_link lidar0"), std::string::npos);
+  r = vocal_test::runTool("calibrate_rig " + still + "/rig.yaml " + still + "/session.bag --imu-bag " + waved + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output, "calibrate_rig: error: option --imu-bag: the rig has no sensor of type imu\n");
+}
+
 TEST(CameraImuCalibration, TheRigsImuEntryIsChecked) {
   const std::string folder = vocal_test::makeTempFolder("rig_imu_checks");
   const std::string head = "reference_frame: base_link\ntarget: {type: checkerboard, rows: 6, cols: 7, square_size: 0.05}\nsensors:\n"

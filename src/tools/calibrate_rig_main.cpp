@@ -79,7 +79,9 @@ const char kUsage[] =
     "before the fixed board (every frame with the board, and the IMU's sensor_msgs/Imu): the camera's pose in the IMU\n"
     "frame and the time offset between their clocks; the IMU is placed in the rig through its camera, and\n"
     "--output-dir adds DIR/camchain-imucam.yaml (Kalibr's layout). A rig of the camera and the IMU alone needs no still\n"
-    "poses.\n";
+    "poses.\n"
+    "  --imu-bag BAG       the waved session in a recording of its own (default: BAG): the rig's other sensors from\n"
+    "                      BAG's still poses, the IMU from this one, placed through its camera's result\n";
 
 // Per sensor, its range messages without the target by the check that refused the most board-like segment.
 std::vector<std::map<std::string, int>> refusedByCheck(const vocal::RigDescription& rig, const vocal::CalibrationSession& session) {
@@ -360,7 +362,9 @@ std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine&
     out.camera_name = camera.spec.name;
     out.camera_frame = camera.spec.frame_id;
     out.camera_topic = camera.image_topic;
-    const vocal::CameraImuRecording recording = vocal::readCameraImuBag(bag, rig, static_cast<int>(i), args.integer("threads", 0));
+    // The waved frames: in the session's recording, or in one of their own (--imu-bag).
+    const vocal::CameraImuRecording recording =
+        vocal::readCameraImuBag(args.text("imu-bag", bag), rig, static_cast<int>(i), args.integer("threads", 0));
     out.camera = recording.camera;
     out.lens = recording.lens;
     const double span = recording.imu.size() > 1 ? recording.imu.back().stamp - recording.imu.front().stamp : 0.0;
@@ -502,6 +506,7 @@ int run(const vocal::CommandLine& args) {
   }
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
+  if (args.has("imu-bag") && rig.imus.empty()) throw vocal::InputError("option --imu-bag: the rig has no sensor of type imu");
   if (!rig.imus.empty() && rig.sensors.size() == 1) return runCameraImu(args, rig, bag);
   vocal::RingOffsetOptions ring_offset_options;
   ring_offset_options.enabled = !args.has("no-ring-offsets");
@@ -644,5 +649,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads"}, {"no-filter", "quiet", "report", "edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads", "imu-bag"}, {"no-filter", "quiet", "report", "edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

@@ -122,16 +122,17 @@ CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescri
   return out;
 }
 
-RigDescription simulatedCameraImuRig(const WavedCameraImuOptions& options, const Eigen::Isometry3d& camera_in_rig, bool compressed) {
+RigDescription simulatedCameraImuRig(const WavedCameraImuOptions& options, const Eigen::Isometry3d& camera_in_rig, bool compressed,
+                                     const std::string& camera_name) {
   RigDescription rig;
   rig.reference_frame = "base_link";
   rig.target.pattern = options.pattern;
   rig.target.width = (options.pattern.cols + 1) * options.pattern.square_size + 0.1;
   rig.target.height = (options.pattern.rows + 1) * options.pattern.square_size + 0.1;
   RigSensorDescription camera;
-  camera.spec = {"camera", SensorType::kCamera, "camera_optical_frame"};
-  camera.image_topic = compressed ? "/camera/image_raw/compressed" : "/camera/image_raw";
-  camera.camera_info_topic = "/camera/camera_info";
+  camera.spec = {camera_name, SensorType::kCamera, camera_name + "_optical_frame"};
+  camera.image_topic = "/" + camera_name + (compressed ? "/image_raw/compressed" : "/image_raw");
+  camera.camera_info_topic = "/" + camera_name + "/camera_info";
   camera.pose = camera_in_rig;
   rig.sensors.push_back(camera);
   RigImuDescription imu;

@@ -2,6 +2,7 @@
 // as a rosbag (depth images, lidar clouds, laser scans, camera images of a checkerboard moved through a
 // room and held still at each pose), with the rig description calibrate_rig needs and the ground truth.
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -111,6 +112,10 @@ const char kUsage[] =
     "  --time-offset S     the IMU's stamps S seconds ahead of the camera's (default 0.01)\n"
     "  --motion M          all (default), one-axis (turns about the optical axis only) or none (never turns)\n"
     "  --compressed        images as JPEG on /camera/image_raw/compressed\n"
+    "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default 7 x 6\n"
+    "                      inner corners of 0.05 m on 0.5 x 0.45 m; a larger one is waved before from further away)\n"
+    "  --camera-name NAME  the camera's name and topics (/NAME/image_raw, /NAME/camera_info; default camera):\n"
+    "                      a still-pose session's camera0 to calibrate its IMU with calibrate_rig --imu-bag\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the camera the reference, the IMU without a pose) and\n"
     "OUT_DIR/ground_truth.yaml (the camera in the IMU, the IMU in the rig, the time offset and the biases)\n";
@@ -190,12 +195,22 @@ int simulateWavedImu(const vocal::CommandLine& args, const std::string& dir) {
   } else if (motion != "all") {
     throw vocal::InputError("option --motion: '" + motion + "' is unknown: expected all, one-axis or none");
   }
+  if (args.has("pattern-cols") || args.has("pattern-rows") || args.has("square")) {
+    options.pattern = {args.integer("pattern-rows", options.pattern.rows), args.integer("pattern-cols", options.pattern.cols),
+                       args.number("square", options.pattern.square_size)};
+    // As far from a larger board as from the default one, so it stays in view as much.
+    const double width = (options.pattern.cols + 1) * options.pattern.square_size, height = (options.pattern.rows + 1) * options.pattern.square_size;
+    options.distance *= std::max(width / 0.4, height / 0.35);
+  }
   const vocal::WavedCameraImuSession session = vocal::simulateWavedCameraImu(options);
   // The camera on the rig's body, looking ahead (REP-103 body to optical), a little up and to the left.
   Eigen::Isometry3d camera_in_rig = Eigen::Isometry3d::Identity();
   camera_in_rig.linear() = vocal::bodyFromOpticalRotation();
   camera_in_rig.translation() = Eigen::Vector3d(0.05, 0.02, 0.1);
-  const vocal::RigDescription rig = vocal::simulatedCameraImuRig(options, camera_in_rig, args.has("compressed"));
+  vocal::RigDescription rig = vocal::simulatedCameraImuRig(options, camera_in_rig, args.has("compressed"), args.text("camera-name", "camera"));
+  rig.target.width = args.number("board-width", rig.target.width);
+  rig.target.height = args.number("board-height", rig.target.height);
+  vocal::checkTargetDescription(rig.target, "options --board-width, --board-height, --pattern-cols, --pattern-rows, --square");
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   {
     std::ofstream truth(dir + "/ground_truth.yaml");
@@ -328,7 +343,7 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets",
-                         "seconds", "imu-rate", "time-offset", "motion"},
+                         "seconds", "imu-rate", "time-offset", "motion", "camera-name"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
                          "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);
 }

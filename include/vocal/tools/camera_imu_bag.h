@@ -30,10 +30,12 @@ struct CameraImuRecording {
 // cores). Throws InputError naming the bag for no camera_info, no frame or no IMU message on the rig's topics.
 CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescription& rig, int imu, int threads = 0);
 
-// The rig of a simulated waved session: its camera (the reference, at `camera_in_rig` in base_link; images on
-// /camera/image_raw, or .../compressed) and its IMU (imu_link on /imu/data, no pose) with the session's noise
-// figures; the board's size from the options' pattern (a 5 cm margin).
-RigDescription simulatedCameraImuRig(const WavedCameraImuOptions& options, const Eigen::Isometry3d& camera_in_rig, bool compressed);
+// The rig of a simulated waved session: its camera `camera_name` (the reference, at `camera_in_rig` in
+// base_link; images on /NAME/image_raw, or .../compressed, camera_info on /NAME/camera_info: the topics a
+// still-pose session's camera of that name has) and its IMU (imu_link on /imu/data, no pose) with the
+// session's noise figures; the board's size from the options' pattern (a 5 cm margin).
+RigDescription simulatedCameraImuRig(const WavedCameraImuOptions& options, const Eigen::Isometry3d& camera_in_rig, bool compressed,
+                                     const std::string& camera_name = "camera");
 
 // The session as a robot records it: every frame of the rig's camera rendered through its lens before the
 // board in a plain room (2 grey levels of noise; mono8, or JPEG where the topic is compressed), its
