@@ -8,7 +8,11 @@
 #include "test_support.h"
 #include "vocal/calibration/rig_description.h"
 #include "vocal/calibration/solver/camera_imu_calibration.h"
+#include <ceres/jet.h>
+
 #include "vocal/calibration/solver/cumulative_bspline.h"
+#include "vocal/calibration/solver/imu_sample_residual.h"
+#include "vocal/calibration/solver/spline_camera_view_residual.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 #include "vocal/simulation/waved_camera_imu.h"
@@ -74,6 +78,99 @@ TEST(CumulativeBSpline, SegmentsJoinWithTheirRatesAndAccelerations) {
   EXPECT_EQ(knots.segmentAt(2.0 + 3.5 * 0.05).index, 3);
   EXPECT_NEAR(knots.segmentAt(2.0 + 3.5 * 0.05).u, 0.5, 1e-9);
   EXPECT_EQ(knots.segmentAt(100.0).index, 6);
+}
+
+// The IMU sample's residual on its own: zero where the spline, the biases and gravity predict the sample;
+// the sample's error in its sigmas where it is off by a known amount.
+TEST(CameraImuResiduals, AnImuSampleAgainstTheSpline) {
+  const RandomSpline spline(4, 11);
+  const double u = 0.4, weight = 0.25, gravity = 9.80665;
+  const Eigen::Vector3d gyro_bias0(0.01, -0.02, 0.005), gyro_bias1(0.012, -0.018, 0.004);
+  const Eigen::Vector3d accel_bias0(0.05, 0.0, -0.03), accel_bias1(0.04, 0.01, -0.02);
+  const Eigen::Vector3d down = Eigen::Vector3d(0.1, 0.95, -0.2).normalized();
+  const SplineRotation<double> rotation = spline.rotation(0, u);
+  const SplinePosition<double> position = spline.position(0, u);
+  const Eigen::Vector3d rate = rotation.angular_velocity + 0.75 * gyro_bias0 + 0.25 * gyro_bias1;
+  const Eigen::Vector3d force = rotation.rotation.conjugate() * (position.acceleration - gravity * down) + 0.75 * accel_bias0 + 0.25 * accel_bias1;
+  const auto evaluate = [&](const Eigen::Vector3d& measured_rate, const Eigen::Vector3d& measured_force) {
+    const ImuSampleResidual residual(measured_rate, measured_force, u, spline.spacing, weight, 0.003, 0.03, gravity);
+    Eigen::Matrix<double, 6, 1> r;
+    residual(spline.rotations[0].coeffs().data(), spline.rotations[1].coeffs().data(), spline.rotations[2].coeffs().data(),
+             spline.rotations[3].coeffs().data(), spline.positions[0].data(), spline.positions[1].data(), spline.positions[2].data(),
+             spline.positions[3].data(), gyro_bias0.data(), gyro_bias1.data(), accel_bias0.data(), accel_bias1.data(), down.data(), r.data());
+    return r;
+  };
+  EXPECT_LT(evaluate(rate, force).norm(), 1e-9);
+  const Eigen::Matrix<double, 6, 1> off = evaluate(rate + Eigen::Vector3d(0.006, 0.0, 0.0), force + Eigen::Vector3d(0.0, 0.0, -0.09));
+  Eigen::Matrix<double, 6, 1> expected;
+  expected << -2.0, 0.0, 0.0, 0.0, 0.0, 3.0;  // measured - predicted, in sigmas, with the sign of predicted - measured
+  EXPECT_LT((off - expected).norm(), 1e-9) << off.transpose();
+  // Two bias knots a random walk apart.
+  const BiasRandomWalkResidual walk(0.002);
+  double w[3];
+  walk(gyro_bias0.data(), gyro_bias1.data(), w);
+  EXPECT_NEAR(w[0], 1.0, 1e-12);
+  EXPECT_NEAR(w[1], 1.0, 1e-12);
+  EXPECT_NEAR(w[2], -0.5, 1e-12);
+}
+
+// A frame's view against the spline: zero where the spline and the camera's pose in the body put the board
+// where PnP did; whitened by its covariance; its derivative in the clock offset is the motion's.
+TEST(CameraImuResiduals, AViewAgainstTheSplineAtItsStampPlusTheOffset) {
+  const RandomSpline spline(4, 12);
+  const Eigen::Isometry3d camera_in_body = poseFromTranslationQuaternion({0.02, -0.03, 0.01}, Eigen::Quaterniond(so3Exp({0.1, -1.5, 0.2})));
+  const double segment_start = 10.0, stamp = 10.02, offset = 0.005;  // u = 0.5
+  const auto bodyAt = [&](double u) {
+    Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+    body.linear() = spline.rotation(0, u).rotation.toRotationMatrix();
+    body.translation() = spline.position(0, u).position;
+    return body;
+  };
+  PlaneMeasurement view;
+  view.sensor_from_pattern = (bodyAt(0.5) * camera_in_body).inverse();
+  view.pose_covariance = Eigen::Matrix<double, 6, 6>::Identity() * 1e-6;  // 1 mrad, 1 mm
+  const SplineCameraViewResidual residual(view, stamp, segment_start, spline.spacing);
+  const Eigen::Quaterniond q(camera_in_body.linear());
+  const Eigen::Vector3d t = camera_in_body.translation();
+  const auto evaluate = [&](double time_offset) {
+    Eigen::Matrix<double, 6, 1> r;
+    residual(spline.rotations[0].coeffs().data(), spline.rotations[1].coeffs().data(), spline.rotations[2].coeffs().data(),
+             spline.rotations[3].coeffs().data(), spline.positions[0].data(), spline.positions[1].data(), spline.positions[2].data(),
+             spline.positions[3].data(), q.coeffs().data(), t.data(), &time_offset, r.data());
+    return r;
+  };
+  EXPECT_LT(evaluate(offset).norm(), 1e-6);
+  // The view 1 mm further along the camera's x: -1 sigma there (predicted - measured).
+  PlaneMeasurement moved = view;
+  moved.sensor_from_pattern.translation() += Eigen::Vector3d(0.001, 0.0, 0.0);
+  const SplineCameraViewResidual off(moved, stamp, segment_start, spline.spacing);
+  Eigen::Matrix<double, 6, 1> r;
+  double o = offset;
+  off(spline.rotations[0].coeffs().data(), spline.rotations[1].coeffs().data(), spline.rotations[2].coeffs().data(),
+      spline.rotations[3].coeffs().data(), spline.positions[0].data(), spline.positions[1].data(), spline.positions[2].data(),
+      spline.positions[3].data(), q.coeffs().data(), t.data(), &o, r.data());
+  EXPECT_NEAR(r[3], -1.0, 1e-6);
+  EXPECT_LT(r.head<3>().norm() + r.tail<2>().norm(), 1e-6);
+  // d residual / d offset by the jets against central differences.
+  using Jet = ceres::Jet<double, 1>;
+  std::vector<std::array<Jet, 4>> jq(4);
+  std::vector<std::array<Jet, 3>> jp(4);
+  for (int k = 0; k < 4; ++k) {
+    for (int i = 0; i < 4; ++i) jq[k][i] = Jet(spline.rotations[k].coeffs()[i]);
+    for (int i = 0; i < 3; ++i) jp[k][i] = Jet(spline.positions[k][i]);
+  }
+  std::array<Jet, 4> jcq;
+  std::array<Jet, 3> jct;
+  for (int i = 0; i < 4; ++i) jcq[i] = Jet(q.coeffs()[i]);
+  for (int i = 0; i < 3; ++i) jct[i] = Jet(t[i]);
+  const Jet joffset(offset, 0);
+  Jet jr[6];
+  residual(jq[0].data(), jq[1].data(), jq[2].data(), jq[3].data(), jp[0].data(), jp[1].data(), jp[2].data(), jp[3].data(), jcq.data(),
+           jct.data(), &joffset, jr);
+  const double h = 1e-6;
+  const Eigen::Matrix<double, 6, 1> numeric = (evaluate(offset + h) - evaluate(offset - h)) / (2 * h);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(jr[i].v[0], numeric[i], 1e-3 * (1.0 + std::abs(numeric[i]))) << i;
+  EXPECT_GT(numeric.norm(), 1.0);  // the offset moves the view: it is what fixes the offset
 }
 
 WavedCameraImuOptions sessionOptions(std::uint32_t seed, double duration, double time_offset) {
