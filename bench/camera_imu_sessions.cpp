@@ -1,7 +1,7 @@
 // Camera-IMU calibration on simulated waved sessions (simulation/waved_camera_imu.h): per seed, the
 // camera's pose in the IMU frame and the clock offset against the truth, the stated standard deviations,
 // and the wall time of the solve. Usage: camera_imu_sessions [--duration S] [--seeds N] [--imu-rate HZ]
-//   [--camera-rate HZ] [--knot-spacing S]
+//   [--camera-rate HZ] [--knot-spacing S] [--corners 1]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   WavedCameraImuOptions session_options;
   CameraImuOptions options;
   int seeds = 3;
+  bool corners = false;  // the corners through the lens instead of the PnP poses
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     const double value = std::atof(argv[i + 1]);
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
     else if (flag == "--imu-rate") session_options.imu_rate = value;
     else if (flag == "--camera-rate") session_options.camera_rate = value;
     else if (flag == "--knot-spacing") options.knot_spacing = value;
+    else if (flag == "--corners") corners = value != 0.0;
     else {
       std::fprintf(stderr, "camera_imu_sessions: unknown flag %s\n", argv[i]);
       return 2;
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
     session_options.seed = static_cast<std::uint32_t>(seed);
     session_options.time_offset = offsets[(seed - 1) % 5];
     const WavedCameraImuSession session = simulateWavedCameraImu(session_options);
+    if (corners) options.camera_model = CameraImuCameraModel{session_options.camera, session_options.lens, session_options.pattern};
     const auto start = std::chrono::steady_clock::now();
     try {
       const CameraImuResult r = calibrateCameraImu(session.views, session.imu, session_options.noise, options);

@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include <ceres/jet.h>
 #include <opencv2/calib3d.hpp>
 
 #include "test_support.h"
@@ -69,6 +70,26 @@ TEST(LensDistortion, ProjectsAsOpenCvDoesForEveryModel) {
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       step[k] = 1e-5;
       EXPECT_LT((J.col(k) - (distortion.distort(at + step) - distortion.distort(at - step)) / 2e-5).norm(), 1e-6) << c.model;
+    }
+  }
+}
+
+// The models with Ceres's jets (a graph that projects corners through the lens): the same values, and
+// derivatives that match the models' own (central differences).
+TEST(LensDistortion, JetsGiveTheSameValuesAndTheModelsDerivatives) {
+  std::mt19937 rng(5);
+  for (const ModelCase& c : kCases) {
+    const vocal::LensDistortion lens = vocal::LensDistortion::fromCameraInfo(c.model, c.d, "test");
+    for (const cv::Point3d& p : randomPoints(c.half_fov_deg, &rng)) {
+      const Eigen::Vector2d ideal(p.x / p.z, p.y / p.z);
+      using Jet = ceres::Jet<double, 2>;
+      const Eigen::Matrix<Jet, 2, 1> jets = vocal::distortNormalised<Jet>(lens, {Jet(ideal.x(), 0), Jet(ideal.y(), 1)});
+      const Eigen::Vector2d plain = lens.distort(ideal);
+      const Eigen::Matrix2d jacobian = lens.jacobian(ideal);
+      for (int i = 0; i < 2; ++i) {
+        EXPECT_NEAR(jets[i].a, plain[i], 1e-12) << c.model;
+        for (int j = 0; j < 2; ++j) EXPECT_NEAR(jets[i].v[j], jacobian(i, j), 1e-5 * (1.0 + std::abs(jacobian(i, j)))) << c.model;
+      }
     }
   }
 }

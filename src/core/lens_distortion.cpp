@@ -72,29 +72,7 @@ LensDistortion LensDistortion::fromCameraInfo(const std::string& model, const st
   return distortion;
 }
 
-Eigen::Vector2d LensDistortion::distort(const Eigen::Vector2d& ideal) const {
-  const std::vector<double>& k = coefficients;
-  const double x = ideal.x(), y = ideal.y(), r2 = x * x + y * y;
-  switch (model) {
-    case DistortionModel::kNone: return ideal;
-    case DistortionModel::kPlumbBob:
-    case DistortionModel::kRationalPolynomial: {
-      double radial = 1.0 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
-      if (model == DistortionModel::kRationalPolynomial) radial /= 1.0 + r2 * (k[5] + r2 * (k[6] + r2 * k[7]));
-      const double p1 = k[2], p2 = k[3];
-      return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-              y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
-    }
-    case DistortionModel::kEquidistant: {
-      const double r = std::sqrt(r2);
-      if (r < 1e-12) return ideal;
-      const double theta = std::atan(r), t2 = theta * theta;
-      const double theta_d = theta * (1.0 + t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3]))));
-      return ideal * (theta_d / r);
-    }
-  }
-  return ideal;
-}
+Eigen::Vector2d LensDistortion::distort(const Eigen::Vector2d& ideal) const { return distortNormalised(*this, ideal); }
 
 Eigen::Matrix2d LensDistortion::jacobian(const Eigen::Vector2d& ideal) const {
   if (isNone()) return Eigen::Matrix2d::Identity();

@@ -162,7 +162,7 @@ WavedCameraImuSession simulateWavedCameraImu(const WavedCameraImuOptions& o) {
     if (!in_view) continue;
     try {
       const PatternObservation seen = observePattern(pixels, o.pattern, o.camera, "simulated camera", o.lens);
-      session.views.push_back({t, seen.plane});
+      session.views.push_back({t, seen.plane, pixels, seen.reprojection_rms_px});
     } catch (const InputError&) {
       // A view PnP cannot fit is one a detector would have missed.
     }

@@ -373,7 +373,10 @@ std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine&
                 span > 0 ? (recording.imu.size() - 1) / span : 0.0, recording.dropped);
     for (const std::string& problem : recording.problems) std::printf("  dropped: %s\n", problem.c_str());
     try {
-      out.result = vocal::calibrateCameraImu(recording.views, recording.imu, imu.noise);
+      // Each frame's corners through the camera's lens (its camera_info's model) in the graph.
+      vocal::CameraImuOptions options;
+      options.camera_model = vocal::CameraImuCameraModel{recording.camera, recording.lens, rig.target.pattern};
+      out.result = vocal::calibrateCameraImu(recording.views, recording.imu, imu.noise, options);
     } catch (const vocal::InputError& e) {
       out.withheld = std::string("not calibrated: ") + e.what();
       std::printf("withheld: imu '%s' %s\n", imu.name.c_str(), out.withheld.c_str());

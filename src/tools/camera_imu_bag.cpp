@@ -46,14 +46,17 @@ CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescri
     struct Pending {
       double stamp;
       ros::Time time;
-      std::future<std::optional<PlaneMeasurement>> board;
+      std::future<std::optional<CameraImuView>> board;
     };
     std::deque<Pending> pending;
     const auto takeOldest = [&] {
       Pending oldest = std::move(pending.front());
       pending.pop_front();
       try {
-        if (const std::optional<PlaneMeasurement> board = oldest.board.get()) out.views.push_back({oldest.stamp, *board});
+        if (std::optional<CameraImuView> view = oldest.board.get()) {
+          view->stamp = oldest.stamp;
+          out.views.push_back(std::move(*view));
+        }
       } catch (const InputError& e) {
         drop(camera.image_topic, oldest.time, e.what());
       }
@@ -84,7 +87,7 @@ CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescri
       }
       const double stamp = (compressed ? compressed->header.stamp : raw->header.stamp).toSec();
       pending.push_back({stamp, m.getTime(), std::async(launch, [compressed, raw, topic = m.getTopic(), &pattern, &out, name = camera.spec.name]
-                                                           () -> std::optional<PlaneMeasurement> {
+                                                           () -> std::optional<CameraImuView> {
         const ColorImage image = compressed ? fromCompressedColorImage(*compressed, topic) : fromColorImage(*raw, topic);
         if (image.width() != out.camera.width || image.height() != out.camera.height) {
           throw InputError("the image is " + std::to_string(image.width()) + "x" + std::to_string(image.height()) + ", its camera_info " +
@@ -96,7 +99,8 @@ CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescri
         } catch (const InputError&) {
           return std::nullopt;  // the board out of view or blurred: a waved session has such frames
         }
-        return observePattern(corners, pattern, out.camera, name.c_str(), out.lens).plane;
+        const PatternObservation seen = observePattern(corners, pattern, out.camera, name.c_str(), out.lens);
+        return CameraImuView{0.0, seen.plane, corners, seen.reprojection_rms_px};
       })});
       while (pending.size() > static_cast<std::size_t>(threads)) takeOldest();
     }

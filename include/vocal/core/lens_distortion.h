@@ -4,6 +4,7 @@
 // rational_polynomial (k1 k2 p1 p2 k3 k4 k5 k6) and equidistant (k1 k2 k3 k4, OpenCV's fisheye model).
 // Pixels are then fx * x' + cx, fy * y' + cy.
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,34 @@ struct LensDistortion {
 bool operator==(const LensDistortion& a, const LensDistortion& b);
 
 std::string distortionModelName(DistortionModel model);  // "", plumb_bob, rational_polynomial, equidistant
+
+// LensDistortion::distort for any scalar type (Ceres's jets too: a graph that projects corners through
+// the lens, camera_imu_calibration); the one implementation of the models.
+template <typename T>
+Eigen::Matrix<T, 2, 1> distortNormalised(const LensDistortion& lens, const Eigen::Matrix<T, 2, 1>& ideal) {
+  using std::atan;
+  using std::sqrt;
+  const std::vector<double>& k = lens.coefficients;
+  const T x = ideal.x(), y = ideal.y(), r2 = x * x + y * y;
+  switch (lens.model) {
+    case DistortionModel::kNone: return ideal;
+    case DistortionModel::kPlumbBob:
+    case DistortionModel::kRationalPolynomial: {
+      T radial = T(1.0) + r2 * (T(k[0]) + r2 * (T(k[1]) + r2 * T(k[4])));
+      if (lens.model == DistortionModel::kRationalPolynomial) radial /= T(1.0) + r2 * (T(k[5]) + r2 * (T(k[6]) + r2 * T(k[7])));
+      const T p1 = T(k[2]), p2 = T(k[3]);
+      return {x * radial + T(2.0) * p1 * x * y + p2 * (r2 + T(2.0) * x * x), y * radial + p1 * (r2 + T(2.0) * y * y) + T(2.0) * p2 * x * y};
+    }
+    case DistortionModel::kEquidistant: {
+      if (r2 < T(1e-24)) return ideal;
+      const T r = sqrt(r2);
+      const T theta = atan(r), t2 = theta * theta;
+      const T theta_d = theta * (T(1.0) + t2 * (T(k[0]) + t2 * (T(k[1]) + t2 * (T(k[2]) + t2 * T(k[3])))));
+      return ideal * (theta_d / r);
+    }
+  }
+  return ideal;
+}
 
 // The pixel where a camera with this lens sees a point of its frame (z > 0): fx * x' + cx, fy * y' + cy
 // of the distorted normalised coordinates.

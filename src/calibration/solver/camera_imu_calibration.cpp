@@ -12,6 +12,7 @@
 #include "vocal/calibration/solver/cumulative_bspline.h"
 #include "vocal/calibration/solver/imu_sample_residual.h"
 #include "vocal/calibration/solver/spline_camera_view_residual.h"
+#include "vocal/calibration/solver/spline_corner_residual.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -188,6 +189,8 @@ std::vector<CameraImuView> numberedAlike(const std::vector<CameraImuView>& views
     // another matter (withoutSpikes).
     if (as_found > 2.0 && as_turned < as_found) {
       out[k].board = other;
+      // Half a turn about the centred pattern's normal takes corner i to corner n - 1 - i.
+      std::reverse(out[k].corners.begin(), out[k].corners.end());
       ++*turned;
     }
   }
@@ -398,6 +401,7 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
   problem_graph.AddParameterBlock(x.camera_q.coeffs().data(), 4, new ceres::EigenQuaternionManifold());
   problem_graph.AddParameterBlock(x.camera_t.data(), 3);
   problem_graph.AddParameterBlock(&x.time_offset, 1);
+  const std::vector<Eigen::Vector3d> corners = options.camera_model ? options.camera_model->pattern.corners() : std::vector<Eigen::Vector3d>();
   // A view is kept where its time on the IMU's clock stays inside the spline whatever the offset becomes.
   std::vector<const CameraImuView*> used;
   for (const CameraImuView& v : views) {
@@ -405,10 +409,24 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
     if (t < start + margin * 0.5 || t >= end - margin * 0.5) continue;
     const SplineSegment seg = x.knots.segmentAt(t);
     const int i = seg.index;
-    auto* cost = new ceres::AutoDiffCostFunction<SplineCameraViewResidual, 6, 4, 4, 4, 4, 3, 3, 3, 3, 4, 3, 1>(
-        new SplineCameraViewResidual(v.board, v.stamp, x.knots.start + i * x.knots.spacing, x.knots.spacing));
+    const double segment_start = x.knots.start + i * x.knots.spacing;
+    ceres::CostFunction* cost = nullptr;
+    ceres::LossFunction* loss = nullptr;
     // Robust: a view PnP placed on its mirrored solution at a run's start has no neighbours to show it.
-    problem_graph.AddResidualBlock(cost, new ceres::CauchyLoss(3.0),
+    if (options.camera_model && v.corners.size() == corners.size() && !corners.empty()) {
+      const int residuals = static_cast<int>(2 * corners.size());
+      cost = new ceres::AutoDiffCostFunction<SplineCornerResidual, ceres::DYNAMIC, 4, 4, 4, 4, 3, 3, 3, 3, 4, 3, 1>(
+          new SplineCornerResidual(v.corners, corners, options.camera_model->camera, options.camera_model->lens,
+                                   std::max(v.pixel_sigma, 0.05), v.stamp, segment_start, x.knots.spacing),
+          residuals);
+      loss = new ceres::HuberLoss(3.0 * std::sqrt(static_cast<double>(residuals)));
+      ++result.views_by_corners;
+    } else {
+      cost = new ceres::AutoDiffCostFunction<SplineCameraViewResidual, 6, 4, 4, 4, 4, 3, 3, 3, 3, 4, 3, 1>(
+          new SplineCameraViewResidual(v.board, v.stamp, segment_start, x.knots.spacing));
+      loss = new ceres::CauchyLoss(3.0);
+    }
+    problem_graph.AddResidualBlock(cost, loss,
                                    {x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
                                     x.rotations[i + 3].coeffs().data(), x.positions[i].data(), x.positions[i + 1].data(),
                                     x.positions[i + 2].data(), x.positions[i + 3].data(), x.camera_q.coeffs().data(), x.camera_t.data(),

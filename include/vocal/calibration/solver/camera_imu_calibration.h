@@ -14,20 +14,36 @@
 // camera's and the gyro's angular speeds, the rotation from aligning their angular velocities (Wahba's
 // problem), the translation from zero, gravity from the mean specific force turned into the board's frame.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/calibration_types.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/core/imu_samples.h"
+#include "vocal/core/lens_distortion.h"
+#include "vocal/core/pinhole_camera.h"
 
 namespace vocal {
 
-// One camera frame's board: its PnP pose and covariance (observePattern) at the frame's stamp.
+// One camera frame's board: its PnP pose and covariance (observePattern) at the frame's stamp, and the
+// detected corners it was fitted to (pixels of the image as taken, in TargetPattern::corners()'s order) with
+// their noise (the fit's reprojection error).
 struct CameraImuView {
   double stamp = 0.0;  // seconds, the camera's clock
   PlaneMeasurement board;
+  std::vector<Eigen::Vector2d> corners;
+  double pixel_sigma = 0.0;
+};
+
+// The camera's model: with it each view's corners are projected through the lens in the graph
+// (spline_corner_residual.h); without it, or for a view without corners, its PnP pose with its covariance.
+struct CameraImuCameraModel {
+  PinholeCamera camera;
+  LensDistortion lens;
+  TargetPattern pattern;
 };
 
 struct CameraImuOptions {
@@ -44,6 +60,7 @@ struct CameraImuOptions {
   double max_translation_sigma = 0.002;  // metres
   double max_rotation_sigma = 0.002;     // radians
   double max_time_offset_sigma = 0.001;  // seconds
+  std::optional<CameraImuCameraModel> camera_model;
 };
 
 struct CameraImuResult {
@@ -66,6 +83,7 @@ struct CameraImuResult {
   int turned_views = 0;  // views whose board's corners were found the other way round, turned back
   int left_out_views = 0;  // views whose board turned away and straight back (PnP's mirrored solution), left out
   int views_at_rest = 0;   // views outside the span where the gyro turns (the rig at rest), not used
+  int views_by_corners = 0;  // views held by their corners through the lens (CameraImuOptions::camera_model)
   std::string withheld;  // why the result is not to be used (empty: it is)
 };
 

@@ -5,6 +5,8 @@
 // offset being solved (IMU stamp = camera stamp + offset), so the offset is fixed by where along the
 // motion the view fits.
 
+#include <array>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
@@ -13,6 +15,21 @@
 #include "vocal/calibration/solver/rotation_error.h"
 
 namespace vocal {
+
+// camera <- board (the world) at fraction u of a segment: the body's spline there times the camera's pose in
+// the body, inverted. `q`, `p`: the segment's control rotations and positions.
+template <typename T>
+void cameraFromBoardAt(const std::array<const T*, 4>& q, const std::array<const T*, 4>& p, const T* camera_q, const T* camera_t, const T& u,
+                       double spacing, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
+  const SplineRotation<T> body = evaluateRotationSpline<T>(q, u, spacing);
+  const SplinePosition<T> body_position = evaluatePositionSpline<T>(p, u, spacing);
+  const Eigen::Map<const Eigen::Quaternion<T>> in_body_q(camera_q);
+  const Eigen::Map<const Eigen::Matrix<T, 3, 1>> in_body_t(camera_t);
+  const Eigen::Quaternion<T> world_q = body.rotation * in_body_q;
+  const Eigen::Matrix<T, 3, 1> world_t = body.rotation * in_body_t + body_position.position;
+  *rotation = world_q.conjugate();
+  *translation = -(*rotation * world_t);
+}
 
 struct SplineCameraViewResidual {
   // `segment_start`: the IMU-clock time segment `segment` of the spline begins at; `stamp` the view's
@@ -31,15 +48,9 @@ struct SplineCameraViewResidual {
     using Quaternion = Eigen::Quaternion<T>;
     using Vector = Eigen::Matrix<T, 3, 1>;
     const T u = (T(stamp) + time_offset[0] - T(segment_start)) / T(spacing);
-    const SplineRotation<T> body = evaluateRotationSpline<T>({q0, q1, q2, q3}, u, spacing);
-    const SplinePosition<T> body_position = evaluatePositionSpline<T>({p0, p1, p2, p3}, u, spacing);
-    const Eigen::Map<const Quaternion> in_body_q(camera_q);
-    const Eigen::Map<const Vector> in_body_t(camera_t);
-    // world <- camera, then its inverse: camera <- board.
-    const Quaternion world_q = body.rotation * in_body_q;
-    const Vector world_t = body.rotation * in_body_t + body_position.position;
-    const Quaternion predicted_q = world_q.conjugate();
-    const Vector predicted_t = -(predicted_q * world_t);
+    Quaternion predicted_q;
+    Vector predicted_t;
+    cameraFromBoardAt<T>({q0, q1, q2, q3}, {p0, p1, p2, p3}, camera_q, camera_t, u, spacing, &predicted_q, &predicted_t);
     Eigen::Matrix<T, 6, 1> r;
     r.template head<3>() = rotationBetween(Quaternion(rotation.cast<T>()), predicted_q);
     r.template tail<3>() = predicted_t - translation.cast<T>();
