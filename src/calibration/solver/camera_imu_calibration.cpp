@@ -350,11 +350,9 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
   // Gravity: the body's mean acceleration over a waved session is about zero, so the specific force's
   // mean in the board frame is gravity's opposite.
   Eigen::Vector3d mean_force = Eigen::Vector3d::Zero();
-  int force_count = 0;
   for (const ImuSample& s : imu) {
     if (s.stamp < start || s.stamp >= end) continue;
     mean_force += boardFromCameraAt(views, s.stamp - offset).linear() * camera_from_imu * s.linear_acceleration;
-    ++force_count;
   }
   x.down = -mean_force.normalized();
   x.bias_spacing = options.bias_knot_spacing;
@@ -481,16 +479,13 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
   for (const CameraImuView* v : used) {
     const SplineSegment seg = x.knots.segmentAt(v->stamp + x.time_offset);
     const int i = seg.index;
-    const SplineRotation<double> body = evaluateRotationSpline<double>(
-        {x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
-         x.rotations[i + 3].coeffs().data()},
-        seg.u, x.knots.spacing);
-    const SplinePosition<double> body_p = evaluatePositionSpline<double>(
-        {x.positions[i].data(), x.positions[i + 1].data(), x.positions[i + 2].data(), x.positions[i + 3].data()}, seg.u, x.knots.spacing);
-    Eigen::Isometry3d board_from_body = Eigen::Isometry3d::Identity();
-    board_from_body.linear() = body.rotation.toRotationMatrix();
-    board_from_body.translation() = body_p.position;
-    const Eigen::Isometry3d predicted = (board_from_body * result.camera_in_imu).inverse();
+    Eigen::Quaterniond rotation;
+    Eigen::Vector3d translation;
+    cameraFromBoardAt<double>({x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
+                               x.rotations[i + 3].coeffs().data()},
+                              {x.positions[i].data(), x.positions[i + 1].data(), x.positions[i + 2].data(), x.positions[i + 3].data()},
+                              x.camera_q.coeffs().data(), x.camera_t.data(), seg.u, x.knots.spacing, &rotation, &translation);
+    const Eigen::Isometry3d predicted = poseFromTranslationQuaternion(translation, rotation);
     const Eigen::Isometry3d error = v->board.sensor_from_pattern.inverse() * predicted;
     view_t_sq += (predicted.translation() - v->board.sensor_from_pattern.translation()).squaredNorm();
     view_r_sq += so3Log(error.linear()).squaredNorm();
