@@ -411,6 +411,25 @@ TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
   EXPECT_LT(imu_error.translation().norm(), 0.005);
   EXPECT_NE(vocal_test::readText(still + "/calibration.launch").find("base_link imu_link"), std::string::npos);
   EXPECT_NE(vocal_test::readText(still + "/calibration.launch").find("base_link lidar0"), std::string::npos);
+  // The IMU as the rig's reference (its pose given, the RGB-D camera's not): calibrated first, its camera
+  // placed through it, the others from the still poses in its frame.
+  RigDescription imu_reference = readRigDescription(still + "/rig_imu.yaml");
+  imu_reference.sensors[0].pose.reset();
+  imu_reference.imus[0].pose = imu_truth;
+  writeRigDescription(still + "/rig_imu_reference.yaml", imu_reference);
+  const std::string placed = vocal_test::makeTempFolder("cli_imu_rig_reference");
+  r = vocal_test::runTool("calibrate_rig " + still + "/rig_imu_reference.yaml " + still + "/session.bag --imu-bag " + waved +
+                          "/session.bag --quiet --output-dir " + placed);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(placed through the reference imu 'imu': the still poses' reference)"), std::string::npos) << r.output;
+  const YAML::Node by_imu = YAML::LoadFile(placed + "/calibration.yaml");
+  for (int s = 0; s < 3; ++s) {
+    const Eigen::Isometry3d error = truth.sensors[s].pose->inverse() * poseOfEntry(by_imu["sensors"][s]);
+    EXPECT_LT(error.translation().norm(), 0.003) << s;
+    EXPECT_LT(rotationAngle(error), 0.003) << s;
+  }
+  EXPECT_LT((poseOfEntry(by_imu["imus"][0]).matrix() - imu_truth.matrix()).norm(), 1e-6);  // where the rig gives it
+
   r = vocal_test::runTool("calibrate_rig " + still + "/rig.yaml " + still + "/session.bag --imu-bag " + waved + "/session.bag --quiet");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(r.output, "calibrate_rig: error: option --imu-bag: the rig has no sensor of type imu\n");
@@ -437,8 +456,7 @@ TEST(CameraImuCalibration, TheRigsImuEntryIsChecked) {
   EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, gyroscope_noise_density: -1}\n"),
             file + ": sensors[1] 'imu': 'gyroscope_noise_density' must be a positive number (got -1)");
   EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, pose: [0, 0, 0, 0, 0, 0, 1]}\n"),
-            file + ": imu 'imu': an IMU is the reference (its 'pose') only in a rig of its camera and itself; give the pose of a sensor that "
-                   "sees the board instead");
+            file + ": imu 'imu': its 'pose' makes it the rig's reference, and so does the pose of sensor 'cam': give one reference's pose");
   EXPECT_EQ(refusal("  - {name: imu, type: imu, frame_id: imu, imu_topic: /imu, rate: 200}\n"),
             file + ": sensors[1] 'imu': unknown key 'rate'");
   // Read back as written.

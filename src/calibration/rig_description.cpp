@@ -310,9 +310,9 @@ void finishRig(RigDescription* rig_out, const std::string& path) {
     return;
   }
   if (rig.reference_sensor < 0 && rig.reference_imu >= 0) {
-    // Its camera, placed through it once calibrated: the reference of what the rig's still poses would solve.
+    // Its camera, placed through it once calibrated (calibrate_rig does the IMU first): the reference of
+    // what the rig's still poses solve.
     rig.reference_sensor = rig.imus[rig.reference_imu].camera;
-    return;
   }
   if (rig.reference_sensor < 0) {
     throw InputError(path + ": no sensor has a 'pose': give the reference sensor's pose in " + rig.reference_frame);
@@ -375,11 +375,11 @@ void pairImusWithCameras(RigDescription* rig_out, const std::vector<std::string>
     }
     if (imu.pose) {
       if (rig.reference_imu >= 0) throw InputError(where + ": two IMUs have a 'pose'; give one reference");
-      bool other_pose = false;
-      for (const RigSensorDescription& sensor : rig.sensors) other_pose = other_pose || sensor.pose.has_value();
-      if (other_pose || rig.sensors.size() > 1) {
-        throw InputError(where + ": an IMU is the reference (its 'pose') only in a rig of its camera and itself; give the pose of a "
-                         "sensor that sees the board instead");
+      for (const RigSensorDescription& sensor : rig.sensors) {
+        if (sensor.pose && sensor.parent.empty()) {
+          throw InputError(where + ": its 'pose' makes it the rig's reference, and so does the pose of sensor '" + sensor.spec.name +
+                           "': give one reference's pose");
+        }
       }
       rig.reference_imu = static_cast<int>(i);
     }

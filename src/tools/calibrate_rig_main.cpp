@@ -502,7 +502,7 @@ int run(const vocal::CommandLine& args) {
   vocal::SessionMemoryOptions memory;
   memory.max_held_mb = args.number("max-held-mb", memory.max_held_mb);
   if (!(memory.max_held_mb >= 0.0)) throw vocal::InputError("option --max-held-mb: must be >= 0 (got " + args.text("max-held-mb", "") + ")");
-  const vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
+  vocal::RigDescription rig = vocal::readRigDescription(args.positional()[0]);
   if (!rig.urdf_param.empty()) {
     throw vocal::InputError(args.positional()[0] + ": 'urdf_param: " + rig.urdf_param + "' names a parameter, which a bag does not hold: for "
                             "calibrate_rig give the robot's URDF file as 'urdf:' (rosparam get " + rig.urdf_param + " > robot.urdf)");
@@ -511,6 +511,23 @@ int run(const vocal::CommandLine& args) {
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   if (args.has("imu-bag") && rig.imus.empty()) throw vocal::InputError("option --imu-bag: the rig has no sensor of type imu");
   if (!rig.imus.empty() && rig.sensors.size() == 1) return runCameraImu(args, rig, bag);
+  // An IMU as the reference: calibrated first, its camera placed through it holds the still poses' frame.
+  std::optional<std::vector<vocal::ImuCalibrationOutput>> imus_first;
+  if (rig.reference_imu >= 0) {
+    imus_first = calibrateImus(args, rig, bag, [](int, std::string* why) {
+      *why = "it is placed through the reference IMU";
+      return std::optional<Eigen::Isometry3d>();
+    });
+    const vocal::ImuCalibrationOutput& reference = (*imus_first)[rig.reference_imu];
+    vocal::RigSensorDescription& camera = rig.sensors[rig.imus[rig.reference_imu].camera];
+    if (!reference.withheld.empty()) {
+      throw vocal::InputError("the rig's reference, imu '" + reference.name + "', is not calibrated against camera '" + camera.spec.name +
+                              "' (" + reference.withheld + "), so nothing can be placed in " + rig.reference_frame);
+    }
+    camera.pose = *reference.rig_from_imu * reference.result.camera_in_imu;
+    printPose((camera.spec.name + " in " + rig.reference_frame).c_str(), *camera.pose, &reference.result.sigma, nullptr);
+    std::printf("  (placed through the reference imu '%s': the still poses' reference)\n", reference.name.c_str());
+  }
   vocal::RingOffsetOptions ring_offset_options;
   ring_offset_options.enabled = !args.has("no-ring-offsets");
   vocal::CalibrationSession session(rig, {}, {}, ring_offset_options, memory);
@@ -639,7 +656,7 @@ int run(const vocal::CommandLine& args) {
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
   if (!rig.imus.empty()) {
-    const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why) {
+    const std::vector<vocal::ImuCalibrationOutput> imus = imus_first ? *imus_first : calibrateImus(args, rig, bag, [&](int s, std::string* why) {
       *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
       return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
     });

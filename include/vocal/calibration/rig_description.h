@@ -38,8 +38,8 @@
 // An IMU (camera_imu_calibration.h) is calibrated against a camera of the rig from a session where the rig
 // was waved before the fixed board: every frame of `camera` (default: the rig's first camera) with the
 // board in view and the IMU's sensor_msgs/Imu on `imu_topic`. Its noise figures take Kalibr's imu.yaml
-// names (continuous time; consumer MEMS defaults). With a `pose` it is the rig's reference and its camera
-// is then placed through it (a rig of that camera and the IMU only):
+// names (continuous time; consumer MEMS defaults). With a `pose` it is the rig's reference: calibrated
+// first, its camera placed through it is the reference of the still poses:
 //
 //     - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu, camera: cam0,
 //        gyroscope_noise_density: 2.4e-4, gyroscope_random_walk: 2.0e-5,
@@ -150,8 +150,7 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // axis, a name or child used twice, a URDF that cannot be read, a sensor's parent no joint chain reaches
 // from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig; for an
 // IMU: no imu_topic, a `camera` that is no camera of the rig (or no camera at all), a negative noise figure,
-// an IMU in a rig with joints or an arm, an IMU with a pose beside another sensor with one or in a rig of
-// more sensors than its camera.
+// an IMU in a rig with joints or an arm, an IMU with a pose beside another fixed sensor with one.
 RigDescription readRigDescription(const std::string& path);
 
 // A rig read with `urdf_param`: its joints (urdfJointsFromString of the parameter), then what depends on
