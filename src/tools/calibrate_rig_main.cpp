@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <iomanip>
 #include <map>
 #include <optional>
 #include <string>
@@ -347,7 +347,6 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   return any_withheld ? 1 : 0;
 }
 
-
 // Every IMU of the rig against its camera from the waved frames, placed in the rig through its camera:
 // `camera_pose` gives a sensor's pose in the rig, or none with why (withheld, not placed).
 std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag,
@@ -484,7 +483,8 @@ int runCameraImu(const vocal::CommandLine& args, const vocal::RigDescription& ri
       if (!camera_withheld.empty()) {
         yaml << "    withheld_because: " << vocal::yamlQuoted(camera_withheld) << "\n";
         urdf << "<!-- " << camera.spec.frame_id << " withheld: " << camera_withheld << " -->\n";
-      } else if (rig.reference_imu >= 0) {
+      } else if (camera_in_rig) {
+        // As the still-pose outputs write their reference: held, and in the files with the rest.
         urdf << vocal::urdfFixedJoint(rig.reference_frame, camera.spec.frame_id, *camera_in_rig);
         launch << vocal::staticTransformNode(camera.spec.name + "_extrinsic", rig.reference_frame, camera.spec.frame_id, *camera_in_rig);
       }
