@@ -366,10 +366,9 @@ std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine&
         vocal::readCameraImuBag(args.text("imu-bag", bag), rig, static_cast<int>(i), args.integer("threads", 0));
     out.camera = recording.camera;
     out.lens = recording.lens;
-    const double span = recording.imu.size() > 1 ? recording.imu.back().stamp - recording.imu.front().stamp : 0.0;
+    const double rate = vocal::imuRate(recording.imu);
     std::printf("imu '%s' against camera '%s': the board in %zu of %zu frames, %zu IMU samples (%.1f Hz), %zu messages dropped\n", imu.name.c_str(),
-                camera.spec.name.c_str(), recording.views.size(), recording.images, recording.imu.size(),
-                span > 0 ? (recording.imu.size() - 1) / span : 0.0, recording.dropped);
+                camera.spec.name.c_str(), recording.views.size(), recording.images, recording.imu.size(), rate, recording.dropped);
     for (const std::string& problem : recording.problems) std::printf("  dropped: %s\n", problem.c_str());
     try {
       // Each frame's corners through the camera's lens (its camera_info's model) in the graph.
@@ -397,7 +396,6 @@ std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine&
     std::printf("  time offset: IMU stamp = camera stamp %+.3f ms (sigma %.3f ms)\n", 1000 * r.time_offset, 1000 * r.time_offset_sigma);
     std::printf("  biases: gyro [%.5f, %.5f, %.5f] rad/s, accelerometer [%.4f, %.4f, %.4f] m/s^2\n", r.gyro_bias.x(), r.gyro_bias.y(),
                 r.gyro_bias.z(), r.accel_bias.x(), r.accel_bias.y(), r.accel_bias.z());
-    const double rate = span > 0 ? (recording.imu.size() - 1) / span : 0.0;
     std::printf("  residuals (rms): gyro %.4f rad/s, accelerometer %.4f m/s^2 (its noise figures say %.4f / %.4f), board views %.2f mm / "
                 "%.2f mrad; %d views, %d IMU samples, %d iterations\n",
                 r.gyro_rms, r.accel_rms, imu.noise.gyro_noise_density * std::sqrt(rate), imu.noise.accel_noise_density * std::sqrt(rate),

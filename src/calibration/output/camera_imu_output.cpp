@@ -1,6 +1,7 @@
 #include "vocal/calibration/output/camera_imu_output.h"
 
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -53,28 +54,27 @@ std::string imuCalibrationYaml(const std::vector<ImuCalibrationOutput>& imus, co
   return out.str();
 }
 
-std::string imuUrdfJoints(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
+namespace {
+// Per IMU, `published(imu)`, or where it is withheld a comment saying why (indented by `indent`).
+std::string perImu(const std::vector<ImuCalibrationOutput>& imus, const std::string& indent,
+                   const std::function<std::string(const ImuCalibrationOutput&)>& published) {
   std::string out;
   for (const ImuCalibrationOutput& imu : imus) {
-    if (!imu.withheld.empty() || !imu.rig_from_imu) {
-      out += "<!-- " + imu.frame_id + " withheld: " + imu.withheld + " (see calibration.yaml) -->\n";
-      continue;
-    }
-    out += urdfFixedJoint(reference_frame, imu.frame_id, *imu.rig_from_imu);
+    const bool placed = imu.withheld.empty() && imu.rig_from_imu;
+    out += placed ? published(imu) : indent + "<!-- " + imu.frame_id + " withheld: " + imu.withheld + " (see calibration.yaml) -->\n";
   }
   return out;
 }
+}  // namespace
+
+std::string imuUrdfJoints(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
+  return perImu(imus, "", [&](const ImuCalibrationOutput& imu) { return urdfFixedJoint(reference_frame, imu.frame_id, *imu.rig_from_imu); });
+}
 
 std::string imuStaticTransformNodes(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
-  std::string out;
-  for (const ImuCalibrationOutput& imu : imus) {
-    if (!imu.withheld.empty() || !imu.rig_from_imu) {
-      out += "  <!-- " + imu.frame_id + " withheld: " + imu.withheld + " (see calibration.yaml) -->\n";
-      continue;
-    }
-    out += staticTransformNode(imu.name + "_extrinsic", reference_frame, imu.frame_id, *imu.rig_from_imu);
-  }
-  return out;
+  return perImu(imus, "  ", [&](const ImuCalibrationOutput& imu) {
+    return staticTransformNode(imu.name + "_extrinsic", reference_frame, imu.frame_id, *imu.rig_from_imu);
+  });
 }
 
 void writeKalibrCamchain(const std::string& path, const std::vector<ImuCalibrationOutput>& imus) {

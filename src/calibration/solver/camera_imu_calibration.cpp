@@ -1,6 +1,7 @@
 #include "vocal/calibration/solver/camera_imu_calibration.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -251,6 +252,20 @@ struct Unknowns {
   Eigen::Quaterniond camera_q = Eigen::Quaterniond::Identity();
   Eigen::Vector3d camera_t = Eigen::Vector3d::Zero();
   double time_offset = 0.0;
+
+  // Segment i's four control rotations and four positions, as the residuals take them.
+  std::array<const double*, 4> rotationsOf(int i) const {
+    return {rotations[i].coeffs().data(), rotations[i + 1].coeffs().data(), rotations[i + 2].coeffs().data(), rotations[i + 3].coeffs().data()};
+  }
+  std::array<const double*, 4> positionsOf(int i) const {
+    return {positions[i].data(), positions[i + 1].data(), positions[i + 2].data(), positions[i + 3].data()};
+  }
+  std::vector<double*> segmentBlocks(int i) {
+    std::vector<double*> blocks;
+    for (int k = 0; k < 4; ++k) blocks.push_back(rotations[i + k].coeffs().data());
+    for (int k = 0; k < 4; ++k) blocks.push_back(positions[i + k].data());
+    return blocks;
+  }
 };
 
 }  // namespace
@@ -367,9 +382,11 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
     problem_graph.AddParameterBlock(x.rotations[k].coeffs().data(), 4, new ceres::EigenQuaternionManifold());
     problem_graph.AddParameterBlock(x.positions[k].data(), 3);
   }
-  const double rate = static_cast<double>(imu.size() - 1) / (imu.back().stamp - imu.front().stamp);
+  const double rate = imuRate(imu);
   const double gyro_sigma = noise.gyro_noise_density * std::sqrt(rate);
   const double accel_sigma = noise.accel_noise_density * std::sqrt(rate);
+  // Each sample's term and its blocks, kept for its residual once solved.
+  std::vector<std::pair<const ceres::CostFunction*, std::vector<double*>>> imu_terms;
   for (const ImuSample& s : imu) {
     if (s.stamp < start || s.stamp >= end) continue;
     const SplineSegment seg = x.knots.segmentAt(s.stamp);
@@ -378,14 +395,13 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
     auto* cost = new ceres::AutoDiffCostFunction<ImuSampleResidual, 6, 4, 4, 4, 4, 3, 3, 3, 3, 3, 3, 3, 3, 3>(
         new ImuSampleResidual(s.angular_velocity, s.linear_acceleration, seg.u, x.knots.spacing, b - b0, gyro_sigma, accel_sigma,
                               options.gravity));
-    const int i = seg.index;
-    problem_graph.AddResidualBlock(cost, nullptr,
-                                   {x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
-                                    x.rotations[i + 3].coeffs().data(), x.positions[i].data(), x.positions[i + 1].data(),
-                                    x.positions[i + 2].data(), x.positions[i + 3].data(), x.gyro_biases[b0].data(),
-                                    x.gyro_biases[b0 + 1].data(), x.accel_biases[b0].data(), x.accel_biases[b0 + 1].data(), x.down.data()});
-    ++result.imu_samples;
+    std::vector<double*> blocks = x.segmentBlocks(seg.index);
+    blocks.insert(blocks.end(), {x.gyro_biases[b0].data(), x.gyro_biases[b0 + 1].data(), x.accel_biases[b0].data(),
+                                 x.accel_biases[b0 + 1].data(), x.down.data()});
+    problem_graph.AddResidualBlock(cost, nullptr, blocks);
+    imu_terms.emplace_back(cost, std::move(blocks));
   }
+  result.imu_samples = static_cast<int>(imu_terms.size());
   problem_graph.SetManifold(x.down.data(), new ceres::SphereManifold<3>());
   for (int k = 0; k + 1 < bias_knots; ++k) {
     const double interval = std::sqrt(x.bias_spacing);
@@ -424,11 +440,9 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
           new SplineCameraViewResidual(v.board, v.stamp, segment_start, x.knots.spacing));
       loss = new ceres::CauchyLoss(3.0);
     }
-    problem_graph.AddResidualBlock(cost, loss,
-                                   {x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
-                                    x.rotations[i + 3].coeffs().data(), x.positions[i].data(), x.positions[i + 1].data(),
-                                    x.positions[i + 2].data(), x.positions[i + 3].data(), x.camera_q.coeffs().data(), x.camera_t.data(),
-                                    &x.time_offset});
+    std::vector<double*> blocks = x.segmentBlocks(i);
+    blocks.insert(blocks.end(), {x.camera_q.coeffs().data(), x.camera_t.data(), &x.time_offset});
+    problem_graph.AddResidualBlock(cost, loss, blocks);
     used.push_back(&v);
   }
   result.views = static_cast<int>(used.size());
@@ -459,19 +473,13 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
 
   // Residuals per kind, unwhitened.
   double gyro_sq = 0, accel_sq = 0;
-  for (const ImuSample& s : imu) {
-    if (s.stamp < start || s.stamp >= end) continue;
-    const SplineSegment seg = x.knots.segmentAt(s.stamp);
-    const double b = (s.stamp - x.bias_start) / x.bias_spacing;
-    const int b0 = std::min(static_cast<int>(std::floor(b)), bias_knots - 2);
-    const ImuSampleResidual r(s.angular_velocity, s.linear_acceleration, seg.u, x.knots.spacing, b - b0, 1.0, 1.0, options.gravity);
-    const int i = seg.index;
+  for (const auto& [cost, blocks] : imu_terms) {
     double out[6];
-    r(x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(), x.rotations[i + 3].coeffs().data(),
-      x.positions[i].data(), x.positions[i + 1].data(), x.positions[i + 2].data(), x.positions[i + 3].data(), x.gyro_biases[b0].data(),
-      x.gyro_biases[b0 + 1].data(), x.accel_biases[b0].data(), x.accel_biases[b0 + 1].data(), x.down.data(), out);
-    gyro_sq += out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
-    accel_sq += out[3] * out[3] + out[4] * out[4] + out[5] * out[5];
+    cost->Evaluate(blocks.data(), out, nullptr);
+    for (int a = 0; a < 3; ++a) {
+      gyro_sq += (out[a] * gyro_sigma) * (out[a] * gyro_sigma);
+      accel_sq += (out[3 + a] * accel_sigma) * (out[3 + a] * accel_sigma);
+    }
   }
   result.gyro_rms = std::sqrt(gyro_sq / (3.0 * result.imu_samples));
   result.accel_rms = std::sqrt(accel_sq / (3.0 * result.imu_samples));
@@ -481,10 +489,8 @@ CameraImuResult calibrateCameraImu(const std::vector<CameraImuView>& found, cons
     const int i = seg.index;
     Eigen::Quaterniond rotation;
     Eigen::Vector3d translation;
-    cameraFromBoardAt<double>({x.rotations[i].coeffs().data(), x.rotations[i + 1].coeffs().data(), x.rotations[i + 2].coeffs().data(),
-                               x.rotations[i + 3].coeffs().data()},
-                              {x.positions[i].data(), x.positions[i + 1].data(), x.positions[i + 2].data(), x.positions[i + 3].data()},
-                              x.camera_q.coeffs().data(), x.camera_t.data(), seg.u, x.knots.spacing, &rotation, &translation);
+    cameraFromBoardAt<double>(x.rotationsOf(i), x.positionsOf(i), x.camera_q.coeffs().data(), x.camera_t.data(), seg.u, x.knots.spacing,
+                              &rotation, &translation);
     const Eigen::Isometry3d predicted = poseFromTranslationQuaternion(translation, rotation);
     const Eigen::Isometry3d error = v->board.sensor_from_pattern.inverse() * predicted;
     view_t_sq += (predicted.translation() - v->board.sensor_from_pattern.translation()).squaredNorm();

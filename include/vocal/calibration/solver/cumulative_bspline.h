@@ -41,7 +41,6 @@ struct SplineKnots {
   double spacing = 0.1;  // seconds between control points
   int control_points = 4;
   int segments() const { return control_points - 3; }
-  double end() const { return start + segments() * spacing; }
   // The segment holding time t, clamped to the spline's segments.
   SplineSegment segmentAt(double t) const {
     int s = static_cast<int>(std::floor((t - start) / spacing));
