@@ -11,6 +11,7 @@
 #include "vocal/calibration/solver/beam_range_view_residual.h"
 #include "vocal/calibration/solver/camera_view_residual.h"
 #include "vocal/calibration/solver/frame_mounting.h"
+#include "vocal/calibration/solver/joint_origin_prior.h"
 #include "vocal/calibration/solver/link_from_joints_residual.h"
 #include "vocal/calibration/solver/outline_view_residual.h"
 #include "vocal/calibration/solver/range_view_residual.h"
@@ -177,6 +178,47 @@ TEST(ArmGraphResiduals, LinkFromJointsTiesTheFrameToItsChain) {
       EXPECT_GT(std::abs(r.head<3>().normalized().dot(frame.q.conjugate() * Eigen::Vector3d::UnitZ())), 0.999);
     }
   }
+}
+
+// A free origin in the tie (JointDescription::free_origin): zero where the chain with the corrected origin
+// puts the frame; the origin's correction block follows the reading corrections; a turn about the joint's
+// own axis is its offset's and moves nothing; the prior counts each part in its sigma.
+TEST(ArmGraphResiduals, AFreeOriginMovesTheChainItIsOn) {
+  std::vector<vocal::JointDescription> joints(2);
+  joints[0].name = "shoulder", joints[0].parent = "base", joints[0].child = "upper_arm", joints[0].axis = Eigen::Vector3d::UnitY();
+  joints[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
+  joints[1].name = "elbow", joints[1].parent = "upper_arm", joints[1].child = "forearm", joints[1].axis = Eigen::Vector3d::UnitY();
+  joints[1].origin.translation() = Eigen::Vector3d(0.0, -0.05, 0.5);
+  joints[1].free_origin = true;
+  const std::vector<int> chain = {0, 1};
+  const std::vector<double> readings = {0.4, -0.7};
+  Eigen::Matrix<double, 6, 1> correction;
+  correction << 0.002, 0.0, -0.001, 0.0, 0.001, 0.01;  // turns about x, z and the upper arm 1 cm longer
+  std::vector<vocal::JointDescription> corrected = joints;
+  corrected[1].origin = vocal::jointOriginCorrected(joints[1], correction);
+  EXPECT_NEAR(corrected[1].origin.translation().z(), 0.51, 1e-12);
+  const vocal::LinkFromJointsResidual residual{&joints, chain, readings};
+  const Blocks frame(vocal::chainPose(corrected, chain, readings, {0.0, 0.0}));
+  const double offsets[] = {0.0, 0.0}, corrections[] = {0.0, 0.0};
+  const double* blocks[] = {frame.q.coeffs().data(), frame.t.data(), &offsets[0], &offsets[1], &corrections[0], &corrections[1], correction.data()};
+  Eigen::Matrix<double, 6, 1> r;
+  residual(blocks, r.data());
+  EXPECT_LT(r.norm(), 1e-6);
+  // The same frame against the model's origin: the 1 cm shows, at 1000 of the tie's 10 um.
+  const Eigen::Matrix<double, 6, 1> none = Eigen::Matrix<double, 6, 1>::Zero();
+  const double* model[] = {frame.q.coeffs().data(), frame.t.data(), &offsets[0], &offsets[1], &corrections[0], &corrections[1], none.data()};
+  residual(model, r.data());
+  EXPECT_GT(r.tail<3>().norm(), 900.0);
+  // A turn about the elbow's own axis (y) is the elbow's offset: the origin drops it.
+  Eigen::Matrix<double, 6, 1> about_axis = Eigen::Matrix<double, 6, 1>::Zero();
+  about_axis[1] = 0.05;
+  EXPECT_TRUE(vocal::jointOriginCorrected(joints[1], about_axis).isApprox(joints[1].origin, 1e-15));
+
+  const vocal::JointOriginPrior prior{0.01, 0.005};
+  double p[6];
+  prior(correction.data(), p);
+  EXPECT_DOUBLE_EQ(p[0], 0.2);
+  EXPECT_DOUBLE_EQ(p[5], 2.0);
 }
 
 // A still pose's reading corrections, each in its joint's sigma.

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <iomanip>
 #include <functional>
 #include <iterator>
 #include <limits>
 #include <map>
 #include <random>
+#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -47,7 +49,8 @@ struct PanTiltSession {
 
 constexpr int kCamera = 2;
 
-PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, double backlash = 0.001, double encoder_counts = 4096.0) {
+PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, double backlash = 0.001, double encoder_counts = 4096.0,
+                              const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero()) {
   PanTiltSession session;
   session.fixed = vocal::exampleRig(1, 1, 0, 1);
   vocal::RigSimulationOptions simulation;
@@ -64,6 +67,7 @@ PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, doub
   head_options.wander = 0.3;
   head_options.backlash = backlash;
   head_options.encoder_counts = encoder_counts;
+  head_options.tilt_origin_error = tilt_origin_error;
   session.head = vocal::simulatePanTilt(boards.reference_from_target, mount, head_options);
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> direction(0, 1);
@@ -85,6 +89,7 @@ PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, doub
   session.options.reference_pose = session.fixed[0].reference_from_sensor;
   session.options.mounts.joints = session.head.joints;
   for (vocal::JointDescription& joint : session.options.mounts.joints) joint.offset = 0.0;  // unknown
+  session.options.mounts.joints[1].origin.translation() -= tilt_origin_error;  // the model's
   session.options.mounts.chains = {{}, {}, session.head.chain};
   return session;
 }
@@ -146,6 +151,50 @@ TEST(JointedCalibration, PanTiltOffsetsAndMountsWithTheRigidSensors) {
     EXPECT_NE(free.joints[1].held.find("no joint after it moved"), std::string::npos) << free.joints[1].held;
     EXPECT_LT(cameraErrorTranslation(session, free, &rotation), 0.003);
     EXPECT_LT(rotation, 0.004);
+  }
+}
+
+// A head whose tilt joint sits 8 mm ahead of and 10 mm above where its model says: with the model's origin
+// the camera lands over a centimetre off; with the tilt's origin free (and its CAD mount known) the
+// still-pose graph finds the shift within its stated sigmas and the camera is right within what the
+// encoders leave at each pose, the rigid lidar unmoved.
+TEST(JointedCalibration, AFreeTiltOriginTakesUpAHeadBuiltOffItsDrawing) {
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Eigen::Vector3d error(0.008, 0.0, 0.01);
+    PanTiltSession session = panTiltSession(seed, 0.2, 0.001, 4096.0, error);
+    session.options.mounts.known_mounts = {std::nullopt, std::nullopt, session.head.mount};
+    const vocal::CalibrationResult model = vocal::calibrateRig(session.specs, session.observations, session.options);
+    double model_rotation = 0.0;
+    const double model_translation = cameraErrorTranslation(session, model, &model_rotation);
+    session.options.mounts.joints[1].free_origin = true;
+    const vocal::CalibrationResult free = vocal::calibrateRig(session.specs, session.observations, session.options);
+    ASSERT_TRUE(free.trusted) << free.failure;
+    double rotation = 0.0;
+    const double translation = cameraErrorTranslation(session, free, &rotation);
+    const vocal::JointCalibration& tilt = free.joints[1];
+    std::printf("tilt origin off by (8, 0, 10) mm, seed %u: model's origin %.2f mm / %.2f mrad rms over the poses, tilt free %.2f mm / %.2f mrad, "
+                "shift (%+.2f %+.2f %+.2f) mm; %s\n",
+                seed, 1000 * model_translation, 1000 * model_rotation, 1000 * translation, 1000 * rotation, 1000 * tilt.origin_correction[3],
+                1000 * tilt.origin_correction[4], 1000 * tilt.origin_correction[5], tilt.origin_observability.c_str());
+    // The encoders' 1.5 mrad counts and 1 mrad of backlash at each pose stay in the camera's error.
+    EXPECT_GT(model_translation, 0.01);
+    EXPECT_LT(translation, 0.004);
+    EXPECT_LT(rotation, 0.003);
+    ASSERT_TRUE(tilt.origin_free);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GT(tilt.origin_sigma[3 + k], 0.0);
+      EXPECT_NEAR(tilt.origin_correction[3 + k], error[k], 3.0 * tilt.origin_sigma[3 + k]) << "shift along " << "xyz"[k];
+    }
+    // A turn of the tilt's origin about the pan axis is the pan's offset: held, said.
+    EXPECT_NE(tilt.origin_observability.find("held at the model's (the session's motion does not fix it): turn about z"), std::string::npos)
+        << tilt.origin_observability;
+    EXPECT_FALSE(free.joints[0].origin_free);
+    // The result's joints are the solved ones: what places the camera at each pose.
+    EXPECT_TRUE(free.mounts.joints[1].origin.isApprox(tilt.origin));
+    EXPECT_FALSE(free.mounts.joints[1].free_origin);
+    const Eigen::Isometry3d lidar_error = session.fixed[1].reference_from_sensor.inverse() * free.sensors[1].reference_from_sensor;
+    EXPECT_LT(lidar_error.translation().norm(), 0.002);
   }
 }
 
@@ -264,6 +313,23 @@ TEST(JointedCalibration, CalibratedUrdfCarriesTheOffsets) {
             std::string::npos);
 }
 
+// A solved free origin in the robot's URDF: the joint's <origin> replaced, read back by urdf::Model as
+// written; the other joints' as they were.
+TEST(JointedCalibration, CalibratedUrdfCarriesTheFreeOrigins) {
+  Eigen::Isometry3d origin = vocal::poseFromTranslationQuaternion({0.011, -0.002, 1.213}, Eigen::Quaterniond(Eigen::AngleAxisd(0.004, Eigen::Vector3d::UnitX())));
+  const std::string calibrated = vocal::withJointOrigins(kTestUrdf, {{"head_pan", origin}}, "robot.urdf");
+  const std::vector<vocal::JointDescription> before = vocal::urdfJointsFromString(kTestUrdf, "URDF");
+  const std::vector<vocal::JointDescription> after = vocal::urdfJointsFromString(calibrated, "calibrated URDF");
+  ASSERT_EQ(before.size(), after.size());
+  for (std::size_t j = 0; j < after.size(); ++j) {
+    const Eigen::Isometry3d& expected = after[j].name == "head_pan" ? origin : before[j].origin;
+    EXPECT_TRUE(after[j].origin.isApprox(expected, 1e-8)) << after[j].name;
+  }
+  EXPECT_NE(vocal_test::inputErrorOf([&] { vocal::withJointOrigins(kTestUrdf, {{"gripper", origin}}, "robot.urdf"); })
+                .find("robot.urdf: the URDF has no joint 'gripper' to write its origin to"),
+            std::string::npos);
+}
+
 TEST(JointedCalibration, RigYamlNamesTheJointsOrTheUrdf) {
   const std::string dir = vocal_test::makeTempFolder("jointed_rig");
   const std::string sensors =
@@ -336,6 +402,44 @@ TEST(JointedCalibration, RigYamlNamesTheJointsOrTheUrdf) {
                 .find("param_rig.yaml: sensors[1] 'head': its parent 'camera_mount' is no link of the rig's joints (the URDF in /robot_description)"),
             std::string::npos);
   EXPECT_NE(errorOf(head + joints + "urdf: robot.urdf\n" + sensors).find("give the joints in one of 'joints', 'urdf' (a file) or 'urdf_param' (a parameter), not several"), std::string::npos);
+}
+
+// `free_joint_origins` marks the joints whose origin the graph solves, an arm's or a head's (written and read
+// back alike); a name that is no joint's, or no list, is refused with what to give.
+TEST(JointedCalibration, FreeJointOriginsAreNamedInTheRig) {
+  const std::string dir = vocal_test::makeTempFolder("free_origins");
+  const std::string arm =
+      "reference_frame: base_link\n"
+      "target: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7, parent: base_link}\n"
+      "joints:\n"
+      "  - {name: shoulder, type: revolute, parent: base_link, child: upper_arm, origin: [0, 0, 0.2, 0, 0, 0, 1], axis: [0, 1, 0]}\n"
+      "  - {name: elbow, type: revolute, parent: upper_arm, child: tool, origin: [0, 0, 0.5, 0, 0, 0, 1], axis: [0, 1, 0]}\n"
+      "sensors:\n"
+      "  - {name: wrist, type: camera, frame_id: w, parent: tool, image_topic: /c, camera_info_topic: /ci}\n";
+  vocal_test::writeText(dir + "/rig.yaml", "free_joint_origins: [elbow]\n" + arm);
+  const vocal::RigDescription rig = vocal::readRigDescription(dir + "/rig.yaml");
+  ASSERT_TRUE(rig.handEye());
+  EXPECT_FALSE(rig.joints[0].free_origin);
+  EXPECT_TRUE(rig.joints[1].free_origin);
+  vocal::writeRigDescription(dir + "/again.yaml", rig);
+  EXPECT_TRUE(vocal::readRigDescription(dir + "/again.yaml").joints[1].free_origin);
+  const auto errorOf = [&](const std::string& text) {
+    vocal_test::writeText(dir + "/bad.yaml", text);
+    return vocal_test::inputErrorOf([&] { vocal::readRigDescription(dir + "/bad.yaml"); });
+  };
+  EXPECT_NE(errorOf("free_joint_origins: [wrist]\n" + arm).find("'free_joint_origins' names 'wrist', which is no joint of the rig (its joints: shoulder, elbow)"),
+            std::string::npos);
+  EXPECT_NE(errorOf("free_joint_origins: elbow\n" + arm).find("'free_joint_origins' must list joint names"), std::string::npos);
+  // A head's joints too (the still-pose graph's).
+  const std::string head =
+      "reference_frame: base_link\ntarget: {type: checkerboard, rows: 6, cols: 8, square_size: 0.06, width: 0.9, height: 0.7}\n"
+      "free_joint_origins: [pan]\n"
+      "joints:\n  - {name: pan, type: revolute, parent: base_link, child: pan_link, axis: [0, 0, 1]}\n"
+      "sensors:\n"
+      "  - {name: lidar, type: lidar3d, frame_id: velodyne, cloud_topic: /points, pose: [0, 0, 1, 0, 0, 0, 1]}\n"
+      "  - {name: head, type: rgbd, frame_id: h, parent: pan_link, depth_topic: /d, camera_info_topic: /i}\n";
+  vocal_test::writeText(dir + "/head.yaml", head);
+  EXPECT_TRUE(vocal::readRigDescription(dir + "/head.yaml").jointedMounts().joints[0].free_origin);
 }
 
 TEST(JointedCalibration, JointReadingsAttachWhereTheJointsWereStill) {
@@ -443,7 +547,8 @@ struct JointArmSession {
   vocal::HandEyeOptions options;
 };
 
-JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, double reading_noise, bool head = false) {
+JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, double reading_noise, bool head = false,
+                                double elbow_length_error = 0.0) {
   JointArmSession session;
   vocal::SimulatedArmOptions arm_options;
   arm_options.setup = setup;
@@ -453,13 +558,13 @@ JointArmSession jointArmSession(vocal::HandEyeSetup setup, std::uint32_t seed, d
   joint_options.seed = seed;
   joint_options.reading_noise = reading_noise;
   joint_options.head = head;
+  joint_options.elbow_length_error = elbow_length_error;
   session.arm = vocal::simulateJointArm(arm_options, joint_options);
   std::mt19937 rng(seed);
   session.stations = vocal::simulateHandEyeStations(session.arm.arm, {7, 10, 0.03}, vocal::defaultKinectCamera(640, 480), 3, 0.2, &rng);
   for (std::size_t k = 0; k < session.stations.size(); ++k) session.stations[k].joint_positions = session.arm.allReadings(k);
   vocal::ArmJoints arm;
-  arm.joints = session.arm.joints;
-  for (vocal::JointDescription& joint : arm.joints) joint.offset = 0.0;  // unknown
+  arm.joints = session.arm.model_joints;  // offsets unknown, origins the model's
   arm.chain = session.arm.chain;
   if (head) arm.read = vocal::jointsOfChains(arm.chain, {session.arm.head_chain});
   session.options.arm_joints = arm;
@@ -540,6 +645,81 @@ TEST(JointedCalibration, WristCameraWithTheArmsJointOffsetsBesideOpenCv) {
         EXPECT_TRUE(result.joints[i].held.empty());
         EXPECT_NEAR(result.joints[i].offset, session.arm.joints[i].offset, 3.0 * result.joints[i].standard_deviation);
       }
+    }
+  }
+}
+
+// The wrist camera as the fixed board sees it through the arm at 20 configurations the session never
+// visited (each joint within the range its still poses covered), the calibrated kinematics (the model's
+// joints, the solved offsets and free origins, at the encoders' noise-free readings) against the true:
+// the worst (m, rad).
+std::pair<double, double> unvisitedWristCameraError(const JointArmSession& session, const vocal::HandEyeResult& result) {
+  std::vector<vocal::JointDescription> calibrated = session.options.arm_joints->joints;
+  std::vector<double> offsets(calibrated.size(), 0.0);
+  for (std::size_t i = 0; i < session.arm.chain.size(); ++i) {
+    const int j = session.arm.chain[i];
+    offsets[j] = result.joints[i].offset;
+    if (result.joints[i].origin_free) calibrated[j].origin = result.joints[i].origin;
+  }
+  std::vector<double> low(session.arm.chain.size(), 1e9), high(session.arm.chain.size(), -1e9);
+  for (const std::vector<double>& angles : session.arm.angles)
+    for (std::size_t i = 0; i < angles.size(); ++i) low[i] = std::min(low[i], angles[i]), high[i] = std::max(high[i], angles[i]);
+  std::mt19937 rng(11);
+  const std::vector<double> zero(session.arm.joints.size(), 0.0);
+  double translation = 0.0, rotation = 0.0;
+  for (int configuration = 0; configuration < 20; ++configuration) {
+    std::vector<double> angles, readings;
+    for (std::size_t i = 0; i < low.size(); ++i) {
+      angles.push_back(std::uniform_real_distribution<double>(low[i], high[i])(rng));
+      readings.push_back(angles.back() - session.arm.joints[session.arm.chain[i]].offset);
+    }
+    const Eigen::Isometry3d truth =
+        session.arm.arm.board.inverse() * vocal::chainPose(session.arm.joints, session.arm.chain, angles, zero) * session.arm.arm.camera;
+    const Eigen::Isometry3d found = result.board.inverse() * vocal::chainPose(calibrated, session.arm.chain, readings, offsets) * result.camera();
+    const Eigen::Isometry3d error = truth.inverse() * found;
+    translation = std::max(translation, error.translation().norm());
+    rotation = std::max(rotation, vocal::rotationAngle(error));
+  }
+  return {translation, rotation};
+}
+
+// An arm whose upper arm is 1 cm longer than its model (a link length off the maker's URDF): with the
+// model's origins held, the joints' offsets and the camera bend to fit the still poses and miss elsewhere;
+// with the elbow's origin free (free_joint_origins), the graph finds the length, says which parts of the
+// origin the session fixed and which it held at the model's, and the wrist camera lands right at
+// configurations the session never visited.
+TEST(JointedCalibration, AFreeElbowOriginTakesUpAnUpperArmLongerThanItsModel) {
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeInHand, seed, 0.0002, false, 0.01);
+    const vocal::HandEyeResult held = vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}}, false, session.stations, session.options);
+    for (const vocal::JointCalibration& joint : held.joints) EXPECT_FALSE(joint.origin_free);
+    const auto [held_translation, held_rotation] = unvisitedWristCameraError(session, held);
+    constexpr int kElbow = 2;
+    session.options.arm_joints->joints[kElbow].free_origin = true;
+    const vocal::HandEyeResult free = vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}}, false, session.stations, session.options);
+    const auto [translation, rotation] = unvisitedWristCameraError(session, free);
+    const vocal::JointCalibration& elbow = free.joints[kElbow];
+    std::printf("upper arm 10 mm long, seed %u: model's origins held %.2f mm / %.2f mrad at unvisited configurations, elbow free %.2f mm / "
+                "%.2f mrad, its shift along the link %+.2f +- %.2f mm; %s\n",
+                seed, 1000 * held_translation, 1000 * held_rotation, 1000 * translation, 1000 * rotation, 1000 * elbow.origin_correction[5],
+                1000 * elbow.origin_sigma[5], elbow.origin_observability.c_str());
+    EXPECT_GT(held_translation, 0.005);
+    EXPECT_LT(translation, 0.003);
+    EXPECT_LT(rotation, 0.002);
+    ASSERT_TRUE(elbow.origin_free);
+    EXPECT_NEAR(elbow.origin_correction[5], 0.01, 0.002);
+    EXPECT_NEAR(elbow.origin.translation().z(), 0.51, 0.002);
+    EXPECT_GT(elbow.origin_sigma[5], 0.0);
+    // A shift across the link (x) turns the shoulder and the elbow alike: held, said; the turn about the
+    // elbow's own axis is its offset's, not named.
+    EXPECT_EQ(elbow.origin_sigma[3], 0.0);
+    EXPECT_NE(elbow.origin_observability.find("shift along z"), std::string::npos);
+    EXPECT_NE(elbow.origin_observability.find("held at the model's (the session's motion does not fix it): shift along x"), std::string::npos)
+        << elbow.origin_observability;
+    EXPECT_EQ(elbow.origin_observability.find("turn about y"), std::string::npos);
+    for (std::size_t i = 1; i + 1 < free.joints.size(); ++i) {
+      EXPECT_NEAR(free.joints[i].offset, session.arm.joints[i].offset, 3.0 * free.joints[i].standard_deviation + 1e-3);
     }
   }
 }
@@ -976,6 +1156,54 @@ TEST(JointedCalibration, ArmSessionThroughCalibrateRig) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("the arm's tool 'arm_tool' comes from its joints, but the bag has no sensor_msgs/JointState on /arm/joint_states"),
             std::string::npos) << r.output;
+}
+
+// An arm whose upper arm is 1 cm longer than its URDF says, its elbow's origin free, through
+// calibrate_rig: the origin printed with what the session fixed, written to calibration.yaml (the length
+// within its sigma of the truth) and into robot_calibrated.urdf's <origin>, the other joints' as they were.
+TEST(JointedCalibration, FreeElbowOriginThroughCalibrateRig) {
+  const std::string folder = vocal_test::makeTempFolder("cli_free_origin");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder +
+                                                " --eye-in-hand --arm --poses 12 --link-error 0.01 --free-origins elbow_joint");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The rig's joints as the robot's URDF (the maker's model), named by the rig instead of its list.
+  vocal::RigDescription rig = vocal::readRigDescription(folder + "/rig.yaml");
+  std::ostringstream urdf;
+  urdf << std::setprecision(12) << "<?xml version=\"1.0\"?>\n<robot name=\"arm\">\n  <link name=\"arm_base\"/>\n";
+  for (const vocal::JointDescription& joint : rig.joints) {
+    const Eigen::Vector3d t = joint.origin.translation(), rpy = vocal::rollPitchYawFromRotation(joint.origin.rotation());
+    urdf << "  <link name=\"" << joint.child << "\"/>\n  <joint name=\"" << joint.name << "\" type=\"revolute\">\n    <parent link=\""
+         << joint.parent << "\"/>\n    <child link=\"" << joint.child << "\"/>\n    <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z()
+         << "\" rpy=\"" << rpy.x() << " " << rpy.y() << " " << rpy.z() << "\"/>\n    <axis xyz=\"" << joint.axis.x() << " " << joint.axis.y() << " "
+         << joint.axis.z() << "\"/>\n    <limit lower=\"-6.28\" upper=\"6.28\" effort=\"100\" velocity=\"3\"/>\n  </joint>\n";
+  }
+  urdf << "</robot>\n";
+  vocal_test::writeText(folder + "/robot.urdf", urdf.str());
+  rig.urdf = "robot.urdf";
+  vocal::writeRigDescription(folder + "/urdf_rig.yaml", rig);
+  r = vocal_test::runTool("calibrate_rig " + folder + "/urdf_rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("origin xyz"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("held at the model's (the session's motion does not fix it): shift along x"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("and the 1 free origins as solved"), std::string::npos) << r.output;
+  const YAML::Node elbow = YAML::LoadFile(folder + "/calibration.yaml")["joints"][2];
+  ASSERT_EQ(elbow["name"].as<std::string>(), "elbow_joint");
+  const std::vector<double> correction = elbow["origin"]["correction"].as<std::vector<double>>();
+  const std::vector<double> sigma = elbow["origin"]["correction_stddev"].as<std::vector<double>>();
+  EXPECT_NEAR(correction[5], 0.01, std::max(0.002, 3.0 * sigma[5]));
+  EXPECT_DOUBLE_EQ(sigma[3], 0.0);  // held
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml")["joints"][2]["origin"]["translation"];
+  EXPECT_NEAR(elbow["origin"]["xyz"][2].as<double>(), truth[2].as<double>(), std::max(0.002, 3.0 * sigma[5]));
+  std::ifstream calibrated(folder + "/robot_calibrated.urdf");
+  const std::vector<vocal::JointDescription> written =
+      vocal::urdfJointsFromString(std::string((std::istreambuf_iterator<char>(calibrated)), std::istreambuf_iterator<char>()), "robot_calibrated.urdf");
+  ASSERT_EQ(written.size(), rig.joints.size());
+  for (const vocal::JointDescription& joint : written) {
+    const auto model = std::find_if(rig.joints.begin(), rig.joints.end(), [&](const vocal::JointDescription& j) { return j.name == joint.name; });
+    ASSERT_NE(model, rig.joints.end()) << joint.name;
+    const double z = joint.name == "elbow_joint" ? elbow["origin"]["xyz"][2].as<double>() : model->origin.translation().z();
+    EXPECT_NEAR(joint.origin.translation().z(), z, 1e-8) << joint.name;
+  }
 }
 
 namespace {

@@ -1,6 +1,8 @@
 #include "vocal/calibration/joint_chain.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "vocal/core/errors.h"
 
@@ -39,6 +41,47 @@ std::vector<int> jointChain(const std::vector<JointDescription>& joints, const s
     frame = joints[parent_joint].parent;
   }
   return {up.rbegin(), up.rend()};
+}
+
+Eigen::Isometry3d jointOriginCorrected(const JointDescription& joint, const Eigen::Matrix<double, 6, 1>& correction) {
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+  jointOriginCorrected<double>(joint, correction.data(), &q, &t);
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  origin.linear() = q.normalized().toRotationMatrix();
+  origin.translation() = t;
+  return origin;
+}
+
+void describeFreeOrigin(const JointDescription& joint, const Eigen::Matrix<double, 6, 1>& correction, const Eigen::Matrix<double, 6, 1>& sigma,
+                        const std::vector<int>& held_parts, const JointTolerances& tolerances, JointCalibration* out) {
+  out->origin_free = true;
+  out->origin = jointOriginCorrected(joint, correction);
+  out->origin_correction = correction;
+  out->origin_sigma = sigma;
+  for (const int k : held_parts) out->origin_sigma[k] = 0.0;  // held: not solved
+  const char* axes = "xyz";
+  const Eigen::Vector3d along = joint.origin.rotation() * joint.axis;
+  std::string solved, held;
+  for (int k = 0; k < 6; ++k) {
+    const bool turn = k < 3;
+    const int a = k % 3;
+    // The joint's own motion: its offset's part, not the origin's.
+    if (turn && joint.type == JointType::kRevolute && std::abs(joint.axis[a]) > 0.99) continue;
+    if (!turn && joint.type == JointType::kPrismatic && std::abs(along[a]) > 0.99) continue;
+    const std::string name = std::string(turn ? "turn about " : "shift along ") + axes[a];
+    const double prior = turn ? tolerances.origin_rotation_sigma : tolerances.origin_translation_sigma;
+    const bool was_held = std::find(held_parts.begin(), held_parts.end(), k) != held_parts.end();
+    if (!was_held && sigma[k] < tolerances.unfixed_origin_share * prior) {
+      char text[96];
+      std::snprintf(text, sizeof(text), "%s %+.2f +- %.2f %s", name.c_str(), 1000.0 * correction[k], 1000.0 * sigma[k], turn ? "mrad" : "mm");
+      solved += (solved.empty() ? "" : ", ") + std::string(text);
+    } else {
+      held += (held.empty() ? "" : ", ") + name;
+    }
+  }
+  out->origin_observability = solved.empty() ? "nothing solved" : "solved " + solved;
+  if (!held.empty()) out->origin_observability += "; held at the model's (the session's motion does not fix it): " + held;
 }
 
 namespace {

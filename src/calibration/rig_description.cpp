@@ -278,6 +278,16 @@ namespace {
 // sensor's chain and known mount, and the hand-eye rig's checks.
 void finishRig(RigDescription* rig_out, const std::string& path) {
   RigDescription& rig = *rig_out;
+  for (const std::string& name : rig.free_joint_origins) {
+    const auto joint = std::find_if(rig.joints.begin(), rig.joints.end(), [&](const JointDescription& j) { return j.name == name; });
+    if (joint == rig.joints.end()) {
+      std::string known;
+      for (const JointDescription& j : rig.joints) known += (known.empty() ? "" : ", ") + j.name;
+      throw InputError(path + ": 'free_joint_origins' names '" + name + "', which is no joint of the rig" +
+                       (known.empty() ? std::string(" (it names none: give 'joints' or 'urdf')") : " (its joints: " + known + ")"));
+    }
+    joint->free_origin = true;
+  }
   rig.reference_sensor = -1;
   for (std::size_t i = 0; i < rig.sensors.size(); ++i) {
     const RigSensorDescription& sensor = rig.sensors[i];
@@ -309,6 +319,7 @@ void finishRig(RigDescription* rig_out, const std::string& path) {
     rig.reference_sensor = -1;
     return;
   }
+
   if (rig.reference_sensor < 0 && rig.reference_imu >= 0) {
     // Its camera, placed through it once calibrated (calibrate_rig does the IMU first): the reference of
     // what the rig's still poses solve.
@@ -390,7 +401,8 @@ void pairImusWithCameras(RigDescription* rig_out, const std::vector<std::string>
 RigDescription readRigDescription(const std::string& path) {
   const YAML::Node root = loadYamlFile(path, "rig description");
   if (!root.IsMap()) throw InputError(path + ": expected a map with reference_frame, target and sensors");
-  rejectUnknownKeys(root, {"reference_frame", "target", "sensors", "joints", "urdf", "urdf_param", "joint_states_topic"}, path);
+  rejectUnknownKeys(root, {"reference_frame", "target", "sensors", "joints", "urdf", "urdf_param", "joint_states_topic", "free_joint_origins"},
+                    path);
   RigDescription rig;
   rig.reference_frame = required<std::string>(root, "reference_frame", path);
   if (!root["target"]) throw InputError(path + ": missing 'target'");
@@ -417,6 +429,13 @@ RigDescription readRigDescription(const std::string& path) {
     rig.joints = readUrdfJoints(rig.urdf_path);
   }
   if (root["joint_states_topic"]) rig.joint_states_topic = required<std::string>(root, "joint_states_topic", path);
+  if (root["free_joint_origins"]) {
+    const YAML::Node list = root["free_joint_origins"];
+    bool names = list.IsSequence();
+    for (std::size_t i = 0; names && i < list.size(); ++i) names = list[i].IsScalar() && !list[i].Scalar().empty();
+    if (!names) throw InputError(path + ": 'free_joint_origins' must list joint names, e.g. [elbow_joint, wrist_1_joint]");
+    for (const YAML::Node& name : list) rig.free_joint_origins.push_back(name.Scalar());
+  }
   if (!root["sensors"] || !root["sensors"].IsSequence() || root["sensors"].size() == 0) {
     throw InputError(path + ": 'sensors' must list at least one sensor");
   }
@@ -491,6 +510,11 @@ void writeRigDescription(const std::string& path, const RigDescription& rig) {
     file << "[" << t.x() << ", " << t.y() << ", " << t.z() << ", " << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]";
   };
   if (rig.joint_states_topic != "/joint_states") file << "joint_states_topic: " << rig.joint_states_topic << "\n";
+  if (!rig.free_joint_origins.empty()) {
+    file << "free_joint_origins: [";
+    for (std::size_t i = 0; i < rig.free_joint_origins.size(); ++i) file << (i ? ", " : "") << rig.free_joint_origins[i];
+    file << "]\n";
+  }
   if (!rig.urdf_param.empty()) {
     file << "urdf_param: " << rig.urdf_param << "\n";
   } else if (!rig.urdf.empty()) {

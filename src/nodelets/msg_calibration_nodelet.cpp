@@ -188,6 +188,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       if (!result.joints[i].reported) continue;
       const JointDescription& joint = options.arm_joints->joints[options.arm_joints->readJoints()[i]];
       summary << "; joint " << joint.name << " offset " << jointOffsetText(joint, result.joints[i]);
+      if (result.joints[i].origin_free) summary << ", " << jointOriginText(result.joints[i]);
     }
     std::vector<std::string> withheld;
     std::vector<geometry_msgs::TransformStamped> transforms;
@@ -388,6 +389,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       for (std::size_t j = 0; j < result.joints.size(); ++j) {
         if (!result.joints[j].reported) continue;
         summary << "; joint " << result.mounts.joints[j].name << " offset " << jointOffsetText(result.mounts.joints[j], result.joints[j]);
+        if (result.joints[j].origin_free) summary << ", " << jointOriginText(result.joints[j]);
       }
       if (session_->memory().full) summary << "; " << fullSessionAdvice(true);
       bool any_distrusted = false;

@@ -13,6 +13,8 @@
 namespace vocal {
 
 namespace {
+constexpr int kElbow = 2;  // in sixJointArm()
+
 std::vector<JointDescription> sixJointArm() {
   // name, parent, child, origin (translation), axis
   const struct {
@@ -144,6 +146,8 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
   out.arm = simulateArm(arm_options);
   out.joints = sixJointArm();
   out.chain = {0, 1, 2, 3, 4, 5};
+  out.model_joints = out.joints;
+  out.joints[kElbow].origin.translation().z() += options.elbow_length_error;
   std::mt19937 rng(options.seed * 1000003u + 7u);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::normal_distribution<double> noise(0.0, options.reading_noise);
@@ -168,7 +172,7 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
     }
     out.readings.push_back(readings);
     out.arm.true_tool[k] = chainPose(out.joints, out.chain, angles, zero);
-    out.arm.reported_tool[k] = chainPose(out.joints, out.chain, readings, zero);  // robot_state_publisher's, uncalibrated
+    out.arm.reported_tool[k] = chainPose(out.model_joints, out.chain, readings, zero);  // robot_state_publisher's, uncalibrated
   }
   // The forearm camera: where the main camera was at one still pose, 10 cm behind the wrist camera
   // (eye-in-hand) or 30 cm ahead of the post camera (eye-to-hand), that pose chosen so the board's centre
@@ -188,6 +192,8 @@ SimulatedJointArm simulateJointArm(const SimulatedArmOptions& arm_options, const
     if (seen > most) most = seen, out.arm.forearm_camera = mount;
   }
   if (options.head) addHead(&out, options, &rng);
+  for (std::size_t j = out.model_joints.size(); j < out.joints.size(); ++j) out.model_joints.push_back(out.joints[j]);  // the head's
+  for (JointDescription& joint : out.model_joints) joint.offset = 0.0;  // unknown
   return out;
 }
 

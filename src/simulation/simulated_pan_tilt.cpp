@@ -44,7 +44,7 @@ SimulatedPanTilt simulatePanTilt(const std::vector<Eigen::Isometry3d>& boards, c
   tilt.name = "head_tilt_joint";
   tilt.parent = pan.child;
   tilt.child = "head_tilt_link";
-  tilt.origin.translation() = Eigen::Vector3d(0.02, 0.0, 0.09);
+  tilt.origin.translation() = Eigen::Vector3d(0.02, 0.0, 0.09) + options.tilt_origin_error;
   tilt.axis = Eigen::Vector3d::UnitY();
   tilt.offset = options.offset_range * unit(rng);
   head.joints = {pan, tilt};

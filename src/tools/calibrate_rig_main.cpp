@@ -180,6 +180,7 @@ void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSessi
     if (!result.joints[j].reported) continue;
     const vocal::JointDescription& joint = result.mounts.joints[j];
     std::printf("  %-20s %s\n", joint.name.c_str(), vocal::jointOffsetText(joint, result.joints[j], 8).c_str());
+    if (result.joints[j].origin_free) std::printf("  %-20s %s\n", "", vocal::jointOriginText(result.joints[j]).c_str());
   }
 }
 
@@ -227,11 +228,14 @@ void printRingOffsets(const vocal::RigDescription& rig, const std::vector<std::o
 }
 
 // A rig whose joints came from the robot's URDF: that URDF with the joints' offsets solved, beside the result.
-void writeRobotUrdf(const vocal::RigDescription& rig, const std::map<std::string, double>& offsets, const std::string& dir) {
-  if (rig.urdf_path.empty() || offsets.empty()) return;
-  vocal::writeCalibratedUrdf(rig.urdf_path, dir + "/robot_calibrated.urdf", offsets);
-  std::printf("wrote %s/robot_calibrated.urdf: %s with the %zu solved joint offsets as <calibration rising=...>\n", dir.c_str(),
-              rig.urdf.c_str(), offsets.size());
+void writeRobotUrdf(const vocal::RigDescription& rig, const std::map<std::string, double>& offsets, const std::string& dir,
+                    const std::map<std::string, Eigen::Isometry3d>& origins = {}) {
+  if (rig.urdf_path.empty() || (offsets.empty() && origins.empty())) return;
+  vocal::writeCalibratedUrdf(rig.urdf_path, dir + "/robot_calibrated.urdf", offsets, origins);
+  std::printf("wrote %s/robot_calibrated.urdf: %s with the %zu solved joint offsets as <calibration rising=...>", dir.c_str(), rig.urdf.c_str(),
+              offsets.size());
+  if (!origins.empty()) std::printf(" and the %zu free origins as solved", origins.size());
+  std::printf("\n");
 }
 
 double positiveOption(const vocal::CommandLine& args, const char* name, double fallback) {
@@ -279,6 +283,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
       if (!result.joints[i].reported) continue;
       const vocal::JointDescription& joint = options.arm_joints->joints[options.arm_joints->readJoints()[i]];
       std::printf("  %-20s %s\n", joint.name.c_str(), vocal::jointOffsetText(joint, result.joints[i], 8).c_str());
+      if (result.joints[i].origin_free) std::printf("  %-20s %s\n", "", vocal::jointOriginText(result.joints[i]).c_str());
     }
   }
   const std::string board_parent = arm.eye_in_hand ? rig.reference_frame : arm.tool_frame;
@@ -340,9 +345,12 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     vocal::writeHandEyeLaunch(dir + "/calibration.launch", frames, result, withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
     std::map<std::string, double> offsets;
-    for (std::size_t i = 0; i < result.joints.size() && i < frames.joint_names.size(); ++i)
+    std::map<std::string, Eigen::Isometry3d> origins;
+    for (std::size_t i = 0; i < result.joints.size() && i < frames.joint_names.size(); ++i) {
       if (result.joints[i].held.empty()) offsets[frames.joint_names[i]] = result.joints[i].offset;
-    writeRobotUrdf(rig, offsets, dir);
+      if (result.joints[i].origin_free) origins[frames.joint_names[i]] = result.joints[i].origin;
+    }
+    writeRobotUrdf(rig, offsets, dir, origins);
   }
   return any_withheld ? 1 : 0;
 }
@@ -648,9 +656,12 @@ int run(const vocal::CommandLine& args) {
     vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
     std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
     std::map<std::string, double> offsets;
-    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
+    std::map<std::string, Eigen::Isometry3d> origins;
+    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
       if (result.joints[j].held.empty()) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
-    writeRobotUrdf(rig, offsets, dir);
+      if (result.joints[j].origin_free) origins[result.mounts.joints[j].name] = result.joints[j].origin;
+    }
+    writeRobotUrdf(rig, offsets, dir, origins);
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
   if (!rig.imus.empty()) {

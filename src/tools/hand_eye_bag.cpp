@@ -191,8 +191,7 @@ RigDescription simulatedJointArmRig(HandEyeSetup setup, const TargetDescription&
   RigDescription rig = simulatedHandEyeRig(setup, target, false, beside);
   if (forearm) rig.sensors.push_back(cameraOn("forearm_camera", kForearm));
   if (!joint_arm.head_chain.empty()) rig.sensors.push_back(cameraOn("head_camera", kHead));
-  rig.joints = joint_arm.joints;
-  for (JointDescription& joint : rig.joints) joint.offset = 0.0;  // unknown
+  rig.joints = joint_arm.model_joints;
   return rig;
 }
 
@@ -226,7 +225,19 @@ void writeHandEyeGroundTruth(const std::string& path, const SimulatedArm& arm, c
   }
   if (joint_arm) {
     file << "joints:  # the arm's (then the head's), with their true zero offsets (added to each reading)\n";
-    for (const int j : joint_arm->allJoints()) file << "  - {name: " << joint_arm->joints[j].name << ", offset: " << joint_arm->joints[j].offset << "}\n";
+    for (const int j : joint_arm->allJoints()) {
+      const JointDescription& joint = joint_arm->joints[j];
+      file << "  - {name: " << joint.name << ", offset: " << joint.offset;
+      // An origin off the model's (a link length): the true one.
+      if (!joint.origin.isApprox(joint_arm->model_joints[j].origin, 1e-12)) file << ", origin: " << pose(joint.origin);
+      file << "}\n";
+    }
+    file << "arm_angles:  # the arm's true joint angles at each still pose\n";
+    for (const std::vector<double>& a : joint_arm->angles) {
+      file << "  - [";
+      for (std::size_t j = 0; j < a.size(); ++j) file << (j ? ", " : "") << a[j];
+      file << "]\n";
+    }
     if (!joint_arm->head_angles.empty()) {
       file << "head_angles:  # the head's true joint angles at each still pose (pan, tilt)\n";
       for (const std::vector<double>& a : joint_arm->head_angles) file << "  - [" << a[0] << ", " << a[1] << "]\n";

@@ -99,6 +99,8 @@ const char kUsage[] =
     "  --head              (--arm) a pan-tilt head beside the arm, a metre from its base, with a camera\n"
     "                      (head_camera on head_tilt_link) turned towards the board at each still pose; its\n"
     "                      joints on /joint_states with the arm's, their zeros off like the arm's\n"
+    "  --link-error M      (--arm) the true upper arm M metres longer than rig.yaml's model (elbow_joint's origin)\n"
+    "  --free-origins J[,J...]   (--arm) rig.yaml's free_joint_origins: those joints' origins solved too\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n"
@@ -143,6 +145,8 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     throw vocal::InputError("option --forearm: with --arm (a camera on the forearm moves with the arm's first joints)");
   }
   if (args.has("head") && !args.has("arm")) throw vocal::InputError("option --head: with --arm (the head's joints are read with the arm's)");
+  for (const char* option : {"link-error", "free-origins"})
+    if (args.has(option) && !args.has("arm")) throw vocal::InputError(std::string("option --") + option + ": with --arm (a link of the arm's joints)");
   // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
   std::optional<vocal::SimulatedJointArm> joint_arm;
   if (args.has("arm")) {
@@ -152,6 +156,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     joint_options.reading_noise = args.number("joint-noise", joint_options.reading_noise);
     joint_options.offset_range = args.number("joint-offsets", joint_options.offset_range);
     joint_options.head = args.has("head");
+    joint_options.elbow_length_error = args.number("link-error", 0.0);
     if (!(joint_options.reading_noise >= 0.0)) throw vocal::InputError("option --joint-noise: must be >= 0");
     joint_arm = vocal::simulateJointArm(arm_options, joint_options);
   }
@@ -163,6 +168,10 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
       throw vocal::InputError("option --given-reference: with --eye-to-hand (the camera on the tool is no fixed reference)");
     }
     rig.sensors.front().pose = arm.camera;  // the fixed camera, in the base frame
+  }
+  if (args.has("free-origins")) {
+    std::stringstream names(args.text("free-origins", ""));
+    for (std::string name; std::getline(names, name, ',');) rig.free_joint_origins.push_back(name);
   }
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose, joint_arm ? &*joint_arm : nullptr);
@@ -342,7 +351,7 @@ int main(int argc, char** argv) {
                         {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
-                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets",
+                         "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets", "link-error", "free-origins",
                          "seconds", "imu-rate", "time-offset", "motion", "camera-name"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
                          "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);

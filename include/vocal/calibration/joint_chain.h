@@ -28,18 +28,57 @@ struct JointDescription {
   // calibrated unknown (robot_calibration's calibration_offsets). The initial value; the truth in a
   // simulation's ground truth.
   double offset = 0.0;
+  // Its origin an unknown too (robot_calibration's free frames: a link whose length or angle is off the
+  // model), corrected by jointOriginCorrected under JointTolerances' origin prior.
+  bool free_origin = false;
 };
+
+// A rotation vector as a quaternion, written out so that Ceres's jets pass through it (first order at zero).
+template <typename T>
+Eigen::Quaternion<T> quaternionFromRotationVector(const Eigen::Matrix<T, 3, 1>& w) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const T squared = w.squaredNorm();
+  if (squared > T(1e-20)) {
+    const T angle = sqrt(squared);
+    const T scale = sin(angle * T(0.5)) / angle;
+    return Eigen::Quaternion<T>(cos(angle * T(0.5)), scale * w.x(), scale * w.y(), scale * w.z());
+  }
+  return Eigen::Quaternion<T>(T(1), T(0.5) * w.x(), T(0.5) * w.y(), T(0.5) * w.z());
+}
+
+// A joint's origin moved by `correction` (w, dt): turned by exp([w]x) in its child frame and shifted by dt in
+// its parent, less what the joint's own motion makes of it - a revolute joint's turn about its axis and a
+// prismatic joint's shift along it are its offset's, so those parts of the correction are dropped.
+template <typename T>
+void jointOriginCorrected(const JointDescription& joint, const T* correction, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
+  const Eigen::Quaternion<T> origin_rotation(joint.origin.rotation().cast<T>());
+  const Eigen::Matrix<T, 3, 1> axis = joint.axis.cast<T>();
+  Eigen::Matrix<T, 3, 1> w(correction[0], correction[1], correction[2]), dt(correction[3], correction[4], correction[5]);
+  if (joint.type == JointType::kRevolute) w -= axis * axis.dot(w);
+  if (joint.type == JointType::kPrismatic) {
+    const Eigen::Matrix<T, 3, 1> along = origin_rotation * axis;
+    dt -= along * along.dot(dt);
+  }
+  *rotation = origin_rotation * quaternionFromRotationVector<T>(w);
+  *translation = joint.origin.translation().cast<T>() + dt;
+}
+Eigen::Isometry3d jointOriginCorrected(const JointDescription& joint, const Eigen::Matrix<double, 6, 1>& correction);
 
 // The joints from `base` down to `link`, in order (empty when link is base). Throws InputError naming
 // `where`, the link and the base when no chain of joints leads from one to the other.
 std::vector<int> jointChain(const std::vector<JointDescription>& joints, const std::string& base, const std::string& link,
                             const std::string& where);
 
-// One joint's parent_from_child at `position` (offset included by the caller).
+// One joint's parent_from_child at `position` (offset included by the caller), its origin corrected by
+// `origin_correction` where given (jointOriginCorrected).
 template <typename T>
-void jointTransform(const JointDescription& joint, const T& position, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
-  const Eigen::Quaternion<T> origin_rotation(joint.origin.rotation().cast<T>());
-  const Eigen::Matrix<T, 3, 1> origin_translation = joint.origin.translation().cast<T>();
+void jointTransform(const JointDescription& joint, const T& position, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation,
+                    const T* origin_correction = nullptr) {
+  Eigen::Quaternion<T> origin_rotation(joint.origin.rotation().cast<T>());
+  Eigen::Matrix<T, 3, 1> origin_translation = joint.origin.translation().cast<T>();
+  if (origin_correction) jointOriginCorrected<T>(joint, origin_correction, &origin_rotation, &origin_translation);
   const Eigen::Matrix<T, 3, 1> axis = joint.axis.cast<T>();
   if (joint.type == JointType::kRevolute) {
     // The quaternion of a turn by `position` about `axis`, written out (Eigen's AngleAxis is not autodiff-safe).
@@ -58,16 +97,18 @@ void jointTransform(const JointDescription& joint, const T& position, Eigen::Qua
   }
 }
 
-// base_from_link through `chain` (jointChain) with each joint at positions[i] + offsets[chain[i]].
+// base_from_link through `chain` (jointChain) with each joint at positions[i] + offsets[i][0] and, where
+// `origins` and origins[i] are given, its origin corrected by origins[i] (6 values).
 template <typename T>
 void chainTransform(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const double* positions,
-                    const T* const* offsets, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation) {
+                    const T* const* offsets, Eigen::Quaternion<T>* rotation, Eigen::Matrix<T, 3, 1>* translation,
+                    const T* const* origins = nullptr) {
   *rotation = Eigen::Quaternion<T>::Identity();
   *translation = Eigen::Matrix<T, 3, 1>::Zero();
   for (std::size_t i = 0; i < chain.size(); ++i) {
     Eigen::Quaternion<T> q;
     Eigen::Matrix<T, 3, 1> t;
-    jointTransform(joints[chain[i]], T(positions[i]) + offsets[i][0], &q, &t);
+    jointTransform(joints[chain[i]], T(positions[i]) + offsets[i][0], &q, &t, origins ? origins[i] : nullptr);
     *translation = *translation + *rotation * t;
     *rotation = *rotation * q;
   }
@@ -78,11 +119,11 @@ void chainTransform(const std::vector<JointDescription>& joints, const std::vect
 template <typename T>
 void correctedChainTransform(const std::vector<JointDescription>& joints, const std::vector<int>& chain, const double* readings,
                              const T* const* offsets, const T* const* corrections, Eigen::Quaternion<T>* rotation,
-                             Eigen::Matrix<T, 3, 1>* translation) {
+                             Eigen::Matrix<T, 3, 1>* translation, const T* const* origins = nullptr) {
   std::vector<T> added(chain.size());
   std::vector<const T*> added_blocks(chain.size());
   for (std::size_t i = 0; i < chain.size(); ++i) added[i] = offsets[i][0] + corrections[i][0], added_blocks[i] = &added[i];
-  chainTransform<T>(joints, chain, readings, added_blocks.data(), rotation, translation);
+  chainTransform<T>(joints, chain, readings, added_blocks.data(), rotation, translation, origins);
 }
 
 // The same in doubles: base_from_link with the chain's joints at `positions` (one per chain joint) plus
@@ -102,6 +143,12 @@ struct JointTolerances {
   double reading_sigma = 0.001, prismatic_reading_sigma = 0.0005;
   // An offset solved less well than this is named weak.
   double max_offset_sigma = 0.002, max_prismatic_offset_sigma = 0.002;
+  // A free origin's prior (JointDescription::free_origin): how far the model's link may be off, metres
+  // and radians per axis (a machined link's tolerance, a mount's angle).
+  double origin_translation_sigma = 0.01, origin_rotation_sigma = 0.01;
+  // ... and the share of it beyond which a part of an origin counts as not fixed by the session: held at
+  // the model's (a shift of a link that turns the joints on either side alike trades with their offsets).
+  double unfixed_origin_share = 0.5;
 
   double minMotion(const JointDescription& joint) const { return prismatic(joint) ? min_prismatic_motion : min_motion; }
   double readingSigma(const JointDescription& joint) const { return prismatic(joint) ? prismatic_reading_sigma : reading_sigma; }
@@ -123,7 +170,21 @@ struct JointCalibration {
   std::string weak;
   // False for a fixed joint, and one no calibrated sensor is behind: nothing to tell the user of it.
   bool reported = true;
+  // A free origin (JointDescription::free_origin): the origin as solved, its correction (w, dt) from the
+  // model's and standard deviations, and per component whether the session fixed it or its prior holds it.
+  bool origin_free = false;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 1> origin_correction = Eigen::Matrix<double, 6, 1>::Zero(), origin_sigma = Eigen::Matrix<double, 6, 1>::Zero();
+  std::string origin_observability;  // for the user: which parts the data fixed, which the prior held
 };
+
+// A free origin's result in `out` (JointCalibration::origin_*): the corrected origin, its correction and
+// standard deviations (w, dt), and for the user which parts the session fixed and which were held at the
+// model's (`held`, indices of (w, dt), and any whose standard deviation is over unfixed_origin_share of its
+// prior's; a revolute joint's turn about its axis, a prismatic joint's shift along it, are its offset's and
+// not named).
+void describeFreeOrigin(const JointDescription& joint, const Eigen::Matrix<double, 6, 1>& correction, const Eigen::Matrix<double, 6, 1>& sigma,
+                        const std::vector<int>& held, const JointTolerances& tolerances, JointCalibration* out);
 
 // Sensors mounted behind a robot's joints (a camera on a pan-tilt head): at each still pose the sensor
 // sits at its chain's pose for that pose's joint positions (TargetObservation::joint_positions) times its

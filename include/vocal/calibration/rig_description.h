@@ -119,6 +119,9 @@ struct RigDescription {
   // empty and the rig unfinished; the reader of the parameter gives them with setRigJoints.
   std::string urdf_param;
   std::string joint_states_topic = "/joint_states";
+  // Joints whose origin is an unknown too (`free_joint_origins: [NAME, ...]`; robot_calibration's free
+  // frames): an arm whose link lengths or angles are off its model. finishRig marks them free_origin.
+  std::vector<std::string> free_joint_origins;
   std::vector<RigImuDescription> imus;
   // The IMU whose `pose` makes it the reference (its camera then has none), or -1.
   int reference_imu = -1;
@@ -151,6 +154,7 @@ void checkTargetDescription(const TargetDescription& target, const std::string& 
 // from reference_frame, `pose_known` without a pose or on a rigid sensor, joints in a hand-eye rig; for an
 // IMU: no imu_topic, a `camera` that is no camera of the rig (or no camera at all), a negative noise figure,
 // an IMU in a rig with joints or an arm, an IMU with a pose beside another fixed sensor with one.
+// `free_joint_origins` naming no joint of the rig.
 RigDescription readRigDescription(const std::string& path);
 
 // A rig read with `urdf_param`: its joints (urdfJointsFromString of the parameter), then what depends on

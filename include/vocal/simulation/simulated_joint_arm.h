@@ -22,10 +22,15 @@ struct SimulatedJointArmOptions {
   // A pan-tilt head beside the arm (a mobile manipulator's), its camera turned at each still pose towards
   // the board: its two joints from arm_base, read like the arm's.
   bool head = false;
+  // The true upper arm this much longer than the model says (metres, along the elbow joint's origin z): a
+  // link length off the maker's URDF, what a free joint origin calibrates.
+  double elbow_length_error = 0.0;
 };
 
 struct SimulatedJointArm {
-  std::vector<JointDescription> joints;  // base "arm_base" -> tool "arm_tool"; offset: the truth
+  std::vector<JointDescription> joints;  // base "arm_base" -> tool "arm_tool"; offset and origins: the truth
+  // The same as the robot's model gives them (its URDF): offsets zero, origins the maker's.
+  std::vector<JointDescription> model_joints;
   std::vector<int> chain;                // all of them, in order
   std::vector<std::vector<double>> angles;    // per still pose: the true joint angles
   std::vector<std::vector<double>> readings;  // ... as the encoders report them

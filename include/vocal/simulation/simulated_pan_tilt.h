@@ -22,6 +22,9 @@ struct SimulatedPanTiltOptions {
   double offset_range = 0.03;       // radians: each joint's true zero offset drawn from +-this
   double encoder_counts = 4096.0;   // per turn (a 12-bit absolute encoder: 1.5 mrad steps)
   double backlash = 0.001;          // radians of play in each joint's gears
+  // The tilt joint's true origin this far from the model's (metres, in the pan link): a head built off its
+  // drawing, what a free joint origin calibrates. `joints` hold the truth; the model is them less this.
+  Eigen::Vector3d tilt_origin_error = Eigen::Vector3d::Zero();
   std::uint32_t seed = 1;
 };
 

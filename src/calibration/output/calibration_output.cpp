@@ -29,7 +29,14 @@ void checkSizes(const std::vector<SensorSpec>& sensors, const CalibrationResult&
                      std::to_string(result.sensors.size()) + " results");
   }
 }
-// A YAML double-quoted scalar.
+std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  std::ostringstream out;
+  out << std::setprecision(9) << "[";
+  for (Eigen::Index i = 0; i < v.size(); ++i) out << (i ? ", " : "") << v[i];
+  out << "]";
+  return out.str();
+}
+
 // The reason sensor s is withheld, empty when it is published (or nothing was withheld).
 std::string withheldReason(const std::vector<std::string>* withheld, std::size_t s) {
   return withheld && s < withheld->size() ? (*withheld)[s] : std::string();
@@ -41,6 +48,16 @@ std::string yamlQuoted(const std::string& text) {
   for (const char c : text) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
   return out + "\"";
 }
+
+namespace {
+// A free joint origin as solved, a YAML flow map: the origin (xyz m, rpy rad), its correction from the
+// model's and standard deviations (turn about x y z in rad, shift along x y z in m; zero: held), what fixed it.
+std::string freeOriginYaml(const JointCalibration& joint) {
+  const Eigen::Vector3d t = joint.origin.translation(), rpy = rollPitchYawFromRotation(joint.origin.rotation());
+  return "{xyz: " + listOf(t) + ", rpy: " + listOf(rpy) + ", correction: " + listOf(joint.origin_correction) +
+         ", correction_stddev: " + listOf(joint.origin_sigma) + ", observability: " + yamlQuoted(joint.origin_observability) + "}";
+}
+}  // namespace
 
 std::vector<std::string> withheldSensors(const std::vector<SensorSpec>& sensors, int reference_sensor, const CalibrationResult& result,
                                          const PoseJackknife* spread, const SpreadTolerance& tolerance, bool publish_uncertain) {
@@ -155,6 +172,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       if (!joint.held.empty()) file << "    held_because: " << yamlQuoted(joint.held) << "\n";
       if (!joint.fixed_by.empty()) file << "    fixed_by: " << yamlQuoted(joint.fixed_by) << "\n";
       if (!joint.weak.empty()) file << "    weak: " << yamlQuoted(joint.weak) << "\n";
+      if (joint.origin_free) file << "    origin: " << freeOriginYaml(joint) << "  # its correction: turn about x y z (rad), shift along x y z (m)\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";
     for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
@@ -173,6 +191,13 @@ std::string jointOffsetText(const JointDescription& joint, const JointCalibratio
   if (!calibration.fixed_by.empty()) text += ", fixed by " + calibration.fixed_by;
   if (!calibration.weak.empty()) text += ", " + calibration.weak;
   return text;
+}
+
+std::string jointOriginText(const JointCalibration& calibration) {
+  const Eigen::Vector3d t = calibration.origin.translation(), rpy = rollPitchYawFromRotation(calibration.origin.rotation());
+  char line[160];
+  std::snprintf(line, sizeof(line), "origin xyz %.5f %.5f %.5f rpy %.5f %.5f %.5f: ", t.x(), t.y(), t.z(), rpy.x(), rpy.y(), rpy.z());
+  return line + calibration.origin_observability;
 }
 
 std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame) {
@@ -243,13 +268,6 @@ void writeStaticTransformLaunch(const std::string& path, const std::string& refe
 }
 
 namespace {
-std::string listOf(const Eigen::Ref<const Eigen::VectorXd>& v) {
-  std::ostringstream out;
-  out << "[";
-  for (Eigen::Index i = 0; i < v.size(); ++i) out << (i ? ", " : "") << v[i];
-  out << "]";
-  return out.str();
-}
 
 }  // namespace
 
@@ -351,13 +369,15 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << q.y() << ", " << q.z() << ", " << q.w() << "]}\n";
   }
   if (!result.joints.empty() && result.joints.size() == frames.joint_names.size()) {
-    file << "joints:  # the arm's chain, then other links' (a head's): offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
+    file << "joints:  # the arm's chain, then other links' (a head's): offsets added to each joint's reading (radians; metres for a prismatic joint);\n"
+         << "         # a free origin as solved, its correction from the model's: turn about x y z (rad), shift along x y z (m)\n";
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
       const JointCalibration& joint = result.joints[i];
       if (!joint.reported) continue;
       file << "  - {name: " << frames.joint_names[i] << ", offset: " << joint.offset << ", offset_stddev: " << joint.standard_deviation
            << ", motion: " << joint.motion << ", solved: " << (joint.held.empty() ? "true" : "false");
       if (!joint.fixed_by.empty()) file << ", fixed_by: " << yamlQuoted(joint.fixed_by);
+      if (joint.origin_free) file << ",\n     origin: " << freeOriginYaml(joint);
       file << "}\n";
     }
     file << "calibration:  # robot_calibration's calibration_offsets\n";

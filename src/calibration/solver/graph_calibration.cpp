@@ -21,6 +21,7 @@
 #include "vocal/calibration/extraction/board_outline.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/free_joint_origins.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/outline_point_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
@@ -239,11 +240,13 @@ struct ChainAt {
   std::vector<double> positions;
   std::vector<double*> offsets;
   std::vector<double*> corrections;  // the pose's reading corrections, one per chain joint
+  std::vector<double*> origins;      // the free origins' corrections (JointDescription::free_origin), in chain order
 };
 
 // A residual on (sensor rotation, sensor translation, then kBlocks more) for a sensor behind joints: the
 // sensor's pose is the chain's at the pose's positions plus the offsets (the blocks after those) and the
-// pose's reading corrections (the next blocks) times its mount (blocks 0, 1).
+// pose's reading corrections (the next blocks), its free joints' origins corrected by the blocks after
+// those, times its mount (blocks 0, 1).
 template <typename Residual, int kBlocks>
 struct ThroughJoints {
   Residual residual;
@@ -256,8 +259,12 @@ struct ThroughJoints {
     Eigen::Quaternion<T> chain_rotation;
     Eigen::Matrix<T, 3, 1> chain_translation;
     const int first = 2 + kBlocks;
+    std::vector<const T*> origins(chain.size(), nullptr);
+    T const* const* free_origin = blocks + first + 2 * chain.size();
+    for (std::size_t i = 0; i < chain.size(); ++i)
+      if ((*joints)[chain[i]].free_origin) origins[i] = *free_origin++;
     correctedChainTransform<T>(*joints, chain, positions.data(), blocks + first, blocks + first + chain.size(), &chain_rotation,
-                               &chain_translation);
+                               &chain_translation, origins.data());
     const Eigen::Map<const Eigen::Quaternion<T>> mount_rotation(blocks[0]);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> mount_translation(blocks[1]);
     const Eigen::Quaternion<T> rotation = chain_rotation * mount_rotation;
@@ -287,6 +294,7 @@ void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres:
   for (const int size : {4, 3, kSizes...}) cost->AddParameterBlock(size);
   for (double* offset : chain->offsets) cost->AddParameterBlock(1), all.push_back(offset);
   for (double* correction : chain->corrections) cost->AddParameterBlock(1), all.push_back(correction);
+  for (double* origin : chain->origins) cost->AddParameterBlock(6), all.push_back(origin);
   cost->SetNumResiduals(kSize);
   problem->AddResidualBlock(cost, loss, all);
 }
@@ -343,6 +351,7 @@ struct JointOffsets {
   const JointedMounts* mounts = nullptr;
   std::vector<double>* offsets = nullptr;
   std::map<std::pair<int, int>, double>* corrections = nullptr;
+  std::vector<Vector6d>* origins = nullptr;  // per joint: a free origin's correction
 };
 
 // The correction of joint j's reading at still pose k, with its prior the first time.
@@ -369,10 +378,11 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
   std::optional<ChainAt> at;
   if (joints.mounts && joints.mounts->jointed(o.sensor)) {
-    at = ChainAt{&joints.mounts->joints, joints.mounts->chains[o.sensor], o.joint_positions, {}, {}};
+    at = ChainAt{&joints.mounts->joints, joints.mounts->chains[o.sensor], o.joint_positions, {}, {}, {}};
     for (const int j : at->chain) {
       at->offsets.push_back(&(*joints.offsets)[j]);
       at->corrections.push_back(readingCorrection(problem, joints, o.target_pose, j));
+      if (joints.mounts->joints[j].free_origin) at->origins.push_back((*joints.origins)[j].data());
     }
   }
   const ChainAt* chain = at ? &*at : nullptr;
@@ -650,7 +660,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::vector<double> joint_offsets;
   for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;  // a std::map: its values stay where they are (Ceres blocks)
-  const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections};
+  std::vector<Vector6d> origin_corrections(mounts.joints.size(), Vector6d::Zero());
+  const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections, &origin_corrections};
   // The chain's pose (rig frame) when o was made, the offsets at their initial values: the identity for a rigid mount.
   const auto chainAt = [&](const TargetObservation& o) {
     return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) : Eigen::Isometry3d::Identity();
@@ -874,6 +885,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (std::size_t j = 0; j < joint_offsets.size(); ++j) {
     if (problem.HasParameterBlock(&joint_offsets[j]) && !joint_results[j].held.empty()) problem.SetParameterBlockConstant(&joint_offsets[j]);
   }
+  addJointOriginPriors(&problem, origin_corrections, mounts.tolerances);
   for (int s = 0; s < sensor_count; ++s) {
     if (problem.HasParameterBlock(sensor_state[s].rotation.coeffs().data()))  // not an isolated sensor's
       problem.SetManifold(sensor_state[s].rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
@@ -896,6 +908,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   const ceres::Solver::Options solver_options = solverOptions(options);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
+  // Free origins: the parts the session does not fix held at the model's, and the graph solved again.
+  std::vector<std::vector<int>> origin_held;
+  if (holdUnfixedOriginParts(&problem, &origin_corrections, mounts.tolerances, &origin_held)) ceres::Solve(solver_options, &problem, &summary);
   // Each isolated sensor alone against the boards the others solved (held constant).
   std::vector<std::unique_ptr<ceres::Problem>> isolated_problems(sensor_count);
   for (int s = 0; s < sensor_count; ++s) {
@@ -917,6 +932,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   result.warnings = warnings;
   result.mounts = mounts;
   for (std::size_t j = 0; j < joint_offsets.size(); ++j) result.mounts.joints[j].offset = joint_results[j].offset = joint_offsets[j];
+  // The joints as solved: a free origin is the one found (and no longer an unknown of what uses them).
+  for (std::size_t j = 0; j < origin_corrections.size(); ++j) {
+    JointDescription& joint = result.mounts.joints[j];
+    if (!joint.free_origin) continue;
+    joint.origin = jointOriginCorrected(joint, origin_corrections[j]);
+    joint.free_origin = false;
+  }
   result.joints = joint_results;
   for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
   for (const auto& entry : board_state) {
@@ -1029,6 +1051,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (intrinsicsOf(s)) setIntrinsicsStandardDeviations(own, s, intrinsicsOf(s), &result);
   }
   setJointStandardDeviations(&problem, joint_offsets, &result);
+  setFreeOriginResults(&problem, origin_corrections, origin_held, mounts.joints, mounts.tolerances, &result.joints);
   for (int s = 0; s < sensor_count; ++s)
     if (isolated_problems[s]) setStandardDeviations(isolated_problems[s].get(), {s}, sensor_state, &result);
   return result;

@@ -16,6 +16,7 @@
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/beam_range_view_residual.h"
 #include "vocal/calibration/solver/camera_view_residual.h"
+#include "vocal/calibration/solver/free_joint_origins.h"
 #include "vocal/calibration/solver/link_from_joints_residual.h"
 #include "vocal/calibration/solver/outline_view_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
@@ -296,6 +297,8 @@ struct ArmGraph {
   PoseState base{Eigen::Isometry3d::Identity()};  // the base frame, constant: the frame of what is fixed
   std::vector<double> offsets;                   // arm_joints: per joint of readJoints()
   std::vector<std::vector<double>> corrections;  // ... per station and joint of readJoints()
+  std::vector<Vector6d> origins;                 // ... per joint of readJoints(): a free origin's correction (zero otherwise)
+  std::vector<std::vector<int>> origin_held;     // ... its parts held at the model's (the session does not fix them)
   std::unique_ptr<ceres::Problem> problem;
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
@@ -304,6 +307,17 @@ struct ArmGraph {
 std::size_t readIndex(const ArmJoints& arm, int joint) {
   const std::vector<int>& read = arm.readJoints();
   return static_cast<std::size_t>(std::find(read.begin(), read.end(), joint) - read.begin());
+}
+
+// The arm with its free origins (JointDescription::free_origin) moved by `origins` (per joint of
+// readJoints(); none: as modelled).
+ArmJoints withOrigins(const ArmJoints& arm, const std::vector<Vector6d>& origins) {
+  ArmJoints moved = arm;
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    JointDescription& joint = moved.joints[arm.readJoints()[i]];
+    if (joint.free_origin) joint.origin = jointOriginCorrected(joint, origins[i]);
+  }
+  return moved;
 }
 
 // base <- the end of `chain` (the tool's when empty) at a station's readings plus `offsets`, both per joint
@@ -411,9 +425,16 @@ ceres::CostFunction* beamRangeCost(const std::vector<Eigen::Vector3d>& points, d
   return cost;
 }
 
+// Where an arm graph's joint unknowns start (per joint of readJoints()), and the free origins' parts held.
+struct JointStarts {
+  std::vector<double> offsets;
+  std::vector<Vector6d> origins;
+  std::vector<std::vector<int>> origin_held;
+};
+
 std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
                                      const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start,
-                                     const std::vector<double>* offset_starts = nullptr) {
+                                     const JointStarts* joint_starts = nullptr) {
   auto graph = std::make_unique<ArmGraph>(board_start);
   graph->problem = std::make_unique<ceres::Problem>();
   ceres::Problem& problem = *graph->problem;
@@ -469,8 +490,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     const std::vector<int>& read = arm->readJoints();
     const std::size_t n = read.size();
     graph->offsets.resize(n);
-    for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = offset_starts ? (*offset_starts)[i] : arm->joints[read[i]].offset;
+    for (std::size_t i = 0; i < n; ++i) graph->offsets[i] = joint_starts ? joint_starts->offsets[i] : arm->joints[read[i]].offset;
     graph->corrections.assign(stations.size(), std::vector<double>(n, 0.0));
+    graph->origins = joint_starts ? joint_starts->origins : std::vector<Vector6d>(n, Vector6d::Zero());
+    graph->origin_held = joint_starts ? joint_starts->origin_held : std::vector<std::vector<int>>(n);
     std::vector<double> sigmas;
     for (const int j : read) sigmas.push_back(arm->tolerances.readingSigma(arm->joints[j]));
     for (std::size_t k = 0; k < stations.size(); ++k) {
@@ -484,6 +507,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
         cost->AddParameterBlock(3);
         for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->offsets[readIndex(*arm, j)]);
         for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->corrections[k][readIndex(*arm, j)]);
+        for (const int j : chain)
+          if (arm->joints[j].free_origin) cost->AddParameterBlock(6), blocks.push_back(graph->origins[readIndex(*arm, j)].data());
         cost->SetNumResiduals(6);
         problem.AddResidualBlock(cost, nullptr, blocks);
       };
@@ -503,6 +528,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     const std::vector<JointCalibration> solvable = armJointsSolvable(rig, *arm, stations);
     for (std::size_t i = 0; i < n; ++i)
       if (!solvable[i].held.empty()) problem.SetParameterBlockConstant(&graph->offsets[i]);
+    addJointOriginPriors(&problem, graph->origins, arm->tolerances);
+    holdOriginParts(&problem, &graph->origins, graph->origin_held);
   }
   for (std::size_t s = 0; s < graph->sensors.size(); ++s) {
     PoseState& sensor = graph->sensors[s];
@@ -526,6 +553,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   solver_options.gradient_tolerance = 1e-14;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
+  // Free origins, solved for the first time: the parts the session does not fix held at the model's, and
+  // the graph solved again (a later solve from these starts holds the same).
+  if (options.arm_joints && !joint_starts && holdUnfixedOriginParts(&problem, &graph->origins, options.arm_joints->tolerances, &graph->origin_held))
+    ceres::Solve(solver_options, &problem, &summary);
   if (!summary.IsSolutionUsable()) throw InputError("hand-eye calibration: the solver failed: " + summary.message);
   return graph;
 }
@@ -642,8 +673,9 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   // as solved (what the scatter and the views are judged against; the closed forms above had the readings alone).
   const auto calibratedTools = [&] {
     if (!options.arm_joints) return;
-    for (HandEyeStation& s : stations) s.base_from_tool = armLink(*options.arm_joints, s.joint_positions, graph->offsets);
-    placeLinks(rig, *options.arm_joints, graph->offsets, &stations);
+    const ArmJoints arm = withOrigins(*options.arm_joints, graph->origins);
+    for (HandEyeStation& s : stations) s.base_from_tool = armLink(arm, s.joint_positions, graph->offsets);
+    placeLinks(rig, arm, graph->offsets, &stations);
   };
   calibratedTools();
   std::vector<Eigen::Isometry3d> solved;
@@ -662,8 +694,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
         view.pattern.pose_covariance.bottomRightCorner<3, 3>() += shared * translation_scatter * translation_scatter * Eigen::Matrix3d::Identity();
       }
     }
-    const std::vector<double> offsets = graph->offsets;
-    graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &offsets : nullptr);
+    const JointStarts joints{graph->offsets, graph->origins, graph->origin_held};
+    graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &joints : nullptr);
     calibratedTools();
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
@@ -695,6 +727,9 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       result.joints[i].offset = graph->offsets[i];
       if (result.joints[i].held.empty()) offset_blocks.emplace_back(&graph->offsets[i], &graph->offsets[i]);
     }
+    std::vector<JointDescription> read_joints;
+    for (const int j : arm->readJoints()) read_joints.push_back(arm->joints[j]);
+    setFreeOriginResults(graph->problem.get(), graph->origins, graph->origin_held, read_joints, arm->tolerances, &result.joints);
     ceres::Covariance offset_covariance(ceres::Covariance::Options{});
     if (!offset_blocks.empty() && offset_covariance.Compute(offset_blocks, graph->problem.get())) {
       for (std::size_t i = 0; i < graph->offsets.size(); ++i) {
@@ -715,8 +750,9 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   }
   for (std::size_t k = 0; k < stations.size(); ++k) {
     // Where the arm put the tool: its readings with the offsets as solved (the arm's own report: tf).
-    const Eigen::Isometry3d reported =
-        options.arm_joints ? armLink(*options.arm_joints, stations[k].joint_positions, graph->offsets) : stations[k].base_from_tool;
+    const Eigen::Isometry3d reported = options.arm_joints
+                                           ? armLink(withOrigins(*options.arm_joints, graph->origins), stations[k].joint_positions, graph->offsets)
+                                           : stations[k].base_from_tool;
     const Eigen::Isometry3d solved_tool = graph->tools[k].pose();
     result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
     result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));

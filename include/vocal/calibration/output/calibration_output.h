@@ -54,6 +54,9 @@ std::string staticTransformNode(const std::string& name, const std::string& pare
 // A joint's offset for the user: "+12.95 mrad +- 0.25, moved 0.847 rad", then ", held: why" or ", weakly
 // fixed ..." (mm and m for a prismatic joint); `width`: the offset's field width, for a table's column.
 std::string jointOffsetText(const JointDescription& joint, const JointCalibration& calibration, int width = 0);
+// A free origin as solved for the user: "origin xyz 0.0000 -0.0600 0.5012 rpy ...: solved shift along z
+// +1.20 +- 0.30 mm, ...; held ..." (JointCalibration::origin_observability).
+std::string jointOriginText(const JointCalibration& calibration);
 
 // The frame sensor s's result is in: its chain's last link behind joints, else reference_frame.
 std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame);
