@@ -140,15 +140,17 @@ std::vector<SimulatedSensor> panTiltRig() {
 }
 
 void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
-                      RigDescription* truth, bool pose_known) {
+                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error) {
   const int camera = static_cast<int>(sensors.size()) - 1;
   SimulatedPanTiltOptions head_options;
   head_options.seed = options->seed;
   head_options.wander = 0.3;  // both joints sweep: the offsets before the camera's mount are told from it
+  head_options.tilt_origin_error = tilt_origin_error;
   options->head = simulatePanTilt(simulatedStillPoses(*options, rig->target), sensors[camera].reference_from_sensor, head_options);
   options->head_sensor = camera;
   rig->joints = truth->joints = options->head->joints;
   for (JointDescription& joint : rig->joints) joint.offset = 0.0;  // the unknowns
+  rig->joints.back().origin.translation() -= tilt_origin_error;  // the model's
   rig->sensors[camera].parent = truth->sensors[camera].parent = options->head->joints.back().child;
   truth->sensors[camera].pose = sensors[camera].reference_from_sensor;
   if (pose_known) rig->sensors[camera].pose = sensors[camera].reference_from_sensor, rig->sensors[camera].pose_known = true;

@@ -99,8 +99,9 @@ const char kUsage[] =
     "  --head              (--arm) a pan-tilt head beside the arm, a metre from its base, with a camera\n"
     "                      (head_camera on head_tilt_link) turned towards the board at each still pose; its\n"
     "                      joints on /joint_states with the arm's, their zeros off like the arm's\n"
-    "  --link-error M      (--arm) the true upper arm M metres longer than rig.yaml's model (elbow_joint's origin)\n"
-    "  --free-origins J[,J...]   (--arm) rig.yaml's free_joint_origins: those joints' origins solved too\n"
+    "  --link-error M      (--arm) the true upper arm M metres longer than rig.yaml's model (elbow_joint's origin);\n"
+    "                      (--pan-tilt) the tilt joint M metres higher than the model's (head_tilt_joint's origin)\n"
+    "  --free-origins J[,J...]   (--arm, --pan-tilt) rig.yaml's free_joint_origins: those joints' origins solved too\n"
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml and OUT_DIR/ground_truth.yaml (the camera and the board\n"
     "in their parents, every still pose's tool)\n"
@@ -121,6 +122,23 @@ const char kUsage[] =
     "  --seed S\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the camera the reference, the IMU without a pose) and\n"
     "OUT_DIR/ground_truth.yaml (the camera in the IMU, the IMU in the rig, the time offset and the biases)\n";
+
+// --free-origins J[,J...]: rig.yaml's free_joint_origins.
+std::vector<std::string> freeOriginsOption(const vocal::CommandLine& args) {
+  std::vector<std::string> names;
+  std::stringstream list(args.text("free-origins", ""));
+  for (std::string name; std::getline(list, name, ',');) names.push_back(name);
+  return names;
+}
+
+// --link-error and --free-origins change a robot's joints: with --arm or --pan-tilt (`with`, the session's).
+void checkJointModelOptions(const vocal::CommandLine& args, const char* with) {
+  for (const char* option : {"link-error", "free-origins"}) {
+    if (args.has(option) && !args.has(with)) {
+      throw vocal::InputError(std::string("option --") + option + ": with --arm or --pan-tilt (a link of the robot's joints)");
+    }
+  }
+}
 
 // A robot arm's hand-eye session (hand_eye_bag.h).
 int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
@@ -145,8 +163,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     throw vocal::InputError("option --forearm: with --arm (a camera on the forearm moves with the arm's first joints)");
   }
   if (args.has("head") && !args.has("arm")) throw vocal::InputError("option --head: with --arm (the head's joints are read with the arm's)");
-  for (const char* option : {"link-error", "free-origins"})
-    if (args.has(option) && !args.has("arm")) throw vocal::InputError(std::string("option --") + option + ": with --arm (a link of the arm's joints)");
+  checkJointModelOptions(args, "arm");
   // --arm: a 6-joint arm reaches the poses; its readings on /joint_states, the rig names its joints.
   std::optional<vocal::SimulatedJointArm> joint_arm;
   if (args.has("arm")) {
@@ -169,10 +186,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     }
     rig.sensors.front().pose = arm.camera;  // the fixed camera, in the base frame
   }
-  if (args.has("free-origins")) {
-    std::stringstream names(args.text("free-origins", ""));
-    for (std::string name; std::getline(names, name, ',');) rig.free_joint_origins.push_back(name);
-  }
+  rig.free_joint_origins = freeOriginsOption(args);
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose, joint_arm ? &*joint_arm : nullptr);
   vocal::HandEyeBagOptions bag_options;
@@ -258,6 +272,7 @@ int run(const vocal::CommandLine& args) {
   if (args.has("arm")) throw vocal::InputError("option --arm: with --eye-in-hand or --eye-to-hand");
   const bool pan_tilt = args.has("pan-tilt");
   if (args.has("pose-known") && !pan_tilt) throw vocal::InputError("option --pose-known: with --pan-tilt");
+  checkJointModelOptions(args, "pan-tilt");
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   std::vector<vocal::SimulatedSensor> sensors =
@@ -331,7 +346,8 @@ int run(const vocal::CommandLine& args) {
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, target, true);
-  if (pan_tilt) vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, args.has("pose-known"));
+  if (pan_tilt) vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, args.has("pose-known"), Eigen::Vector3d(0.0, 0.0, args.number("link-error", 0.0)));
+  rig.free_joint_origins = freeOriginsOption(args);
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeRigDescription(dir + "/ground_truth.yaml", truth);
   const vocal::SimulatedSessionSummary summary = vocal::writeSimulatedCalibrationBag(sensors, rig, options, dir + "/session.bag");

@@ -93,9 +93,10 @@ struct SimulatedSessionSummary {
 std::vector<SimulatedSensor> panTiltRig();
 // Puts the last of `sensors` (panTiltRig) on a pan-tilt head aimed at each still pose of `options` (sets its
 // head and head_sensor), and names the head's joints in `rig` (offsets unknown: 0; the camera's mount given
-// as known when `pose_known`) and in `truth` (their true offsets, the camera's mount).
+// as known when `pose_known`) and in `truth` (their true offsets, the camera's mount); the tilt joint's true
+// origin `tilt_origin_error` (metres, in the pan link) from the one `rig` gives (a head built off its model).
 void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
-                      RigDescription* truth, bool pose_known);
+                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero());
 
 // The board's still poses of a session (rig frame): the rig simulator's spread tilts facing the rig.
 std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target);
