@@ -1147,6 +1147,16 @@ TEST(JointedCalibration, ArmSessionThroughCalibrateRig) {
         << truth["joints"][j]["name"].as<std::string>();
   }
   EXPECT_TRUE(result["calibration"]["elbow_joint"]);
+  // The camera's focal lengths refined with the arm's motion: printed and written; the simulator's
+  // camera_info is right, so they stay within 0.5 % of it.
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --refine-intrinsics --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("intrinsics: arm_camera: focal lengths fx "), std::string::npos) << r.output;
+  const YAML::Node intrinsics = YAML::LoadFile(folder + "/calibration.yaml")["sensors"][0]["intrinsics"];
+  ASSERT_TRUE(intrinsics) << "no intrinsics in calibration.yaml";
+  const std::vector<double> given = intrinsics["given"].as<std::vector<double>>(), refined = intrinsics["refined"].as<std::vector<double>>();
+  EXPECT_NEAR(refined[0], given[0], 0.005 * given[0]);
+  EXPECT_DOUBLE_EQ(refined[2], given[2]);
   // Without the joint states the rig cannot place the tool: said so.
   vocal_test::writeText(folder + "/elsewhere.yaml", "joint_states_topic: /arm/joint_states\n" + [&] {
     std::ifstream rig(folder + "/rig.yaml");

@@ -179,7 +179,8 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
     const RigDescription& rig = session_->rig();
     const HandEyeAssociation association = session_->handEyeAssociation();
     const HandEyeFrames frames = handEyeFrames(rig, *arm_);
-    const HandEyeOptions options = session_->handEyeOptions();  // an arm whose tool comes from its joints, the board's size
+    HandEyeOptions options = session_->handEyeOptions();  // an arm whose tool comes from its joints, the board's size
+    options.intrinsics.enabled = refine_intrinsics_;
     const HandEyeResult result = calibrateArmRig(frames.solverSensors(), !arm_->eye_in_hand, association.stations, options);
     std::ostringstream summary;
     summary << "calibrated " << rig.sensors.size() << " sensor" << (rig.sensors.size() == 1 ? "" : "s") << " (" << handEyeSetupName(result.setup)

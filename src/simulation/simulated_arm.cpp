@@ -97,7 +97,7 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
 }
 
 std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, const TargetPattern& pattern, const PinholeCamera& camera,
-                                                    int views, double pixel_noise, std::mt19937* rng) {
+                                                    int views, double pixel_noise, std::mt19937* rng, const PinholeCamera* camera_info) {
   std::normal_distribution<double> noise(0.0, pixel_noise);
   const std::vector<Eigen::Vector3d> corners = pattern.corners();
   std::vector<HandEyeStation> stations;
@@ -110,7 +110,7 @@ std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, con
     for (int v = 0; v < views; ++v) {
       std::vector<Eigen::Vector2d> pixels;
       for (const Eigen::Vector3d& c : corners) pixels.push_back(camera.project(camera_from_board * c) + Eigen::Vector2d(noise(*rng), noise(*rng)));
-      station.views.push_back({0, observePattern(pixels, pattern, camera, "simulated arm camera").plane, {}, {}});
+      station.views.push_back({0, observePattern(pixels, pattern, camera_info ? *camera_info : camera, "simulated arm camera").plane, {}, {}});
     }
     stations.push_back(std::move(station));
   }

@@ -253,10 +253,20 @@ void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Mat
   std::printf("\n");
 }
 
+// A camera's intrinsics refined with the poses (--refine-intrinsics), and what to do when they moved far.
+void printRefinedIntrinsics(const std::string& name, const Eigen::Vector4d& given, const Eigen::Vector4d& refined, const Eigen::Vector4d& sigma) {
+  const double change = 100.0 * (refined[0] / given[0] - 1.0);
+  std::printf("intrinsics: %s: focal lengths fx %.1f -> %.1f, fy %.1f -> %.1f px (%+.1f %%, sigma %.1f px)", name.c_str(), given[0], refined[0],
+              given[1], refined[1], change, sigma[0]);
+  if (refined.tail<2>() != given.tail<2>()) std::printf(", principal point (%.1f, %.1f) -> (%.1f, %.1f) px", given[2], given[3], refined[2], refined[3]);
+  std::printf("%s\n", std::abs(change) > 1.0 ? ": its camera_info is off by more than 1 %; put the refined values in its K" : "");
+}
+
 // A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
-  const vocal::HandEyeOptions options = session.handEyeOptions();
+  vocal::HandEyeOptions options = session.handEyeOptions();
+  options.intrinsics.enabled = args.has("refine-intrinsics");
   if (arm.from_joints) {
     // The tool from the arm's joint states (read with the session), its joints' offsets solved.
     std::printf("%zu joint readings on %s: the tool %s from the arm's %zu joints\n", session.jointReadings(), rig.joint_states_topic.c_str(),
@@ -294,6 +304,10 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
               &result.sensor_spreads[s]);
   }
   printPose(("board in " + board_parent).c_str(), result.board, &result.board_sigma, nullptr);
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (!result.given_intrinsics[s].isZero())
+      printRefinedIntrinsics(rig.sensors[s].spec.name, result.given_intrinsics[s], result.refined_intrinsics[s], result.intrinsics_sigma[s]);
+  }
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     if (result.held[s]) std::printf("%s held at the pose the rig gives in %s\n", rig.sensors[s].spec.name.c_str(), frames.parentOf(s).c_str());
   }
@@ -610,15 +624,7 @@ int run(const vocal::CommandLine& args) {
   std::printf("rms point-to-plane: %.3f mm\n", 1000 * result.rms);
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorCalibration& c = result.sensors[s];
-    if (!c.intrinsicsRefined()) continue;
-    const double change = 100.0 * (c.refined_intrinsics[0] / c.given_intrinsics[0] - 1.0);
-    std::printf("intrinsics: %s: focal lengths fx %.1f -> %.1f, fy %.1f -> %.1f px (%+.1f %%, sigma %.1f px)", rig.sensors[s].spec.name.c_str(),
-                c.given_intrinsics[0], c.refined_intrinsics[0], c.given_intrinsics[1], c.refined_intrinsics[1], change, c.intrinsics_sigma[0]);
-    if (c.refined_intrinsics.tail<2>() != c.given_intrinsics.tail<2>()) {
-      std::printf(", principal point (%.1f, %.1f) -> (%.1f, %.1f) px", c.given_intrinsics[2], c.given_intrinsics[3], c.refined_intrinsics[2],
-                  c.refined_intrinsics[3]);
-    }
-    std::printf("%s\n", std::abs(change) > 1.0 ? ": its camera_info is off by more than 1 %; put the refined values in its K" : "");
+    if (c.intrinsicsRefined()) printRefinedIntrinsics(rig.sensors[s].spec.name, c.given_intrinsics, c.refined_intrinsics, c.intrinsics_sigma);
   }
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
   std::optional<vocal::PoseJackknife> spread;

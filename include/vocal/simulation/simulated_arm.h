@@ -57,9 +57,10 @@ struct SimulatedArm {
 SimulatedArm simulateArm(const SimulatedArmOptions& options);
 
 // The stations of a session of `arm`: at each pose, `views` images' corners of `pattern` projected
-// through `camera` with `pixel_noise` (pixels) and observed as calibrate_rig does (observePattern).
+// through `camera` with `pixel_noise` (pixels) and observed as calibrate_rig does (observePattern) with
+// the intrinsics `camera_info` gives (null: `camera`'s; a camera_info whose focal length is off).
 std::vector<HandEyeStation> simulateHandEyeStations(const SimulatedArm& arm, const TargetPattern& pattern, const PinholeCamera& camera,
-                                                    int views, double pixel_noise, std::mt19937* rng);
+                                                    int views, double pixel_noise, std::mt19937* rng, const PinholeCamera* camera_info = nullptr);
 
 // A range sensor's board points at pose k: the board's `width` x `height` rectangle sampled on a grid
 // `spacing` apart, seen from `base_from_sensor` (where the sensor is at pose k: fixed, or on the tool

@@ -52,6 +52,12 @@ std::string yamlQuoted(const std::string& text) {
 namespace {
 // A free joint origin as solved, a YAML flow map: the origin (xyz m, rpy rad), its correction from the
 // model's and standard deviations (turn about x y z in rad, shift along x y z in m; zero: held), what fixed it.
+// A camera's intrinsics refined with the poses, as a sensor entry's `intrinsics:` block.
+std::string refinedIntrinsicsYaml(const Eigen::Vector4d& given, const Eigen::Vector4d& refined, const Eigen::Vector4d& sigma) {
+  return "    intrinsics:  # fx fy cx cy, px: refined with the poses (--refine-intrinsics); the refined ones go in its camera_info's K\n"
+         "      given: " + listOf(given) + "\n      refined: " + listOf(refined) + "\n      stddev: " + listOf(sigma) + "\n";
+}
+
 std::string freeOriginYaml(const JointCalibration& joint) {
   const Eigen::Vector3d t = joint.origin.translation(), rpy = rollPitchYawFromRotation(joint.origin.rotation());
   return "{xyz: " + listOf(t) + ", rpy: " + listOf(rpy) + ", correction: " + listOf(joint.origin_correction) +
@@ -122,17 +128,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
       file << "    published: " << (why.empty() ? "true" : "false") << "\n";
       if (!why.empty()) file << "    withheld_because: " << yamlQuoted(why) << "\n";
     }
-    if (c.intrinsicsRefined()) {
-      const auto list = [&](const Eigen::Vector4d& v) {
-        std::ostringstream out;
-        out << "[" << v[0] << ", " << v[1] << ", " << v[2] << ", " << v[3] << "]";
-        return out.str();
-      };
-      file << "    intrinsics:  # fx fy cx cy, px: refined with the poses (--refine-intrinsics); the refined ones go in its camera_info's K\n"
-           << "      given: " << list(c.given_intrinsics) << "\n"
-           << "      refined: " << list(c.refined_intrinsics) << "\n"
-           << "      stddev: " << list(c.intrinsics_sigma) << "\n";
-    }
+    if (c.intrinsicsRefined()) file << refinedIntrinsicsYaml(c.given_intrinsics, c.refined_intrinsics, c.intrinsics_sigma);
     if (spread && s < spread->standard_deviation.size()) {
       const Vector6d& jk = spread->standard_deviation[s];
       file << "    translation_spread: [" << jk[0] << ", " << jk[1] << ", " << jk[2] << "]  # m, jackknife over still poses\n"
@@ -348,6 +344,8 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << "    translation_spread: " << listOf(result.sensor_spreads[s].head<3>()) << "  # m, jackknife over the arm's poses\n"
          << "    rotation_spread: " << listOf(result.sensor_spreads[s].tail<3>()) << "  # rad\n"
          << "    published: " << (withheld[s].empty() ? "true" : "false") << "\n";
+    if (s < result.given_intrinsics.size() && !result.given_intrinsics[s].isZero())
+      file << refinedIntrinsicsYaml(result.given_intrinsics[s], result.refined_intrinsics[s], result.intrinsics_sigma[s]);
     if (s < result.held.size() && result.held[s]) file << "    held: true  # at the pose the rig gives\n";
     if (!withheld[s].empty()) file << "    withheld_because: " << yamlQuoted(withheld[s]) << "\n";
   }

@@ -34,24 +34,6 @@ namespace {
 // camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
 // pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
 // measurement's covariance.
-// The pattern's pose as a camera's intrinsics correction `intrinsics` (relative,
-// PlaneMeasurement::pose_per_intrinsics) moves it, to first order: R exp([w]x) ~ R (I + [w]x), t + dt.
-template <typename T>
-struct PatternPoseCorrected {
-  PatternPoseCorrected(const Eigen::Isometry3d& measured, const Eigen::Matrix<double, 6, 4>& pose_per_intrinsics, const T* intrinsics)
-      : measured(measured), moved(pose_per_intrinsics.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics)) {}
-  // A direction, and a point, of the pattern's frame in the camera's.
-  Eigen::Matrix<T, 3, 1> direction(const Eigen::Vector3d& in_pattern) const {
-    const Eigen::Matrix<T, 3, 1> e = in_pattern.cast<T>();
-    return measured.linear().cast<T>() * (e + moved.template head<3>().cross(e));
-  }
-  Eigen::Matrix<T, 3, 1> point(const Eigen::Vector3d& in_pattern) const {
-    return direction(in_pattern) + measured.translation().cast<T>() + moved.template tail<3>();
-  }
-  const Eigen::Isometry3d& measured;
-  Eigen::Matrix<T, 6, 1> moved;
-};
-
 struct PlaneMeasurementResidual {
   explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
       : sensor_from_pattern(measurement.sensor_from_pattern), pose_per_intrinsics(measurement.pose_per_intrinsics) {
@@ -98,28 +80,6 @@ struct PlaneMeasurementWithIntrinsics {
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, const T* intrinsics, T* residual) const {
     return measurement.evaluate<T>(rotation, translation, normal, offset, intrinsics, residual);
-  }
-};
-
-// What one view's corners say of the intrinsics correction beyond the pose (PlaneMeasurement::evidence_*).
-struct IntrinsicsEvidenceResidual {
-  Eigen::Matrix4d matrix;
-  Eigen::Vector4d offset;
-  template <typename T>
-  bool operator()(const T* intrinsics, T* residual) const {
-    Eigen::Map<Eigen::Matrix<T, 4, 1>> out(residual);
-    out = matrix.cast<T>() * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(intrinsics) + offset.cast<T>();
-    return true;
-  }
-};
-
-// The camera_info's intrinsics as a prior: each relative change in its sigma.
-struct IntrinsicsPrior {
-  Eigen::Vector4d sigma;
-  template <typename T>
-  bool operator()(const T* intrinsics, T* residual) const {
-    for (int k = 0; k < 4; ++k) residual[k] = intrinsics[k] / T(sigma[k]);
-    return true;
   }
 };
 
@@ -391,11 +351,7 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
       addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
                                                     new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board, chain,
                                                     intrinsics);
-      if (intrinsics && !measurement.evidence_matrix.isZero()) {
-        problem->AddResidualBlock(new ceres::AutoDiffCostFunction<IntrinsicsEvidenceResidual, 4, 4>(
-                                      new IntrinsicsEvidenceResidual{measurement.evidence_matrix, measurement.evidence_offset}),
-                                  nullptr, intrinsics);
-      }
+      if (intrinsics) addIntrinsicsEvidence(problem, measurement, intrinsics);
       if (board && intrinsics) {
         for (const Eigen::Vector3d& q : patternOutline(edges)) {
           addSensorResidual<CameraOutlineWithIntrinsics, 1, 4, 3, 4>(
@@ -414,13 +370,6 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
   addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
                                                   new ceres::HuberLoss(threshold), sensor, plane, board, chain);
   if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
-}
-
-// The prior on a camera's intrinsics correction; its principal point held unless the options free it.
-void addIntrinsicsPrior(ceres::Problem* problem, double* intrinsics, const IntrinsicsRefinementOptions& options) {
-  const Eigen::Vector4d sigma(options.focal_sigma, options.focal_sigma, options.centre_sigma, options.centre_sigma);
-  problem->AddResidualBlock(new ceres::AutoDiffCostFunction<IntrinsicsPrior, 4, 4>(new IntrinsicsPrior{sigma}), nullptr, intrinsics);
-  if (!options.principal_point) problem->SetManifold(intrinsics, new ceres::SubsetManifold(4, {2, 3}));
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
@@ -488,15 +437,8 @@ void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& list
 
 // A refined camera's intrinsics' standard deviations (pixels) from `problem`'s covariance (null: none).
 void setIntrinsicsStandardDeviations(ceres::Problem* problem, int s, double* intrinsics, CalibrationResult* result) {
-  if (!problem || !problem->HasParameterBlock(intrinsics)) return;
-  ceres::Covariance covariance{ceres::Covariance::Options{}};
-  const std::vector<std::pair<const double*, const double*>> blocks = {{intrinsics, intrinsics}};
-  if (!covariance.Compute(blocks, problem)) return;
-  Eigen::Matrix4d relative;
-  covariance.GetCovarianceBlock(intrinsics, intrinsics, relative.data());
   SensorCalibration& out = result->sensors[s];
-  const Eigen::Vector4d scale(out.given_intrinsics[0], out.given_intrinsics[1], out.given_intrinsics[0], out.given_intrinsics[1]);
-  out.intrinsics_sigma = relative.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseProduct(scale);
+  if (problem) out.intrinsics_sigma = intrinsicsSigma(problem, intrinsics, out.given_intrinsics);
 }
 
 // Each joint's range over the still poses of the sensors behind it (in the graph), and whether its offset
@@ -959,7 +901,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       const Eigen::Vector4d& given = given_intrinsics[s];
       const Eigen::Vector4d& dk = intrinsics_state[s];
       out.given_intrinsics = given;
-      out.refined_intrinsics = given + Eigen::Vector4d(given[0] * dk[0], given[1] * dk[1], given[0] * dk[2], given[1] * dk[3]);
+      out.refined_intrinsics = refinedIntrinsics(given, dk);
     }
   }
   // Per pose, how many sensors in the graph fixed its plane: an observation is compared with the board

@@ -299,6 +299,7 @@ struct ArmGraph {
   std::vector<std::vector<double>> corrections;  // ... per station and joint of readJoints()
   std::vector<Vector6d> origins;                 // ... per joint of readJoints(): a free origin's correction (zero otherwise)
   std::vector<std::vector<int>> origin_held;     // ... its parts held at the model's (the session does not fix them)
+  std::vector<Eigen::Vector4d> intrinsics;       // per sensor: a refined camera's correction (intrinsics_refinement.h)
   std::unique_ptr<ceres::Problem> problem;
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
@@ -432,15 +433,42 @@ struct JointStarts {
   std::vector<std::vector<int>> origin_held;
 };
 
+// Per sensor: the intrinsics (fx, fy, cx, cy) its first camera view was found with where the options refine
+// them (zero for the others: not refined).
+std::vector<Eigen::Vector4d> givenIntrinsics(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options) {
+  std::vector<Eigen::Vector4d> given(rig.sensors.size(), Eigen::Vector4d::Zero());
+  for (const HandEyeStation& s : stations)
+    for (const HandEyeView& view : s.views)
+      if (options.intrinsics.enabled && rig.sensors[view.sensor].type == SensorType::kCamera && given[view.sensor].isZero())
+        given[view.sensor] = view.pattern.intrinsics;
+  return given;
+}
+
+// The stations' camera views as refined intrinsics `dk` (per sensor) move them (what the views are judged
+// by once solved); as they are where none is refined.
+std::vector<HandEyeStation> viewsAsSolved(std::vector<HandEyeStation> stations, const std::vector<Eigen::Vector4d>& dk) {
+  for (HandEyeStation& s : stations) {
+    for (HandEyeView& view : s.views) {
+      if (view.sensor >= static_cast<int>(dk.size()) || dk[view.sensor].isZero()) continue;
+      const Vector6d moved = view.pattern.pose_per_intrinsics * dk[view.sensor];
+      view.pattern.sensor_from_pattern.linear() = view.pattern.sensor_from_pattern.linear() * se3Exp((Vector6d() << moved.head<3>(), 0, 0, 0).finished()).linear();
+      view.pattern.sensor_from_pattern.translation() += moved.tail<3>();
+    }
+  }
+  return stations;
+}
+
 std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
                                      const std::vector<Eigen::Isometry3d>& sensor_starts, const Eigen::Isometry3d& board_start,
-                                     const JointStarts* joint_starts = nullptr) {
+                                     const JointStarts* joint_starts = nullptr, const std::vector<Eigen::Vector4d>* intrinsics_starts = nullptr) {
   auto graph = std::make_unique<ArmGraph>(board_start);
   graph->problem = std::make_unique<ceres::Problem>();
   ceres::Problem& problem = *graph->problem;
   // Reserved first: the residual blocks hold pointers into each state.
   graph->sensors.reserve(sensor_starts.size());
   for (const Eigen::Isometry3d& start : sensor_starts) graph->sensors.emplace_back(start);
+  const std::vector<Eigen::Vector4d> given = givenIntrinsics(rig, stations, options);
+  graph->intrinsics = intrinsics_starts ? *intrinsics_starts : std::vector<Eigen::Vector4d>(rig.sensors.size(), Eigen::Vector4d::Zero());
   graph->tools.reserve(stations.size());
   for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
   for (const HandEyeSensor& sensor : rig.sensors) {
@@ -463,6 +491,16 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
                                            sensor_frame.rotation.coeffs().data(), sensor_frame.translation.data(),
                                            board_frame.rotation.coeffs().data(),  board_frame.translation.data()};
       const bool laser = rig.sensors[view.sensor].type == SensorType::kLaser2d;
+      if (!given[view.sensor].isZero()) {  // a camera refining its intrinsics
+        double* intrinsics = graph->intrinsics[view.sensor].data();
+        std::vector<double*> with = blocks;
+        with.push_back(intrinsics);
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CameraViewWithIntrinsics, 6, 4, 3, 4, 3, 4, 3, 4, 3, 4>(
+                                     new CameraViewWithIntrinsics{CameraViewResidual(view.pattern, mounting)}),
+                                 nullptr, with);
+        addIntrinsicsEvidence(&problem, view.pattern, intrinsics);
+        continue;
+      }
       ceres::CostFunction* cost =
           laser ? beamRangeCost(view.points, estimatedPointSigma(view.points, SensorType::kLaser2d), mounting)
           : rig.sensors[view.sensor].type == SensorType::kCamera
@@ -540,6 +578,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       problem.SetParameterBlockConstant(sensor.translation.data());
     }
   }
+  for (Eigen::Vector4d& intrinsics : graph->intrinsics)
+    if (problem.HasParameterBlock(intrinsics.data())) addIntrinsicsPrior(&problem, intrinsics.data(), options.intrinsics);
   problem.SetManifold(graph->board.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   if (problem.HasParameterBlock(graph->base.translation.data())) {
     problem.SetParameterBlockConstant(graph->base.rotation.coeffs().data());
@@ -680,7 +720,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   calibratedTools();
   std::vector<Eigen::Isometry3d> solved;
   for (const PoseState& p : graph->sensors) solved.push_back(p.pose());
-  const auto [rotation_scatter, translation_scatter] = unmodelledScatter(rig, stations, solved, graph->board.pose(), options);
+  const auto [rotation_scatter, translation_scatter] =
+      unmodelledScatter(rig, viewsAsSolved(stations, graph->intrinsics), solved, graph->board.pose(), options);
   if (translation_scatter > 0.0) {
     result.unmodelled_rotation = rotation_scatter;
     result.unmodelled_translation = translation_scatter;
@@ -695,12 +736,22 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       }
     }
     const JointStarts joints{graph->offsets, graph->origins, graph->origin_held};
-    graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &joints : nullptr);
+    const std::vector<Eigen::Vector4d> intrinsics = graph->intrinsics;
+    graph = solveGraph(rig, stations, options, solved, graph->board.pose(), options.arm_joints ? &joints : nullptr, &intrinsics);
     calibratedTools();
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
   for (const HandEyeSensor& sensor : rig.sensors) result.held.push_back(sensor.given_pose.has_value());
   result.board = graph->board.pose();
+  result.given_intrinsics = givenIntrinsics(rig, stations, options);
+  result.refined_intrinsics = result.intrinsics_sigma = std::vector<Eigen::Vector4d>(rig.sensors.size(), Eigen::Vector4d::Zero());
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
+    if (result.given_intrinsics[s].isZero()) continue;
+    result.refined_intrinsics[s] = refinedIntrinsics(result.given_intrinsics[s], graph->intrinsics[s]);
+    result.intrinsics_sigma[s] = intrinsicsSigma(graph->problem.get(), graph->intrinsics[s].data(), result.given_intrinsics[s]);
+  }
+  // From here on the cameras' views are judged as the refined intrinsics put them.
+  stations = viewsAsSolved(std::move(stations), graph->intrinsics);
 
   ceres::Covariance covariance(ceres::Covariance::Options{});
   std::vector<std::pair<const double*, const double*>> blocks;

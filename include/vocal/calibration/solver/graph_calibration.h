@@ -29,6 +29,7 @@
 #include "vocal/calibration/joint_chain.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/consensus_filter.h"
+#include "vocal/calibration/solver/intrinsics_refinement.h"
 #include "vocal/calibration/solver/observability.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -57,19 +58,6 @@ struct SensorTrustOptions {
   // ... or its views' distance grows with range by more than this share (and three standard errors): 1 %
   // at 1.6 m is as far off as 1.6 cm.
   double max_scale = 0.01;
-};
-
-// The cameras' intrinsics refined with their poses: each camera's focal lengths (and, where freed, its
-// principal point) move from its camera_info's under a prior, fixed by its corners' own perspective and by
-// the other sensors' boards (a lidar's ranges are metric; a focal length 1 % off puts every board 1 % too far).
-struct IntrinsicsRefinementOptions {
-  bool enabled = false;
-  double focal_sigma = 0.02;  // the prior on each focal length, as a share of it
-  // The principal point too (off: held at camera_info's). A shift of it is nearly a turn of the camera,
-  // which its pose takes up; freed, the real OS1-64 lab's pair moved 12 mm from the factory's extrinsic
-  // where the focal lengths alone left it 8 mm.
-  bool principal_point = false;
-  double centre_sigma = 0.03;  // its prior, as a share of the focal length (20 px at 650)
 };
 
 struct CalibrationOptions {

@@ -29,6 +29,7 @@
 
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/joint_chain.h"
+#include "vocal/calibration/solver/intrinsics_refinement.h"
 
 namespace vocal {
 
@@ -105,6 +106,8 @@ struct HandEyeOptions {
   // Cauchy loss: a pose whose readings do not fit is poor), instead of the reported pose within the
   // repeatability above.
   std::optional<ArmJoints> arm_joints;
+  // Each camera's focal lengths refined with the poses (intrinsics_refinement.h), its views moved with them.
+  IntrinsicsRefinementOptions intrinsics;
 };
 
 // How far a camera view's board may lie from where the started rig puts it before the view is taken for
@@ -154,6 +157,9 @@ struct HandEyeResult {
   // fixed it) or held and why.
   std::vector<JointCalibration> joints;
   std::vector<bool> held;  // per sensor: at its given pose (HandEyeSensor::given_pose; sigma and spread zero)
+  // Per sensor, with HandEyeOptions::intrinsics: a camera's (fx, fy, cx, cy) in pixels as its camera_info gave
+  // them and as solved, and the solved ones' standard deviations; zero for the others.
+  std::vector<Eigen::Vector4d> given_intrinsics, refined_intrinsics, intrinsics_sigma;
 };
 
 // Why the arm's motion between the stations cannot fix the camera (the classic degeneracy: fewer than 3
