@@ -451,7 +451,8 @@ std::vector<HandEyeStation> viewsAsSolved(std::vector<HandEyeStation> stations, 
     for (HandEyeView& view : s.views) {
       if (view.sensor >= static_cast<int>(dk.size()) || dk[view.sensor].isZero()) continue;
       const Vector6d moved = view.pattern.pose_per_intrinsics * dk[view.sensor];
-      view.pattern.sensor_from_pattern.linear() = view.pattern.sensor_from_pattern.linear() * se3Exp((Vector6d() << moved.head<3>(), 0, 0, 0).finished()).linear();
+      const Eigen::AngleAxisd turn(moved.head<3>().norm(), moved.head<3>().normalized());
+      if (moved.head<3>().norm() > 0.0) view.pattern.sensor_from_pattern.linear() = view.pattern.sensor_from_pattern.linear() * turn.toRotationMatrix();
       view.pattern.sensor_from_pattern.translation() += moved.tail<3>();
     }
   }
@@ -799,11 +800,12 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
       }
     }
   }
+  const std::optional<ArmJoints> calibrated_arm =
+      options.arm_joints ? std::optional<ArmJoints>(withOrigins(*options.arm_joints, graph->origins)) : std::nullopt;
   for (std::size_t k = 0; k < stations.size(); ++k) {
-    // Where the arm put the tool: its readings with the offsets as solved (the arm's own report: tf).
-    const Eigen::Isometry3d reported = options.arm_joints
-                                           ? armLink(withOrigins(*options.arm_joints, graph->origins), stations[k].joint_positions, graph->offsets)
-                                           : stations[k].base_from_tool;
+    // Where the arm put the tool: its readings with the offsets (and origins) as solved (the arm's own report: tf).
+    const Eigen::Isometry3d reported =
+        calibrated_arm ? armLink(*calibrated_arm, stations[k].joint_positions, graph->offsets) : stations[k].base_from_tool;
     const Eigen::Isometry3d solved_tool = graph->tools[k].pose();
     result.tool_shift.push_back((solved_tool.translation() - reported.translation()).norm());
     result.tool_turn.push_back(rotationAngle(reported.inverse() * solved_tool));
