@@ -36,9 +36,11 @@ PoseError errorOf(const Eigen::Isometry3d& found, const Eigen::Isometry3d& truth
   return {(found.translation() - truth.translation()).norm(), vocal::rotationAngle(truth.inverse() * found)};
 }
 
-std::vector<vocal::HandEyeStation> stationsOf(const vocal::SimulatedArm& arm, std::uint32_t seed, double pixel_noise = 0.2) {
+// `camera_info`: the intrinsics the views are found with (null: the wrist camera's own).
+std::vector<vocal::HandEyeStation> stationsOf(const vocal::SimulatedArm& arm, std::uint32_t seed, double pixel_noise = 0.2,
+                                              const vocal::PinholeCamera* camera_info = nullptr) {
   std::mt19937 rng(seed);
-  return vocal::simulateHandEyeStations(arm, kPattern, wristCamera(), 3, pixel_noise, &rng);
+  return vocal::simulateHandEyeStations(arm, kPattern, wristCamera(), 3, pixel_noise, &rng, camera_info);
 }
 
 void expectWithin(const PoseError& e, double metres, double radians, const std::string& what) {
@@ -81,8 +83,7 @@ TEST(HandEyeCalibration, AWristCamerasFocalLengthOffIsRefinedWithTheArmsMotion) 
     const vocal::SimulatedArm arm = vocal::simulateArm(arm_options);
     vocal::PinholeCamera camera_info = wristCamera();
     camera_info.fx *= 1.03, camera_info.fy *= 1.03;
-    std::mt19937 rng(5);
-    const std::vector<vocal::HandEyeStation> stations = vocal::simulateHandEyeStations(arm, kPattern, wristCamera(), 3, 0.2, &rng, &camera_info);
+    const std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 5, 0.2, &camera_info);
     const vocal::HandEyeResult given = vocal::calibrateHandEye(stations, setup);
     EXPECT_TRUE(given.given_intrinsics[0].isZero());  // not refined
     vocal::HandEyeOptions options;

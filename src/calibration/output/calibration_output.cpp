@@ -1,5 +1,6 @@
 #include "vocal/calibration/output/calibration_output.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -50,14 +51,14 @@ std::string yamlQuoted(const std::string& text) {
 }
 
 namespace {
-// A free joint origin as solved, a YAML flow map: the origin (xyz m, rpy rad), its correction from the
-// model's and standard deviations (turn about x y z in rad, shift along x y z in m; zero: held), what fixed it.
 // A camera's intrinsics refined with the poses, as a sensor entry's `intrinsics:` block.
 std::string refinedIntrinsicsYaml(const Eigen::Vector4d& given, const Eigen::Vector4d& refined, const Eigen::Vector4d& sigma) {
   return "    intrinsics:  # fx fy cx cy, px: refined with the poses (--refine-intrinsics); the refined ones go in its camera_info's K\n"
          "      given: " + listOf(given) + "\n      refined: " + listOf(refined) + "\n      stddev: " + listOf(sigma) + "\n";
 }
 
+// A free joint origin as solved, a YAML flow map: the origin (xyz m, rpy rad), its correction from the
+// model's and standard deviations (turn about x y z in rad, shift along x y z in m; zero: held), what fixed it.
 std::string freeOriginYaml(const JointCalibration& joint) {
   const Eigen::Vector3d t = joint.origin.translation(), rpy = rollPitchYawFromRotation(joint.origin.rotation());
   return "{xyz: " + listOf(t) + ", rpy: " + listOf(rpy) + ", correction: " + listOf(joint.origin_correction) +
@@ -367,8 +368,9 @@ void writeHandEyeYaml(const std::string& path, const HandEyeFrames& frames, cons
          << q.y() << ", " << q.z() << ", " << q.w() << "]}\n";
   }
   if (!result.joints.empty() && result.joints.size() == frames.joint_names.size()) {
-    file << "joints:  # the arm's chain, then other links' (a head's): offsets added to each joint's reading (radians; metres for a prismatic joint);\n"
-         << "         # a free origin as solved, its correction from the model's: turn about x y z (rad), shift along x y z (m)\n";
+    const bool any_origin = std::any_of(result.joints.begin(), result.joints.end(), [](const JointCalibration& j) { return j.origin_free; });
+    file << "joints:  # the arm's chain, then other links' (a head's): offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
+    if (any_origin) file << "         # a free origin as solved, its correction from the model's: turn about x y z (rad), shift along x y z (m)\n";
     for (std::size_t i = 0; i < result.joints.size(); ++i) {
       const JointCalibration& joint = result.joints[i];
       if (!joint.reported) continue;

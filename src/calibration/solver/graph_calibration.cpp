@@ -435,12 +435,6 @@ void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& list
   }
 }
 
-// A refined camera's intrinsics' standard deviations (pixels) from `problem`'s covariance (null: none).
-void setIntrinsicsStandardDeviations(ceres::Problem* problem, int s, double* intrinsics, CalibrationResult* result) {
-  SensorCalibration& out = result->sensors[s];
-  if (problem) out.intrinsics_sigma = intrinsicsSigma(problem, intrinsics, out.given_intrinsics);
-}
-
 // Each joint's range over the still poses of the sensors behind it (in the graph), and whether its offset
 // can be solved: a joint's offset turns (shifts) everything after it in the chain, which the mount at
 // the chain's end takes up exactly unless a joint after it moved over the session.
@@ -990,7 +984,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   setStandardDeviations(&problem, in_graph, sensor_state, &result);
   for (int s = 0; s < sensor_count; ++s) {
     ceres::Problem* own = isolated[s] ? isolated_problems[s].get() : &problem;
-    if (intrinsicsOf(s)) setIntrinsicsStandardDeviations(own, s, intrinsicsOf(s), &result);
+    if (intrinsicsOf(s) && own) result.sensors[s].intrinsics_sigma = intrinsicsSigma(own, intrinsicsOf(s), given_intrinsics[s]);
   }
   setJointStandardDeviations(&problem, joint_offsets, &result);
   setFreeOriginResults(&problem, origin_corrections, origin_held, mounts.joints, mounts.tolerances, &result.joints);
@@ -1044,11 +1038,7 @@ const TargetObservation& CalibrationResult::viewAsSolved(const TargetObservation
   if (!sensor.intrinsicsRefined() || o.plane_measurements.empty()) return o;
   const Eigen::Vector4d dk = sensor.intrinsicsCorrection();
   *moved = o;
-  for (PlaneMeasurement& m : moved->plane_measurements) {
-    const Eigen::Matrix<double, 6, 1> change = m.pose_per_intrinsics * dk;
-    m.sensor_from_pattern.linear() = m.sensor_from_pattern.linear() * so3Exp(change.head<3>());
-    m.sensor_from_pattern.translation() += change.tail<3>();
-  }
+  for (PlaneMeasurement& m : moved->plane_measurements) m = movedByIntrinsics(m, dk);
   // The corners were placed by the first view's pose.
   const Eigen::Isometry3d shift = moved->plane_measurements.front().sensor_from_pattern * o.plane_measurements.front().sensor_from_pattern.inverse();
   for (Eigen::Vector3d& p : moved->points) p = shift * p;

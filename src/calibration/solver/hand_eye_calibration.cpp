@@ -447,15 +447,9 @@ std::vector<Eigen::Vector4d> givenIntrinsics(const ArmRig& rig, const std::vecto
 // The stations' camera views as refined intrinsics `dk` (per sensor) move them (what the views are judged
 // by once solved); as they are where none is refined.
 std::vector<HandEyeStation> viewsAsSolved(std::vector<HandEyeStation> stations, const std::vector<Eigen::Vector4d>& dk) {
-  for (HandEyeStation& s : stations) {
-    for (HandEyeView& view : s.views) {
-      if (view.sensor >= static_cast<int>(dk.size()) || dk[view.sensor].isZero()) continue;
-      const Vector6d moved = view.pattern.pose_per_intrinsics * dk[view.sensor];
-      const Eigen::AngleAxisd turn(moved.head<3>().norm(), moved.head<3>().normalized());
-      if (moved.head<3>().norm() > 0.0) view.pattern.sensor_from_pattern.linear() = view.pattern.sensor_from_pattern.linear() * turn.toRotationMatrix();
-      view.pattern.sensor_from_pattern.translation() += moved.tail<3>();
-    }
-  }
+  for (HandEyeStation& s : stations)
+    for (HandEyeView& view : s.views)
+      if (view.sensor < static_cast<int>(dk.size()) && !dk[view.sensor].isZero()) view.pattern = movedByIntrinsics(view.pattern, dk[view.sensor]);
   return stations;
 }
 

@@ -6,7 +6,17 @@
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
 
+#include "vocal/core/se3.h"
+
 namespace vocal {
+
+PlaneMeasurement movedByIntrinsics(const PlaneMeasurement& view, const Eigen::Vector4d& dk) {
+  PlaneMeasurement moved = view;
+  const Eigen::Matrix<double, 6, 1> change = view.pose_per_intrinsics * dk;
+  moved.sensor_from_pattern.linear() = view.sensor_from_pattern.linear() * so3Exp(change.head<3>());
+  moved.sensor_from_pattern.translation() += change.tail<3>();
+  return moved;
+}
 
 void addIntrinsicsPrior(ceres::Problem* problem, double* intrinsics, const IntrinsicsRefinementOptions& options) {
   const Eigen::Vector4d sigma(options.focal_sigma, options.focal_sigma, options.centre_sigma, options.centre_sigma);

@@ -72,6 +72,10 @@ inline Eigen::Vector4d refinedIntrinsics(const Eigen::Vector4d& given, const Eig
   return given + Eigen::Vector4d(given[0] * dk[0], given[1] * dk[1], given[0] * dk[2], given[1] * dk[3]);
 }
 
+// `view` as the correction `dk` moves it (R exp([w]x), t + dt): where its corners would have put the
+// pattern with the refined intrinsics.
+PlaneMeasurement movedByIntrinsics(const PlaneMeasurement& view, const Eigen::Vector4d& dk);
+
 // The prior on a camera's correction block `intrinsics`; its principal point held unless `options` free it.
 void addIntrinsicsPrior(ceres::Problem* problem, double* intrinsics, const IntrinsicsRefinementOptions& options);
 // One view's corners' own evidence on the block (nothing where the view has none).
