@@ -485,12 +485,13 @@ TEST(ToolsCli, CalibrateRigFromASessionRecordedAtThreeHertz) {
 // metre long, which the room-plane search took for a wall until their thin parts were opened away; now
 // the board is found and the camera beside it calibrated. With the rig's board size wrong, the depth
 // camera misses it, and its count line says why without --report (the calibration stops for want of its
-// views before any report).
+// views before any report). Ten poses: at six, 4 are still in both sensors, and the board's pose without
+// one of them rests on three near-parallel planes (the camera then moves 44 mm: uncertain, withheld).
 TEST(ToolsCli, CalibrateRigFindsASmallBoardOnAStandAndSaysWhyItMissedAWrongOne) {
   const std::string folder = vocal_test::makeTempFolder("cli_calibrate_rig_small_board");
   RunResult r = runTool("simulate_calibration_session " + folder +
                         " --board-width 0.216 --board-height 0.279 --pattern-cols 4 --pattern-rows 6 --square 0.035 --stand"
-                        " --rgbd 1 --lidar 0 --laser 0 --camera 1 --poses 6 --seed 3");
+                        " --rgbd 1 --lidar 0 --laser 0 --camera 1 --poses 10 --seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -498,8 +499,8 @@ TEST(ToolsCli, CalibrateRigFindsASmallBoardOnAStandAndSaysWhyItMissedAWrongOne) 
   const std::size_t line = r.output.find("  rgbd0        rgbd     target in ");
   ASSERT_NE(line, std::string::npos) << r.output;
   ASSERT_EQ(std::sscanf(r.output.c_str() + line, "  rgbd0 rgbd target in %d of %d", &found, &received), 2) << r.output;
-  EXPECT_EQ(received, 60);
-  EXPECT_GE(found, 30) << r.output;  // before: 0 (51 "larger than the board")
+  EXPECT_EQ(received, 100);
+  EXPECT_GE(found, 50) << r.output;  // before: 0 of 60 (51 "larger than the board")
   expectCalibrationMatchesTheTruth(folder + "/calibration.yaml", folder + "/ground_truth.yaml", 0.01, 0.01);
 
   std::string rig = vocal_test::readText(folder + "/rig.yaml");
@@ -515,7 +516,7 @@ TEST(ToolsCli, CalibrateRigFindsASmallBoardOnAStandAndSaysWhyItMissedAWrongOne) 
   EXPECT_NE(counts.find("; the others refused as: smaller than the board "), std::string::npos) << counts;
   EXPECT_NE(counts.find(" (the rig's board: 0.900 x 1.200 m)"), std::string::npos) << counts;
   // The camera, which found its pattern in every image, says nothing more.
-  EXPECT_NE(r.output.find("  camera0      camera   target in 60 of 60 messages\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  camera0      camera   target in 100 of 100 messages\n"), std::string::npos) << r.output;
 }
 
 TEST(ToolsCli, CalibrateRigFromARecordedSession) {

@@ -55,7 +55,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       }
     }
     consensus_filter_ = pnh.param("consensus_filter", true);
-    board_edges_ = pnh.param("board_edges", false);
+    board_edges_ = pnh.param("board_edges", true);
     refine_intrinsics_ = pnh.param("refine_intrinsics", false);
     ring_offsets_.enabled = pnh.param("ring_offsets", true);
     publish_uncertain_ = pnh.param("publish_uncertain", false);
@@ -518,7 +518,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
 
   std::string output_dir_, setup_error_, last_problem_, last_result_;
   bool consensus_filter_ = true;
-  bool board_edges_ = false;  // the board's outline as well as its plane (a target tilted only up and down)
+  bool board_edges_ = true;  // the board's outline as well as its plane (a pose per still pose)
   bool refine_intrinsics_ = false;  // the cameras' focal lengths refined with the poses
   RingOffsetOptions ring_offsets_;  // a 3D lidar's range offset per ring from the room's planes (~ring_offsets)
   SessionMemoryOptions memory_;     // ~max_held_mb: the session's budget for target data

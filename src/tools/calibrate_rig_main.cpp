@@ -38,8 +38,9 @@ const char kUsage[] =
     "  BAG                 a recorded session: the target held still at many poses, moved in between\n"
     "  --output-dir DIR    write DIR/calibration.yaml, DIR/calibration.urdf, DIR/calibration.launch\n"
     "  --no-filter         keep every observation (no sampling-consensus filter)\n"
-    "  --edges             hold the board's outline as well as its plane (range sensors' scan-line ends on its\n"
-    "                      edges, the cameras' board outline): solves a target tilted mainly up and down\n"
+    "  --no-edges          hold the board's plane only (by default its outline too: range sensors' scan-line\n"
+    "                      ends on its edges and the cameras' board outline, on the board's pose per still pose,\n"
+    "                      which fixes a target tilted mainly up and down; --edges is accepted, the default)\n"
     "  --refine-intrinsics refine each camera's focal lengths with the poses (a 2 % prior on camera_info's;\n"
     "                      fixed by the corners' perspective and the other sensors' boards): for a camera_info\n"
     "                      whose focal length is off; printed and written to calibration.yaml\n"
@@ -572,7 +573,7 @@ int run(const vocal::CommandLine& args) {
   }
   vocal::CalibrationOptions options;
   options.consensus_filter = !args.has("no-filter");
-  options.board_edges.enabled = args.has("edges");
+  options.board_edges.enabled = !args.has("no-edges");
   options.intrinsics.enabled = args.has("refine-intrinsics");
   options.trust.isolate = !args.has("no-isolation");
   // Before association: the lidars' board points depend on whether their offsets are applied.
@@ -684,5 +685,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads", "imu-bag"}, {"no-filter", "quiet", "report", "edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads", "imu-bag"}, {"no-filter", "quiet", "report", "edges", "no-edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
 }

@@ -28,7 +28,7 @@ const char kUsage[] =
     "                                            the first RGB-D sensor is the reference)\n"
     "  --poses N           still target poses (default 12)\n"
     "  --turn RAD          how far the target turns left / right (default: as far as it tilts, 0.6 rad);\n"
-    "                      e.g. 0.03: tilted mainly up and down (calibrate_rig --edges)\n"
+    "                      e.g. 0.03: tilted mainly up and down (calibrate_rig's board edges)\n"
     "  --noise M           range noise, metres (default 0.001)\n"
     "  --room ROOM         plain (default: floor and one wall) or furnished (walls all round, ceiling, a\n"
     "                      cabinet whose front is the board's size, a table, a shelf, a sofa)\n"

@@ -31,8 +31,8 @@ Eigen::Isometry3d alignPlanes(const std::vector<Plane>& in_a, const std::vector<
     const Eigen::Vector3d weak = spread.matrixV().col(2);
     message << what << ": the target planes are too close to parallel (normal spread " << singular[2] / singular[0]
             << " < 0.05): translation along [" << weak.x() << " " << weak.y() << " " << weak.z()
-            << "] is unconstrained; tilt the target more between poses, or calibrate with the board's edges as well (calibrate_rig "
-               "--edges, the nodelet's board_edges)";
+            << "] is unconstrained; tilt the target more between poses, or calibrate with the board's edges as well (calibrate_rig's "
+               "and the nodelet's default: leave out --no-edges, set board_edges true)";
     throw InputError(message.str());
   }
   Eigen::Matrix3d correlation = Eigen::Matrix3d::Zero();
