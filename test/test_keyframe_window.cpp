@@ -64,6 +64,22 @@ TEST(KeyframeWindow, RefinedPosesAreTheLeastSquaresFitOfTheLinksInTheirFrames) {
   EXPECT_LT(vocal::rotationAngle(truth[2].inverse() * *window.pose(2)), 1e-6);
 }
 
+// A pair solved again (a keyframe tracked coarse, its link solved at full resolution) replaces its link,
+// and even a chain is placed again by it: the newer keyframe moves to the held one times the new link.
+TEST(KeyframeWindow, ALinkSolvedAgainReplacesThePairsAndPlacesTheChainAgain) {
+  vocal::KeyframeWindow window(3);
+  const Eigen::Isometry3d coarse = poseAt(0.01, {0.1, 0.0, 0.0}), fine = poseAt(0.0, {0.1, 0.002, 0.0});
+  window.addKeyframe(0, Eigen::Isometry3d::Identity());
+  window.addKeyframe(1, coarse);
+  window.addLink(link(0, 1, coarse));
+  EXPECT_FALSE(window.optimise());
+  window.addLink(link(0, 1, fine));
+  EXPECT_EQ(window.linkCount(), 1);
+  ASSERT_TRUE(window.optimise());
+  EXPECT_TRUE(window.pose(1)->isApprox(fine, 1e-6)) << window.pose(1)->matrix();
+  EXPECT_FALSE(window.optimise()) << "placed: the chain fits exactly again";
+}
+
 TEST(KeyframeWindow, TheOldestLeavesWithItsLinks) {
   vocal::KeyframeWindow window(2);
   window.addKeyframe(0, Eigen::Isometry3d::Identity());

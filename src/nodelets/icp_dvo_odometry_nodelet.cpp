@@ -756,6 +756,12 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.add("frames tracked at each resolution (keep_pace_max_level)", levels.str());
       status.add("tracking at", governor_->level() == 0 ? std::string("the input's resolution")
                                                          : paceText(governor_->level(), governor_->level() - 1));
+      if (config_.keep_pace_refines_keyframes && config_.local_window_keyframes == 0) {
+        // Keyframes made coarser than the input, their link solved again at its resolution (and those skipped:
+        // the last one's was still being solved).
+        status.add("keyframes linked again at the input's resolution (keep_pace_refines_keyframes)", window_links_);
+        status.add("keyframes not linked again (the last still solving)", window_links_skipped_);
+      }
     }
     status.add("frames tracked", frames_tracked_);
     status.add("frames lost", frames_lost_);

@@ -542,8 +542,15 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
   job->added_id = added.id;
   job->added_frame = added.frame;
   job->residual_level = residual_levels_[0];  // the window solves at the input's resolution
+  // Tracked coarser than the input (keeping pace with a busy CPU): the link it was tracked by is solved
+  // again at the input's resolution, so that keyframe to keyframe - where drift adds up - keeps its accuracy.
+  if (solve.quality.finest_level > 0 && config_.keep_pace_refines_keyframes) {
+    for (const std::shared_ptr<Keyframe>& earlier : keyframes_)
+      if (earlier->id == tracked_against) job->references.push_back({earlier->id, earlier->frame, solve.increment});
+  }
+  const int links = config_.local_window_links + static_cast<int>(job->references.size());
   for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend(); ++earlier) {
-    if (static_cast<int>(job->references.size()) == config_.local_window_links) break;
+    if (static_cast<int>(job->references.size()) == links) break;
     const Keyframe& reference = **earlier;
     const std::optional<Eigen::Isometry3d> reference_pose = window_->pose(reference.id);
     if (reference.id == added.id || reference.id == tracked_against || !reference_pose) continue;
@@ -576,6 +583,52 @@ std::vector<KeyframeLink> IcpDvoOdometry::solveWindowLinks(const WindowJob& job)
   return links;
 }
 
+void IcpDvoOdometry::refineCoarseLink(int tracked_against, const DenseSolve& solve, OdometryResult* result) {
+  if (window_job_.valid()) {
+    result->window_links_skipped = true;  // the last keyframe's link is still being solved
+    return;
+  }
+  auto job = std::make_shared<WindowJob>();
+  job->added_id = active_->id;
+  job->added_frame = active_->frame;
+  job->residual_level = residual_levels_[0];
+  for (const std::shared_ptr<Keyframe>& earlier : keyframes_)
+    if (earlier->id == tracked_against) job->references.push_back({earlier->id, earlier->frame, solve.increment});
+  if (job->references.empty()) return;  // that keyframe is no longer kept
+  coarse_link_ = {tracked_against, active_->id, solve.increment, solve.information};
+  if (!config_.local_window_background) {
+    applyRefinedLinks(solveWindowLinks(*job), result);
+    return;
+  }
+  window_job_ = std::async(std::launch::async, [this, job] { return solveWindowLinks(*job); });
+}
+
+void IcpDvoOdometry::applyRefinedLinks(const std::vector<KeyframeLink>& links, OdometryResult* result) {
+  for (const KeyframeLink& link : links) {
+    if (link.from_id != coarse_link_.from_id || link.to_id != coarse_link_.to_id) continue;
+    // The new keyframe's pose changes by this (its own frame); a larger change than a wrong start is
+    // allowed is not a refinement.
+    const Eigen::Isometry3d change = coarse_link_.from_T_to.inverse() * link.from_T_to;
+    if (!change.matrix().allFinite() || change.translation().norm() > config_.wrong_minimum_feature_translation ||
+        rotationAngle(change) * 180.0 / M_PI > config_.wrong_minimum_feature_rotation_deg)
+      continue;
+    const auto refined = std::find_if(keyframes_.begin(), keyframes_.end(),
+                                      [&](const std::shared_ptr<Keyframe>& k) { return k->id == link.to_id; });
+    if (refined == keyframes_.end()) continue;
+    // It moves by the change (on the right: what gravity corrected since stays), every keyframe made after
+    // it with it. Rotations kept orthonormal: each keyframe's pose is built on the one before, so a
+    // rounding error would compound.
+    const Eigen::Isometry3d was = (*refined)->pose;
+    for (auto k = refined; k != keyframes_.end(); ++k) {
+      Eigen::Isometry3d pose = was * change * (was.inverse() * (*k)->pose);
+      pose.linear() = Eigen::Quaterniond(pose.rotation()).normalized().toRotationMatrix();
+      (*k)->pose = pose;
+    }
+    ++result->window_links;
+    moveEstimateWithKeyframes(result);
+  }
+}
+
 void IcpDvoOdometry::applyWindowLinks(const std::vector<KeyframeLink>& links, OdometryResult* result) {
   for (const KeyframeLink& link : links) window_->addLink(link);
   result->window_links += static_cast<int>(links.size());
@@ -583,6 +636,10 @@ void IcpDvoOdometry::applyWindowLinks(const std::vector<KeyframeLink>& links, Od
   for (const std::shared_ptr<Keyframe>& keyframe : keyframes_) {
     if (const std::optional<Eigen::Isometry3d> refined = window_->pose(keyframe->id)) keyframe->pose = *refined;
   }
+  moveEstimateWithKeyframes(result);
+}
+
+void IcpDvoOdometry::moveEstimateWithKeyframes(OdometryResult* result) {
   // The estimate moves with the active keyframe; what is published does not, yet.
   const Eigen::Isometry3d estimate = active_->pose * active_from_last_;
   const Eigen::Isometry3d moved = pose_.inverse() * estimate;
@@ -600,11 +657,17 @@ void IcpDvoOdometry::collectWindow(bool wait, OdometryResult* result) {
     links = window_job_.get();
   } catch (const std::exception& e) {
     // Its backend could not be made or failed: tracking goes on without the window.
-    result->window_error = std::string("the local window's links could not be solved, the window is off from now: ") + e.what();
+    result->window_error = std::string(window_ ? "the local window's links could not be solved, the window is off from now: "
+                                               : "a keyframe's link could not be solved again at the input's resolution; keyframes "
+                                                 "made coarser are not linked again from now: ") +
+                           e.what();
     window_.reset();
+    window_failed_ = true;
     return;
   }
-  if (active_) applyWindowLinks(links, result);
+  if (!active_) return;
+  if (window_) applyWindowLinks(links, result);
+  else applyRefinedLinks(links, result);
 }
 
 void IcpDvoOdometry::finishWindow() {
@@ -674,7 +737,7 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     return result;
   }
 
-  if (window_) {
+  if (window_ || window_job_.valid()) {
     // Links solved in the background since the last frame: the keyframes move before this frame is
     // placed on its keyframe.
     result.timings.preprocess_ms += lapMilliseconds(&clock);  // the rectification
@@ -829,6 +892,10 @@ OdometryResult IcpDvoOdometry::track(const RgbdFrame& input, const RotationPrior
     if (window_) {
       result.timings.solve_ms += lapMilliseconds(&clock);
       startWindow(tracked_against, solve, &result);
+      result.timings.window_ms += lapMilliseconds(&clock);
+    } else if (solve.quality.finest_level > 0 && config_.keep_pace_refines_keyframes && !window_failed_) {
+      result.timings.solve_ms += lapMilliseconds(&clock);
+      refineCoarseLink(tracked_against, solve, &result);
       result.timings.window_ms += lapMilliseconds(&clock);
     }
   }

@@ -54,6 +54,7 @@ void KeyframeWindow::clear() {
   ids_.clear();
   poses_.clear();
   links_.clear();
+  relinked_ = false;
 }
 
 void KeyframeWindow::addKeyframe(int id, const Eigen::Isometry3d& pose) {
@@ -72,6 +73,13 @@ void KeyframeWindow::addKeyframe(int id, const Eigen::Isometry3d& pose) {
 void KeyframeWindow::addLink(const KeyframeLink& link) {
   if (!poses_.count(link.from_id) || !poses_.count(link.to_id) || link.from_id == link.to_id) return;
   if (!link.information.allFinite() || !link.from_T_to.matrix().allFinite()) return;
+  for (KeyframeLink& known : links_) {
+    if (known.from_id == link.from_id && known.to_id == link.to_id) {
+      known = link;  // the same pair solved again (finer): the newer solve stands for it
+      relinked_ = true;
+      return;
+    }
+  }
   links_.push_back(link);
 }
 
@@ -84,10 +92,11 @@ std::optional<Eigen::Isometry3d> KeyframeWindow::pose(int id) const {
 std::vector<int> KeyframeWindow::ids() const { return {ids_.begin(), ids_.end()}; }
 
 bool KeyframeWindow::optimise() {
-  // Links that form no loop (a chain, a tree) fit exactly: nothing to refine.
+  // Links that form no loop (a chain, a tree) fit exactly: nothing to refine, unless one was solved again.
   std::set<int> linked;
   for (const KeyframeLink& link : links_) linked.insert({link.from_id, link.to_id});
-  if (links_.empty() || links_.size() < linked.size()) return false;
+  if (links_.empty() || (links_.size() < linked.size() && !relinked_)) return false;
+  relinked_ = false;
   std::map<int, PoseBlock> blocks;
   for (const auto& [id, pose] : poses_) blocks[id] = {Eigen::Quaterniond(pose.linear()).normalized(), pose.translation()};
   ceres::Problem problem;

@@ -288,6 +288,14 @@ class IcpDvoOdometry {
   // Adds links to the window and refines it: the keyframes and the estimate move, the published pose
   // follows them over the next frames.
   void applyWindowLinks(const std::vector<KeyframeLink>& links, OdometryResult* result);
+  // Without a window: the active keyframe, made from a frame `solve` tracked coarser than the input
+  // against keyframe `tracked_against` (keeping pace), gets that link solved again at the input's
+  // resolution (config.keep_pace_refines_keyframes; on the window's thread when background) ...
+  void refineCoarseLink(int tracked_against, const DenseSolve& solve, OdometryResult* result);
+  // ... and is moved by the difference, with every keyframe after it and the estimate.
+  void applyRefinedLinks(const std::vector<KeyframeLink>& links, OdometryResult* result);
+  // The estimate after the keyframes moved: on the active one; the published pose follows over frames.
+  void moveEstimateWithKeyframes(OdometryResult* result);
   // Applies the background job's links once it has finished (`wait`: waits for it).
   void collectWindow(bool wait, OdometryResult* result);
   // The result's pose and increment from the estimate pose_: the estimate with the part of the
@@ -316,6 +324,8 @@ class IcpDvoOdometry {
   std::optional<KeyframeWindow> window_;             // the local window (none when off)
   std::unique_ptr<OdometryBackend> window_backend_;  // solves the window's links (made when first needed)
   std::future<std::vector<KeyframeLink>> window_job_;  // the links being solved in the background
+  KeyframeLink coarse_link_;     // the coarse link being solved again (refineCoarseLink), as tracked
+  bool window_failed_ = false;   // the window's backend failed: no more links solved
   Matrix6d pose_covariance_ = Matrix6d::Zero();
   // What degraded frames since the active keyframe added to the pose covariance along the directions
   // the motion model guessed (odometry frame); a new keyframe takes it into its own.

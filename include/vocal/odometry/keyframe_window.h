@@ -32,7 +32,8 @@ class KeyframeWindow {
   // The newest keyframe, at its pose as tracked; the oldest beyond the window's size leaves it, with
   // the links that reach it.
   void addKeyframe(int id, const Eigen::Isometry3d& pose);
-  // Ignored when either end is not in the window.
+  // Ignored when either end is not in the window; a link between a pair already linked replaces theirs
+  // (the pair solved again, e.g. finer).
   void addLink(const KeyframeLink& link);
   // Refines the poses of every keyframe in the window but the oldest linked one. False (poses kept)
   // when there is nothing to refine or the solver fails.
@@ -49,6 +50,7 @@ class KeyframeWindow {
   std::deque<int> ids_;
   std::map<int, Eigen::Isometry3d> poses_;
   std::vector<KeyframeLink> links_;
+  bool relinked_ = false;  // a link replaced since the last optimise: even a chain is placed again
 };
 
 }  // namespace vocal
