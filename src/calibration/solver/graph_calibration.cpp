@@ -239,13 +239,18 @@ struct ThroughJoints {
 
 // A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes), through the
 // sensor's joints when `chain` is set.
+// kSize may be ceres::DYNAMIC: then `residuals` of them.
 template <typename Residual, int kSize, int... kSizes>
 void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                       const ChainAt* chain, std::array<double*, sizeof...(kSizes)> blocks) {
+                       const ChainAt* chain, std::array<double*, sizeof...(kSizes)> blocks, int residuals = kSize) {
   std::vector<double*> all = {sensor->rotation.coeffs().data(), sensor->translation.data()};
   all.insert(all.end(), blocks.begin(), blocks.end());
   if (!chain) {
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual)), loss, all);
+    if constexpr (kSize == ceres::DYNAMIC) {
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual), residuals), loss, all);
+    } else {
+      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual)), loss, all);
+    }
     return;
   }
   constexpr int kBlocks = sizeof...(kSizes);
@@ -255,7 +260,7 @@ void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres:
   for (double* offset : chain->offsets) cost->AddParameterBlock(1), all.push_back(offset);
   for (double* correction : chain->corrections) cost->AddParameterBlock(1), all.push_back(correction);
   for (double* origin : chain->origins) cost->AddParameterBlock(6), all.push_back(origin);
-  cost->SetNumResiduals(kSize);
+  cost->SetNumResiduals(residuals);
   problem->AddResidualBlock(cost, loss, all);
 }
 
@@ -286,14 +291,72 @@ void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::
                                                          {board->rotation.coeffs().data(), board->translation.data()});
 }
 
+// r times sqrt(log(1 + x) / x), x = (r / c)^2: its square is Cauchy's c^2 log(1 + (r / c)^2), the loss Ceres
+// applies to a block of one residual, for residuals that share a block.
+template <typename T>
+T cauchyResidual(const T& r, double c) {
+  using std::log1p;
+  using std::sqrt;
+  const T x = r * r / T(c * c);
+  const T factor = x < T(1e-8) ? T(1.0) - x / T(2.0) : log1p(x) / x;
+  return r * sqrt(factor);
+}
+
+// Every outline point of one observation in one block (OutlinePointResidual each, Cauchy within): behind
+// joints the chain is then composed once per observation rather than once per point (a head's depth
+// camera brings hundreds of edge points a view; per point, the outline took 8x the whole solve).
+struct OutlinePointsResidual {
+  std::vector<Eigen::Vector3d> points;
+  double sigma, half_width, half_height, loss_sigmas;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
+    // The board's x and y rows of board <- sensor, once: per point a 2x3 product.
+    const Eigen::Matrix<T, 3, 3> turn = (q_board.conjugate() * q).toRotationMatrix();
+    const Eigen::Matrix<T, 3, 1> offset = q_board.conjugate() * (t - t_board);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d& p = points[i];
+      const T x = turn(0, 0) * p.x() + turn(0, 1) * p.y() + turn(0, 2) * p.z() + offset.x();
+      const T y = turn(1, 0) * p.x() + turn(1, 1) * p.y() + turn(1, 2) * p.z() + offset.y();
+      residual[i] = cauchyResidual(distanceToOutline(x, y, half_width, half_height) / T(sigma), loss_sigmas);
+    }
+    return true;
+  }
+};
+
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
                          const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board, const ChainAt* chain) {
+  if (chain && !outline.empty()) {
+    addSensorResidual<OutlinePointsResidual, ceres::DYNAMIC, 4, 3>(
+        problem, OutlinePointsResidual{outline, sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas}, nullptr, sensor, chain,
+        {board->rotation.coeffs().data(), board->translation.data()}, static_cast<int>(outline.size()));
+    return;
+  }
   for (const Eigen::Vector3d& p : outline) {
     addSensorResidual<OutlinePointResidual, 1, 4, 3>(problem, OutlinePointResidual{p, sigma, 0.5 * edges.width, 0.5 * edges.height},
                                                      new ceres::CauchyLoss(edges.loss_sigmas), sensor, chain,
                                                      {board->rotation.coeffs().data(), board->translation.data()});
   }
 }
+
+// A board pose held weakly (1 m, 1 rad) to where it started: no say where the sensors place it, but a pose
+// whose place in its plane no sensor's outline fixes (seen by a 2D laser and a lidar's few rings) stays
+// defined, so the covariance of everything else can still be computed.
+struct WeakBoardPrior {
+  Eigen::Quaterniond rotation;
+  Eigen::Vector3d translation;
+  template <typename T>
+  bool operator()(const T* q_data, const T* t_data, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_data);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(t_data);
+    Eigen::Quaternion<T> turn = rotation.conjugate().cast<T>() * q;
+    if (turn.w() < T(0)) turn.coeffs() = -turn.coeffs();
+    for (int i = 0; i < 3; ++i) residual[i] = t[i] - T(translation[i]), residual[3 + i] = T(2) * turn.vec()[i];
+    return true;
+  }
+};
 
 // A still pose's reading of a joint as its true position less the reading: a prior of the reading's sigma.
 struct ReadingCorrectionPrior {
@@ -830,8 +893,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (auto& entry : plane_state) problem.SetManifold(entry.second.normal.data(), new ceres::SphereManifold<3>());
   }
   for (auto& entry : board_state) {
-    if (problem.HasParameterBlock(entry.second.rotation.coeffs().data()))
-      problem.SetManifold(entry.second.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+    if (!problem.HasParameterBlock(entry.second.rotation.coeffs().data())) continue;
+    problem.SetManifold(entry.second.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<WeakBoardPrior, 6, 4, 3>(new WeakBoardPrior{entry.second.rotation, entry.second.translation}),
+                             nullptr, entry.second.rotation.coeffs().data(), entry.second.translation.data());
   }
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
   problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
