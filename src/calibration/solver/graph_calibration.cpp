@@ -238,8 +238,7 @@ struct ThroughJoints {
 };
 
 // A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes), through the
-// sensor's joints when `chain` is set.
-// kSize may be ceres::DYNAMIC: then `residuals` of them.
+// sensor's joints when `chain` is set; kSize residuals, or `residuals` where kSize is ceres::DYNAMIC.
 template <typename Residual, int kSize, int... kSizes>
 void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
                        const ChainAt* chain, std::array<double*, sizeof...(kSizes)> blocks, int residuals = kSize) {
