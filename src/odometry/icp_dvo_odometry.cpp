@@ -538,16 +538,7 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
   }
   // The new keyframe against the newest earlier ones of the window (a bounded cost per keyframe: a
   // failed solve, too little overlap or a poor fit, is not replaced by an older one).
-  auto job = std::make_shared<WindowJob>();
-  job->added_id = added.id;
-  job->added_frame = added.frame;
-  job->residual_level = residual_levels_[0];  // the window solves at the input's resolution
-  // Tracked coarser than the input (keeping pace with a busy CPU): the link it was tracked by is solved
-  // again at the input's resolution, so that keyframe to keyframe - where drift adds up - keeps its accuracy.
-  if (solve.quality.finest_level > 0 && config_.keep_pace_refines_keyframes) {
-    for (const std::shared_ptr<Keyframe>& earlier : keyframes_)
-      if (earlier->id == tracked_against) job->references.push_back({earlier->id, earlier->frame, solve.increment});
-  }
+  const std::shared_ptr<WindowJob> job = newLinkJob(tracked_against, solve);
   const int links = config_.local_window_links + static_cast<int>(job->references.size());
   for (auto earlier = keyframes_.rbegin(); earlier != keyframes_.rend(); ++earlier) {
     if (static_cast<int>(job->references.size()) == links) break;
@@ -556,12 +547,38 @@ void IcpDvoOdometry::startWindow(int tracked_against, const DenseSolve& solve, O
     if (reference.id == added.id || reference.id == tracked_against || !reference_pose) continue;
     job->references.push_back({reference.id, reference.frame, reference_pose->inverse() * added.pose});
   }
+  runLinkJob(job, result);
+}
+
+std::shared_ptr<IcpDvoOdometry::WindowJob> IcpDvoOdometry::newLinkJob(int tracked_against, const DenseSolve& solve) {
+  auto job = std::make_shared<WindowJob>();
+  job->added_id = active_->id;
+  job->added_frame = active_->frame;
+  job->residual_level = residual_levels_[0];  // the links are solved at the input's resolution
+  // Tracked coarser than the input (keeping pace with a busy CPU): the link it was tracked by is solved
+  // again at the input's resolution, so that keyframe to keyframe - where drift adds up - keeps its accuracy.
+  if (solve.quality.finest_level > 0 && config_.keep_pace_refines_keyframes) {
+    for (const std::shared_ptr<Keyframe>& earlier : keyframes_) {
+      if (earlier->id != tracked_against) continue;
+      job->references.push_back({earlier->id, earlier->frame, solve.increment});
+      coarse_link_ = {tracked_against, active_->id, solve.increment, solve.information};
+    }
+  }
+  return job;
+}
+
+void IcpDvoOdometry::runLinkJob(const std::shared_ptr<WindowJob>& job, OdometryResult* result) {
   if (job->references.empty()) return;
   if (!config_.local_window_background) {
-    applyWindowLinks(solveWindowLinks(*job), result);
+    applyLinks(solveWindowLinks(*job), result);
     return;
   }
   window_job_ = std::async(std::launch::async, [this, job] { return solveWindowLinks(*job); });
+}
+
+void IcpDvoOdometry::applyLinks(const std::vector<KeyframeLink>& links, OdometryResult* result) {
+  if (window_) applyWindowLinks(links, result);
+  else applyRefinedLinks(links, result);
 }
 
 std::vector<KeyframeLink> IcpDvoOdometry::solveWindowLinks(const WindowJob& job) {
@@ -588,19 +605,7 @@ void IcpDvoOdometry::refineCoarseLink(int tracked_against, const DenseSolve& sol
     result->window_links_skipped = true;  // the last keyframe's link is still being solved
     return;
   }
-  auto job = std::make_shared<WindowJob>();
-  job->added_id = active_->id;
-  job->added_frame = active_->frame;
-  job->residual_level = residual_levels_[0];
-  for (const std::shared_ptr<Keyframe>& earlier : keyframes_)
-    if (earlier->id == tracked_against) job->references.push_back({earlier->id, earlier->frame, solve.increment});
-  if (job->references.empty()) return;  // that keyframe is no longer kept
-  coarse_link_ = {tracked_against, active_->id, solve.increment, solve.information};
-  if (!config_.local_window_background) {
-    applyRefinedLinks(solveWindowLinks(*job), result);
-    return;
-  }
-  window_job_ = std::async(std::launch::async, [this, job] { return solveWindowLinks(*job); });
+  runLinkJob(newLinkJob(tracked_against, solve), result);  // none when that keyframe is no longer kept
 }
 
 void IcpDvoOdometry::applyRefinedLinks(const std::vector<KeyframeLink>& links, OdometryResult* result) {
@@ -665,9 +670,7 @@ void IcpDvoOdometry::collectWindow(bool wait, OdometryResult* result) {
     window_failed_ = true;
     return;
   }
-  if (!active_) return;
-  if (window_) applyWindowLinks(links, result);
-  else applyRefinedLinks(links, result);
+  if (active_) applyLinks(links, result);
 }
 
 void IcpDvoOdometry::finishWindow() {

@@ -283,6 +283,13 @@ class IcpDvoOdometry {
   // `tracked_against` by `solve`: both join the window with their link, and the new keyframe's dense
   // links to earlier ones are solved (now, or in the background when config.local_window_background).
   void startWindow(int tracked_against, const DenseSolve& solve, OdometryResult* result);
+  // A job for the active keyframe, made from a frame `solve` tracked against keyframe `tracked_against`:
+  // that link again where it was tracked coarser than the input (keep_pace_refines_keyframes), else none yet.
+  std::shared_ptr<WindowJob> newLinkJob(int tracked_against, const DenseSolve& solve);
+  // Solves a job's links now (then applies them) or in the background (config.local_window_background).
+  void runLinkJob(const std::shared_ptr<WindowJob>& job, OdometryResult* result);
+  // Into the window when there is one, else as refined coarse links.
+  void applyLinks(const std::vector<KeyframeLink>& links, OdometryResult* result);
   // The links of a job on the window's own backend; touches nothing the tracking uses.
   std::vector<KeyframeLink> solveWindowLinks(const WindowJob& job);
   // Adds links to the window and refines it: the keyframes and the estimate move, the published pose
