@@ -51,8 +51,9 @@ Eigen::Isometry3d authorsMean(const std::string& csv_path, int* count) {
 // board on a tripod): calibrate_rig with default flags lands the camera within 3 cm / 0.02 rad of the
 // authors' mean; its ring offsets are within a VLP-16's +-3 cm or refused (the office's planes asked for
 // +10 to +14 cm, which put the camera 17 cm off, each plane for its own: 15 % of their say within 15 mm
-// of the median); and the result's own spread across poses is honest
-// about its error - a camera it calls uncertain is withheld from the launch file and the exit status says so.
+// of the median); and the result's own spread across poses is honest about its error - a camera it calls
+// uncertain is withheld from the launch file and the exit status says so. Published since one misdetected
+// corner is left out of its pose.
 TEST(RealRigCalibration, FisheyeCameraAndVlp16InAnOfficeWithDefaultFlags) {
   const std::string data = vocal_test::realRigFolder("vlp16_fisheye_office");
   if (data.empty()) GTEST_SKIP() << "real rig recording not present";
@@ -65,6 +66,10 @@ TEST(RealRigCalibration, FisheyeCameraAndVlp16InAnOfficeWithDefaultFlags) {
   r = vocal_test::runTool("calibrate_rig " + std::string(VOCAL_SOURCE_DIR) + "/config/vlp16_fisheye_office_rig.yaml " + folder +
           "/session.bag --quiet --output-dir " + folder);
   ASSERT_NE(r.output.find("20 still target poses"), std::string::npos) << r.output;
+  // pose14.jpg: the detector puts one corner 8 px off (its other corners and every other view's within 0.8 px).
+  EXPECT_NE(r.output.find("camera       camera   target in 120 of 120 messages (6 with a corner the detector misplaced, left out of "
+                          "the board's pose)"),
+            std::string::npos) << r.output;
 
   const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
   const YAML::Node lidar = result["sensors"][0], camera = result["sensors"][1];
@@ -107,6 +112,9 @@ TEST(RealRigCalibration, FisheyeCameraAndVlp16InAnOfficeWithDefaultFlags) {
     EXPECT_NE(launch.str().find("<!-- camera_optical withheld: uncertain: it moves "), std::string::npos) << launch.str();
   }
   EXPECT_EQ(r.exit_code, published ? 0 : 1) << r.output;
+  // With that corner kept, pose 13's board stood 15 mm off the lidar's and the camera moved 10.6 mm between
+  // re-solves (withheld); without it 8.7 mm, and the camera is published.
+  EXPECT_TRUE(published) << "spread " << 1000 * spread_norm << " mm";
   if (spread_norm > 0.01) {
     EXPECT_FALSE(published) << "a camera that moves over 1 cm between re-solves is not published by default";
     EXPECT_NE(r.output.find("withheld: sensor 'camera' is kept out of calibration.urdf and calibration.launch: uncertain: it moves "),

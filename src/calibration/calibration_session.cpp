@@ -450,7 +450,10 @@ bool CalibrationSession::take(int sensor, double stamp, Extraction extraction) {
   if (sensor < 0 || sensor >= static_cast<int>(rig_.sensors.size())) checkSensor(sensor, SensorType::kCamera, "data");
   newest_stamp_ = std::max(newest_stamp_, stamp);
   const SensorType type = rig_.sensors[sensor].spec.type;
-  if (type == SensorType::kCamera) return record(sensor, stamp, std::move(extraction.points), std::move(extraction.planes));
+  if (type == SensorType::kCamera) {
+    counts_[sensor].views_with_corners_left_out += extraction.corners_left_out > 0;
+    return record(sensor, stamp, std::move(extraction.points), std::move(extraction.planes));
+  }
   TargetSearch& search = extraction.search;
   if (type == SensorType::kLidar3d) {
     std::optional<RingOffsetEstimator>& offsets = ring_offsets_[sensor];
@@ -640,6 +643,7 @@ CalibrationSession::Extraction CalibrationSession::extractImage(int sensor, cons
   PatternObservation seen = observePattern(corners, rig_.target.pattern, camera, name, distortion);
   extraction.points = std::move(seen.points);
   extraction.planes = {seen.plane};
+  extraction.corners_left_out = static_cast<int>(seen.corners_left_out.size());
   return extraction;
 }
 

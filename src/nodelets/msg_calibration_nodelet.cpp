@@ -486,6 +486,7 @@ class MsgCalibrationNodelet : public nodelet::Nodelet {
       value << c.target_found << " of " << c.received << " messages show the target, " << dropped_[s] << " dropped";
       if (c.only_background > 0) value << ", " << c.only_background << " only static board-shaped segments";
       if (c.not_kept > 0) value << ", " << c.not_kept << " not kept (the session is full)";
+      if (c.views_with_corners_left_out > 0) value << ", " << c.views_with_corners_left_out << " with a misdetected corner left out";
       status.add(rig.sensors[s].spec.name, value.str());
     }
     status.add("memory", session_->memorySummary());

@@ -593,6 +593,8 @@ int run(const vocal::CommandLine& args) {
                 vocal::sensorTypeName(rig.sensors[s].spec.type).c_str(), c.target_found, c.received);
     if (c.only_background > 0) std::printf(" (%d more with only static board-shaped segments: room, furniture)", c.only_background);
     if (c.not_kept > 0) std::printf(" (%d more skipped: the session was full)", c.not_kept);
+    if (c.views_with_corners_left_out > 0)
+      std::printf(" (%d with a corner the detector misplaced, left out of the board's pose)", c.views_with_corners_left_out);
     // A range sensor that missed the board in most messages: why, here and not only with --report (the
     // calibration may stop for want of its views before the report).
     if (2 * c.target_found < c.received && !refused[s].empty()) {

@@ -29,6 +29,7 @@ struct SensorDataCounts {
   int target_found = 0;  // of which showed the target
   int only_background = 0;  // range sensors: board-shaped segments found, all of them static (room, furniture)
   int not_kept = 0;  // received while the session was full (SessionMemoryOptions): counted, nothing kept
+  int views_with_corners_left_out = 0;  // cameras: views whose pose left misdetected corners out (observePattern)
 };
 
 // How much of a long session is held: what bounds a live session's memory (and a long bag's). Held is
@@ -96,6 +97,7 @@ class CalibrationSession {
     TargetSearch search;                   // range sensors: the board's candidates
     std::vector<Eigen::Vector3d> points;   // cameras: the pattern's corners (none: not seen)
     std::vector<PlaneMeasurement> planes;  // ... and its plane
+    int corners_left_out = 0;              // ... misdetected corners its pose left out
   };
   void prepareCloud(int sensor, const std::vector<Eigen::Vector3d>& cloud, const std::vector<int>& rings = {});
   bool hasSpacing(int sensor) const { return lidar_spacing_.at(sensor).horizontal > 0.0; }  // extractCloud can search

@@ -23,9 +23,15 @@ struct TargetPattern {
   std::vector<Eigen::Vector3d> corners() const;
 };
 
+constexpr double kMisdetectedCornerPixels = 1.0;
+constexpr double kMisdetectedCornerMedians = 6.0;
+
 struct PatternObservation {
   std::vector<Eigen::Vector3d> points;  // the corners in the camera frame
-  double reprojection_rms_px = 0.0;
+  double reprojection_rms_px = 0.0;  // of the corners used
+  // Corners (indices into TargetPattern::corners()) left out of the pose as misdetected: each over
+  // kMisdetectedCornerPixels and kMisdetectedCornerMedians times the median corner's error, at most a tenth.
+  std::vector<int> corners_left_out;
   // The pattern's pose and its plane's covariance from the PnP covariance (reprojection Jacobian,
   // pixel noise taken from the reprojection error, at least 0.05 px).
   PlaneMeasurement plane;
@@ -38,8 +44,9 @@ std::vector<Eigen::Vector2d> detectPattern(const ColorImage& image, const Target
 
 // `image_corners` are pixels of the image as taken, through the lens's `distortion` (camera_info's D):
 // the pose is fitted to the undistorted corners, the reprojection error and the covariance are those
-// of the distorted pixels. Throws InputError naming `what` when the corner count does not match the
-// pattern or the pose cannot be estimated.
+// of the distorted pixels; a corner far off the pose the others give is left out (corners_left_out).
+// Throws InputError naming `what` when the corner count does not match the pattern or the pose cannot
+// be estimated.
 PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corners, const TargetPattern& pattern,
                                   const PinholeCamera& camera, const char* what, const LensDistortion& distortion = {});
 
