@@ -413,7 +413,10 @@ std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg
           std::memcpy(&point[axis], p + offsets[axis], 8);
         }
       }
-      if (!point.allFinite()) continue;
+      // A no-return: NaN (velodyne_pointcloud's organised clouds) or the origin itself (an Ouster
+      // driver's organised 1024 x 64 cloud holds a few thousand a scan; kept, they all fell into one
+      // cluster whose neighbour searches took minutes, and into every ring's elevation).
+      if (!point.allFinite() || (point.x() == 0.0 && point.y() == 0.0 && point.z() == 0.0)) continue;
       points.push_back(point);
       if (rings && ring_offset >= 0) rings->push_back(integerAt(p + ring_offset, ring_type));
     }

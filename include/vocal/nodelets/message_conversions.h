@@ -64,7 +64,8 @@ LensDistortion lensDistortionFromCameraInfo(const sensor_msgs::CameraInfo& msg, 
 // The lens the odometry undoes: camera_info's D, or none (tracked as a pinhole) when it cannot be read;
 // `problem` then says why and the caller says it once. Empty when the lens was read.
 LensDistortion odometryLensFromCameraInfo(const sensor_msgs::CameraInfo& msg, const std::string& what, std::string* problem);
-// The x, y, z (float32 or float64) of every finite point, in the cloud's frame. With `rings`, each of those
+// The x, y, z (float32 or float64) of every finite point but the origin (a driver's no-return: NaN or
+// all zeros in an organised cloud), in the cloud's frame. With `rings`, each of those
 // points' `ring` field (the laser a spinning lidar's driver says it came from: velodyne, ouster and
 // hesai drivers publish one, any integer type); left empty when the cloud has no such field.
 std::vector<Eigen::Vector3d> fromPointCloud2(const sensor_msgs::PointCloud2& msg, const std::string& what,
