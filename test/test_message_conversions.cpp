@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -63,7 +64,8 @@ TEST(MessageConversions, DepthInMillimetresOrMetresWithMissingValuesAsZero) {
 TEST(MessageConversions, BadMessagesNameTheTopicAndTheProblem) {
   using vocal_test::inputErrorOf;
   EXPECT_EQ(inputErrorOf([] { vocal::fromColorImage(imageMsg("16UC1", 2, 2, 2), "/cam/image"); }),
-            "/cam/image: encoding '16UC1' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8)");
+            "/cam/image: encoding '16UC1' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8, mono16, bayer_rggb8, bayer_bggr8, "
+            "bayer_gbrg8, bayer_grbg8, yuv422, yuv422_yuy2)");
   EXPECT_EQ(inputErrorOf([] { vocal::fromDepthImage(imageMsg("rgb8", 2, 2, 3), "/depth"); }),
             "/depth: encoding 'rgb8' is not a depth image (16UC1 millimetres or 32FC1 metres)");
   sensor_msgs::Image short_data = imageMsg("rgb8", 4, 4, 3);
@@ -203,6 +205,81 @@ TEST(MessageConversions, LidarCloudHasAVelodyneDriversLayoutAndReadsBack) {
   EXPECT_EQ(scanner.fields[3].name, "intensity");
   EXPECT_EQ(vocal::fromPointCloud2(scanner, "/scanner/points", &rings), points);
   EXPECT_TRUE(rings.empty());
+}
+
+namespace {
+// A raw image message of `encoding`, `bytes` bytes per pixel, rows padded to `step`, each pixel from `pixel(x, y, bytes out)`.
+template <typename Pixel>
+sensor_msgs::Image rawImage(const std::string& encoding, int width, int height, int bytes, int step, Pixel pixel) {
+  sensor_msgs::Image msg;
+  msg.encoding = encoding;
+  msg.width = width, msg.height = height, msg.step = step;
+  msg.data.assign(static_cast<std::size_t>(step) * height, 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) pixel(x, y, msg.data.data() + static_cast<std::size_t>(y) * step + static_cast<std::size_t>(x) * bytes);
+  return msg;
+}
+}  // namespace
+
+// What machine-vision and USB cameras publish on image_raw: a Bayer mosaic (each pixel one colour of its
+// 2 x 2 cell, named by the cell's first row), YUV 4:2:2 and 12-bit mono in 16 bits, read as the colours
+// the scene had; a mosaic read with the wrong pattern swaps red and blue (what the test tells apart).
+TEST(MessageConversions, RawCameraEncodingsReadAsTheirColours) {
+  const vocal::Rgb8 colour{200, 90, 20};  // a flat orange scene
+  const auto channel = [&](char c) { return c == 'r' ? colour.r : c == 'g' ? colour.g : colour.b; };
+  for (const std::string pattern : {"rggb", "bggr", "gbrg", "grbg"}) {
+    const sensor_msgs::Image mosaic = rawImage("bayer_" + pattern + "8", 8, 6, 1, 10, [&](int x, int y, std::uint8_t* p) {
+      *p = channel(pattern[(y % 2) * 2 + x % 2]);
+    });
+    const vocal::ColorImage image = vocal::fromColorImage(mosaic, "/camera/image_raw");
+    ASSERT_EQ(image.width(), 8);
+    ASSERT_EQ(image.height(), 6);
+    const vocal::Rgb8 centre = image(4, 3);
+    EXPECT_NEAR(centre.r, colour.r, 2) << pattern;
+    EXPECT_NEAR(centre.g, colour.g, 2) << pattern;
+    EXPECT_NEAR(centre.b, colour.b, 2) << pattern;
+  }
+  // YUV 4:2:2 of the same colour as a camera writes it (BT.601, video range: Y 16-235, U and V 16-240),
+  // U and V shared by each pair of pixels.
+  const auto byte = [](double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); };
+  const double r = colour.r, g = colour.g, b = colour.b;
+  const std::uint8_t Y = byte(16.0 + (65.481 * r + 128.553 * g + 24.966 * b) / 255.0),
+                     U = byte(128.0 + (-37.797 * r - 74.203 * g + 112.0 * b) / 255.0),
+                     V = byte(128.0 + (112.0 * r - 93.786 * g - 18.214 * b) / 255.0);
+  for (const std::string encoding : {"yuv422", "yuv422_yuy2"}) {
+    const bool uyvy = encoding == "yuv422";
+    const sensor_msgs::Image packed = rawImage(encoding, 8, 6, 2, 16, [&](int x, int, std::uint8_t* p) {
+      p[uyvy ? 1 : 0] = Y;
+      p[uyvy ? 0 : 1] = x % 2 == 0 ? U : V;
+    });
+    const vocal::Rgb8 centre = vocal::fromColorImage(packed, "/usb_cam/image_raw")(3, 2);
+    EXPECT_NEAR(centre.r, colour.r, 3) << encoding;
+    EXPECT_NEAR(centre.g, colour.g, 3) << encoding;
+    EXPECT_NEAR(centre.b, colour.b, 3) << encoding;
+  }
+  // 12-bit mono in 16 bits: the brightest pixel (4095) reads 255, half of it 127 or 128.
+  const sensor_msgs::Image mono16 = rawImage("mono16", 4, 2, 2, 8, [](int x, int, std::uint8_t* p) {
+    const std::uint16_t v = x == 0 ? 4095 : 2047;
+    std::memcpy(p, &v, 2);
+  });
+  const vocal::ColorImage grey = vocal::fromColorImage(mono16, "/camera/image_mono");
+  EXPECT_EQ(grey(0, 1).r, 255);
+  EXPECT_NEAR(grey(1, 0).g, 127.5, 0.6);
+  // Named: an odd width cannot hold 4:2:2 pairs, a short buffer, and what is still not an image.
+  sensor_msgs::Image odd = rawImage("yuv422", 7, 2, 2, 14, [](int, int, std::uint8_t*) {});
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromColorImage(odd, "/usb_cam/image_raw"); }),
+            "/usb_cam/image_raw: a yuv422 image's width 7 is odd");
+  sensor_msgs::Image odd_step = rawImage("mono16", 3, 2, 2, 7, [](int, int, std::uint8_t*) {});
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromColorImage(odd_step, "/camera/image_mono"); }),
+            "/camera/image_mono: a mono16 image's step 7 is odd");
+  sensor_msgs::Image short_mosaic = rawImage("bayer_rggb8", 8, 6, 1, 8, [](int, int, std::uint8_t*) {});
+  short_mosaic.data.resize(40);
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromColorImage(short_mosaic, "/camera/image_raw"); }),
+            "/camera/image_raw: data holds 40 bytes, 6 rows of step 8 need 48");
+  sensor_msgs::Image depth = rawImage("32FC1", 2, 2, 4, 8, [](int, int, std::uint8_t*) {});
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::fromColorImage(depth, "/camera/image_raw"); }),
+            "/camera/image_raw: encoding '32FC1' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8, mono16, bayer_rggb8, "
+            "bayer_bggr8, bayer_gbrg8, bayer_grbg8, yuv422, yuv422_yuy2)");
 }
 
 // An Ouster driver's organised cloud holds its no-returns as points at the origin (about 2,400 of a

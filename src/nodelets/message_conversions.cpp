@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -186,6 +187,51 @@ void checkLayout(const sensor_msgs::Image& msg, std::size_t bytes_per_pixel, con
 }
 }  // namespace
 
+namespace {
+// A camera's raw or packed image (a machine-vision camera's Bayer mosaic, a USB camera's YUV 4:2:2, a
+// 12- or 16-bit mono camera) as RGB, through OpenCV; false for any other encoding.
+bool convertedByOpenCv(const sensor_msgs::Image& msg, const std::string& what, ColorImage* image) {
+  namespace enc = sensor_msgs::image_encodings;
+  // OpenCV names a mosaic by the second row's first two pixels: ROS's rggb is OpenCV's BG (cv_bridge's table).
+  static const std::pair<std::string, int> kCodes[] = {
+      {enc::BAYER_RGGB8, cv::COLOR_BayerBG2RGB},    {enc::BAYER_BGGR8, cv::COLOR_BayerRG2RGB},
+      {enc::BAYER_GBRG8, cv::COLOR_BayerGR2RGB},    {enc::BAYER_GRBG8, cv::COLOR_BayerGB2RGB},
+      {enc::YUV422, cv::COLOR_YUV2RGB_UYVY},        {"yuv422_yuy2", cv::COLOR_YUV2RGB_YUY2},
+      {enc::MONO16, -1}};
+  const auto code = std::find_if(std::begin(kCodes), std::end(kCodes), [&](const auto& c) { return msg.encoding == c.first; });
+  if (code == std::end(kCodes)) return false;
+  const bool mono16 = code->second < 0, packed = msg.encoding == enc::YUV422 || msg.encoding == "yuv422_yuy2";
+  checkLayout(msg, mono16 || packed ? 2 : 1, what);
+  if (packed && msg.width % 2 != 0) throw InputError(what + ": a " + msg.encoding + " image's width " + std::to_string(msg.width) + " is odd");
+  if (mono16 && msg.is_bigendian) throw InputError(what + ": big-endian mono16 images are not supported");
+  if (mono16 && msg.step % 2 != 0) throw InputError(what + ": a mono16 image's step " + std::to_string(msg.step) + " is odd");
+  // The message's rows as they are (step may pad them); OpenCV only reads them.
+  const cv::Mat raw(static_cast<int>(msg.height), static_cast<int>(msg.width), mono16 ? CV_16UC1 : packed ? CV_8UC2 : CV_8UC1,
+                    const_cast<std::uint8_t*>(msg.data.data()), msg.step);
+  cv::Mat rgb;
+  try {
+    if (mono16) {
+      // Scaled by the image's own brightest pixel: a 12-bit camera fills only the low 4096 of 65536 levels.
+      double brightest = 0.0;
+      cv::minMaxLoc(raw, nullptr, &brightest);
+      cv::Mat grey;
+      raw.convertTo(grey, CV_8UC1, 255.0 / std::max(brightest, 1.0));
+      cv::cvtColor(grey, rgb, cv::COLOR_GRAY2RGB);
+    } else {
+      cv::cvtColor(raw, rgb, code->second);
+    }
+  } catch (const cv::Exception& e) {
+    throw InputError(what + ": its " + msg.encoding + " image could not be converted (" + e.err + ")");
+  }
+  *image = ColorImage(rgb.cols, rgb.rows);
+  for (int y = 0; y < rgb.rows; ++y) {
+    const cv::Vec3b* row = rgb.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < rgb.cols; ++x) (*image)(x, y) = Rgb8{row[x][0], row[x][1], row[x][2]};
+  }
+  return true;
+}
+}  // namespace
+
 ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what) {
   namespace enc = sensor_msgs::image_encodings;
   int channels = 0, red = 0, blue = 0;
@@ -200,7 +246,11 @@ ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what
   } else if (msg.encoding == enc::MONO8) {
     channels = 1;
   } else {
-    throw InputError(what + ": encoding '" + msg.encoding + "' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8)");
+    ColorImage converted;
+    if (convertedByOpenCv(msg, what, &converted)) return converted;
+    throw InputError(what + ": encoding '" + msg.encoding +
+                     "' is not a colour image (rgb8, bgr8, rgba8, bgra8, mono8, mono16, bayer_rggb8, bayer_bggr8, bayer_gbrg8, "
+                     "bayer_grbg8, yuv422, yuv422_yuy2)");
   }
   checkLayout(msg, channels, what);
   ColorImage image(msg.width, msg.height);

@@ -46,7 +46,9 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
                                                    const std::string& parent, const std::string& child,
                                                    const ros::Time& stamp);
 
-// rgb8, bgr8, rgba8, bgra8 or mono8 (grey copied to all three channels).
+// rgb8, bgr8, rgba8, bgra8 or mono8 (grey copied to all three channels); a camera's raw Bayer mosaic
+// (bayer_rggb8, bayer_bggr8, bayer_gbrg8, bayer_grbg8: demosaiced), YUV 4:2:2 (yuv422 - UYVY - and
+// yuv422_yuy2) and mono16 (scaled by the image's brightest pixel) as RGB.
 ColorImage fromColorImage(const sensor_msgs::Image& msg, const std::string& what);
 // What image_transport's compressed transport publishes: a JPEG (quality 95) of the image's luma.
 sensor_msgs::CompressedImage toCompressedJpeg(const ColorImage& image, const std::string& frame_id, const ros::Time& stamp);
