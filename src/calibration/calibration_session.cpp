@@ -566,9 +566,10 @@ RingOffsetChoice judgeRingOffsets(const std::vector<SensorSpec>& sensors, const 
   const bool room_agrees = offsets.planes_agreeing >= kLeastAgreement;
   const bool applied = better && (!offsets.beyond_specification || room_agrees);
   std::snprintf(line, sizeof(line),
-                "%s: the board's held-out poses are predicted %s with them (%.1f mm rms off the plane the other sensors "
-                "put it in, %.1f mm without; %d poses, each left out once)",
-                applied ? "applied" : "refused", better ? "better" : "worse", 1000 * with.rms, 1000 * without.rms, with.poses);
+                "%s: the board's held-out poses are predicted %s with them (%.1f mm rms, median %.1f mm, off the plane the "
+                "other sensors put it in; %.1f mm rms, median %.1f mm, without; %d poses, each left out once)",
+                applied ? "applied" : "refused", better ? "better" : "worse", 1000 * with.rms, 1000 * with.median, 1000 * without.rms,
+                1000 * without.median, with.poses);
   RingOffsetChoice choice{applied, line, ""};
   if (!offsets.beyond_specification) return choice;
   char room[240];

@@ -89,6 +89,7 @@ HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::ve
   HeldOutFit fit;
   double squares = 0.0;
   std::size_t points = 0;
+  std::vector<double> distances;
   for (const int held_out : poses) {
     std::vector<const TargetObservation*> others;
     const TargetObservation* own = nullptr;
@@ -112,11 +113,13 @@ HeldOutFit heldOutBoardFit(const std::vector<SensorSpec>& sensors, const std::ve
     for (const Eigen::Vector3d& p : own->points) {
       const double distance = plane.axes.col(2).dot(placed * p - plane.centroid);
       squares += distance * distance;
+      distances.push_back(std::abs(distance));
     }
     points += own->points.size();
     ++fit.poses;
   }
   if (points > 0) fit.rms = std::sqrt(squares / static_cast<double>(points));
+  if (!distances.empty()) fit.median = median(distances);
   return fit;
 }
 

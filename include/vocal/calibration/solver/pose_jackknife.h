@@ -32,8 +32,9 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
 // pose: cross-validation over poses, which tells two ways of treating a sensor's data apart (its ring
 // offsets applied or not) by what they predict rather than by how well they fit themselves.
 struct HeldOutFit {
-  double rms = 0.0;  // metres: the sensor's held-out board points from the board's plane as predicted
-  int poses = 0;     // poses it was measured at
+  double rms = 0.0;     // metres: the sensor's held-out board points from the board's plane as predicted
+  double median = 0.0;  // metres: the median of those points' distances (a few stray points weigh less)
+  int poses = 0;        // poses it was measured at
 };
 
 // For each target pose that `sensor` and another sensor saw: the rig re-solved without the pose, the
