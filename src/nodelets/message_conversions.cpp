@@ -185,9 +185,7 @@ void checkLayout(const sensor_msgs::Image& msg, std::size_t bytes_per_pixel, con
   }
   if (!problem.str().empty()) throw InputError(what + ": " + problem.str());
 }
-}  // namespace
 
-namespace {
 // A camera's raw or packed image (a machine-vision camera's Bayer mosaic, a USB camera's YUV 4:2:2, a
 // 12- or 16-bit mono camera) as RGB, through OpenCV; false for any other encoding.
 bool convertedByOpenCv(const sensor_msgs::Image& msg, const std::string& what, ColorImage* image) {
