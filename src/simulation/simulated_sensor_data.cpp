@@ -111,9 +111,13 @@ std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, s
   const auto cast = [&](const Eigen::Vector3d& ray, const Eigen::Vector3d& footprint, int ring, double bias) {
     const Eigen::Vector3d origin(0.0, 0.0, ring >= 0 && ring < static_cast<int>(view.ring_height.size()) ? view.ring_height[ring] : 0.0);
     const RoomHit hit = rangeReturn(sensor, view, ray, footprint, rng, origin);
-    if (hit.label == SurfaceLabel::kNone) return;
     const bool dark = hit.label == SurfaceLabel::kTarget && boardGrey(view.target->pattern, hit.on_target) < 128.0;
-    if (dark && view.dark_absorbs) return;
+    if (hit.label == SurfaceLabel::kNone || (dark && view.dark_absorbs)) {
+      if (!view.no_returns_at_origin || ring < 0) return;
+      points.push_back(Eigen::Vector3d::Zero());
+      if (truth) truth->labels.push_back(SurfaceLabel::kNone), truth->rings.push_back(ring);
+      return;
+    }
     points.push_back(origin + (noisy(hit.range, view.range_noise, rng) + bias + (dark ? view.dark_range_offset : 0.0)) * ray);
     if (truth) truth->labels.push_back(hit.label), truth->rings.push_back(ring);
   };

@@ -252,6 +252,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;
       view.dark_range_offset = lidar ? options.dark_range_offset : 0.0;
       view.dark_absorbs = lidar && options.dark_absorbs;
+      // As an Ouster driver publishes it: organised, its misses at the origin (fromPointCloud2 drops them).
+      view.no_returns_at_origin = lidar && options.lidar_model == LidarModel::kOuster64 && options.lidar_crop <= 0.0;
       view.board_on_stand = options.board_on_stand;
       view.time = time;
       SimulatedSensor placed = sensors[s];

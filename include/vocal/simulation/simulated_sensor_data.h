@@ -53,6 +53,9 @@ struct SimulatedRoomView {
   // range depends on the return's intensity).
   double dark_range_offset = 0.0;
   bool dark_absorbs = false;  // a lidar's returns on the board's dark squares are lost (too little light back)
+  // A spinning lidar's ray without a return is a point at the origin (an Ouster driver's organised cloud),
+  // not left out (a Velodyne driver's unorganised one).
+  bool no_returns_at_origin = false;
 };
 
 // A VLP-16's per-laser vertical offsets (its manual's vert_correction), metres, by ascending elevation.
@@ -69,8 +72,9 @@ struct SimulatedTruth {
 };
 
 // A 2D laser's ranges in beam order (270 degrees, 0.25 degree steps from -135 degrees; infinity where
-// nothing is hit within 8 m) or a lidar's points (view.lidar_model; its hits only, a spinning lidar's
-// ring per point in `truth` (a scanner's elevation band), -1 for a pattern without rings).
+// nothing is hit within 8 m) or a lidar's points (view.lidar_model; its hits only - with
+// view.no_returns_at_origin every ray, a miss at the origin -, a spinning lidar's ring per point in
+// `truth` (a scanner's elevation band), -1 for a pattern without rings).
 std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 std::vector<Eigen::Vector3d> simulateLidarCloud(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth = nullptr);
 // Depth in metres (0 where nothing is hit) of an RGB-D sensor with the given intrinsics.
