@@ -162,9 +162,7 @@ WavedCameraImuSession simulateWavedCameraImu(const WavedCameraImuOptions& o) {
     if (!in_view) continue;
     try {
       const PatternObservation seen = observePattern(pixels, o.pattern, o.camera, "simulated camera", o.lens);
-      // As camera_imu_bag: a view with a misdetected corner is held by its PnP pose.
-      if (!seen.corners_left_out.empty()) pixels.clear();
-      session.views.push_back({t, seen.plane, pixels, seen.reprojection_rms_px});
+      session.views.push_back(cameraImuView(t, seen, std::move(pixels)));
     } catch (const InputError&) {
       // A view PnP cannot fit is one a detector would have missed.
     }

@@ -100,9 +100,7 @@ CameraImuRecording readCameraImuBag(const std::string& bag_path, const RigDescri
           return std::nullopt;  // the board out of view or blurred: a waved session has such frames
         }
         const PatternObservation seen = observePattern(corners, pattern, out.camera, name.c_str(), out.lens);
-        // A view with a misdetected corner is held by its PnP pose, which leaves that corner out.
-        if (!seen.corners_left_out.empty()) corners.clear();
-        return CameraImuView{0.0, seen.plane, corners, seen.reprojection_rms_px};
+        return cameraImuView(0.0, seen, std::move(corners));
       })});
       while (pending.size() > static_cast<std::size_t>(threads)) takeOldest();
     }

@@ -8,6 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "vocal/calibration/point_statistics.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -93,8 +94,7 @@ PatternObservation observePattern(const std::vector<Eigen::Vector2d>& image_corn
     std::vector<double> kept;
     for (std::size_t i = 0; i < errors.size(); ++i)
       if (used[i]) kept.push_back(errors[i]);
-    std::nth_element(kept.begin(), kept.begin() + kept.size() / 2, kept.end());
-    const double threshold = std::max(kMisdetectedCornerPixels, kMisdetectedCornerMedians * kept[kept.size() / 2]);
+    const double threshold = std::max(kMisdetectedCornerPixels, kMisdetectedCornerMedians * median(std::move(kept)));
     std::vector<bool> next = used;
     std::size_t left_out = 0;
     for (std::size_t i = 0; i < errors.size(); ++i) {

@@ -19,6 +19,11 @@
 
 namespace vocal {
 
+CameraImuView cameraImuView(double stamp, const PatternObservation& seen, std::vector<Eigen::Vector2d> corners) {
+  if (!seen.corners_left_out.empty()) corners.clear();
+  return CameraImuView{stamp, seen.plane, std::move(corners), seen.reprojection_rms_px};
+}
+
 namespace {
 
 constexpr int kLeastViews = 20;

@@ -304,7 +304,8 @@ T cauchyResidual(const T& r, double c) {
 // Every outline point of one observation in one block (OutlinePointResidual each, Cauchy within): the
 // sensor-to-board turn is composed once per observation rather than once per point (behind joints the
 // chain too: a head's depth camera brings hundreds of edge points a view; per point, the outline took 8x
-// the whole solve; on a rigid rig, per point, over half of calibrate_rig's time).
+// the whole solve; a pan-tilt head described as rigid took 95 s with its rigid sensors' points one block
+// each, 22 s per view).
 struct OutlinePointsResidual {
   std::vector<Eigen::Vector3d> points;
   double sigma, half_width, half_height, loss_sigmas;

@@ -37,6 +37,10 @@ struct CameraImuView {
   std::vector<Eigen::Vector2d> corners;
   double pixel_sigma = 0.0;
 };
+// A frame's view from its detected corners and their PnP fit (observePattern); a view whose fit left a
+// misdetected corner out keeps no corners, so the graph holds it by its PnP pose, which leaves that corner out.
+CameraImuView cameraImuView(double stamp, const PatternObservation& seen, std::vector<Eigen::Vector2d> corners);
+
 
 // The camera's model: with it each view's corners are projected through the lens in the graph
 // (spline_corner_residual.h); without it, or for a view without corners, its PnP pose with its covariance.
