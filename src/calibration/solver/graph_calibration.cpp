@@ -21,124 +21,27 @@
 #include "vocal/calibration/extraction/board_outline.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
+#include "vocal/calibration/solver/on_board_plane.h"
+#include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
-#include "vocal/calibration/solver/outline_point_residual.h"
+#include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
+#include "vocal/calibration/solver/reading_corrections_residual.h"
+#include "vocal/calibration/solver/through_joints_residual.h"
+#include "vocal/calibration/solver/weak_board_prior.h"
 #include "vocal/core/errors.h"
 
 namespace vocal {
 
 namespace {
-// A camera's plane measurement against the target's plane (rig frame): the predicted plane in the
-// camera frame, n_c = q^-1 n and d_c = n . t + d, read as the pattern's tilt (n_c along the measured
-// pattern x and y axes, zero when they agree) and the measured centre's distance to it, whitened by the
-// measurement's covariance.
-struct PlaneMeasurementResidual {
-  explicit PlaneMeasurementResidual(const PlaneMeasurement& measurement)
-      : sensor_from_pattern(measurement.sensor_from_pattern), pose_per_intrinsics(measurement.pose_per_intrinsics) {
-    // |L^-1 r|^2 = r^T covariance^-1 r for covariance = L L^T.
-    whitening = measurement.covariance.llt().matrixL().solve(Eigen::Matrix3d::Identity());
-  }
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residual) const {
-    return evaluate<T>(rotation, translation, normal, offset, nullptr, residual);
-  }
-
-  // With the camera's intrinsics changed by `intrinsics` (null: as given), the pattern's pose as the
-  // corners would then put it (PatternPoseCorrected).
-  template <typename T>
-  bool evaluate(const T* sensor_rotation, const T* sensor_translation, const T* normal_block, const T* offset, const T* intrinsics,
-                T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(sensor_rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(sensor_translation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> n(normal_block);
-    Eigen::Matrix<T, 3, 1> x_axis = sensor_from_pattern.linear().col(0).cast<T>(), y_axis = sensor_from_pattern.linear().col(1).cast<T>();
-    Eigen::Matrix<T, 3, 1> centre = sensor_from_pattern.translation().cast<T>();
-    if (intrinsics) {
-      const PatternPoseCorrected<T> corrected(sensor_from_pattern, pose_per_intrinsics, intrinsics);
-      x_axis = corrected.direction(Eigen::Vector3d::UnitX());
-      y_axis = corrected.direction(Eigen::Vector3d::UnitY());
-      centre = corrected.point(Eigen::Vector3d::Zero());
-    }
-    const Eigen::Matrix<T, 3, 1> n_camera = q.conjugate() * n;
-    const Eigen::Matrix<T, 3, 1> r(n_camera.dot(x_axis), n_camera.dot(y_axis), n_camera.dot(centre) + n.dot(t) + offset[0]);
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
-    out = whitening.cast<T>() * r;
-    return true;
-  }
-
-  Eigen::Isometry3d sensor_from_pattern;
-  Eigen::Matrix<double, 6, 4> pose_per_intrinsics;
-  Eigen::Matrix3d whitening;
-};
-
-// The same measurement with the camera's intrinsics correction as a fifth block.
-struct PlaneMeasurementWithIntrinsics {
-  PlaneMeasurementResidual measurement;
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, const T* intrinsics, T* residual) const {
-    return measurement.evaluate<T>(rotation, translation, normal, offset, intrinsics, residual);
-  }
-};
-
-// A plane residual on a board pose (rig_from_board): its plane is the board's z = 0. Blocks after the
-// board's (an intrinsics correction) and the residual pass through.
-template <typename PlaneResidual>
-struct OnBoardPlane {
-  PlaneResidual plane;
-
-  template <typename T, typename... Rest>
-  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, Rest... rest) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(board_rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(board_translation);
-    const Eigen::Matrix<T, 3, 1> normal = q * Eigen::Matrix<T, 3, 1>::UnitZ();
-    const T offset = -normal.dot(t);
-    return plane(rotation, translation, normal.data(), &offset, rest...);
-  }
-};
-
-// A camera view's board outline in the pattern's frame: three points along each edge (the pattern is
-// centred on the board, its x along the board's width).
-std::vector<Eigen::Vector3d> patternOutline(const BoardEdgeOptions& edges) {
-  const double half_width = 0.5 * edges.width, half_height = 0.5 * edges.height;
-  std::vector<Eigen::Vector3d> outline;
-  for (double s : {-0.5, 0.0, 0.5}) {
-    for (double side : {-1.0, 1.0}) {
-      outline.emplace_back(side * half_width, s * 2.0 * half_height, 0.0);
-      outline.emplace_back(s * 2.0 * half_width, side * half_height, 0.0);
-    }
-  }
-  return outline;
-}
-
-// ... and in the camera's frame, placed by its PnP pose.
+// A camera view's board outline (patternOutline) in the camera's frame, placed by its PnP pose.
 std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
-  std::vector<Eigen::Vector3d> outline = patternOutline(edges);
+  std::vector<Eigen::Vector3d> outline = patternOutline(edges.width, edges.height);
   for (Eigen::Vector3d& p : outline) p = view.sensor_from_pattern * p;
   return outline;
 }
-
-// A camera view's outline point (pattern frame) placed by its pose with the camera's intrinsics
-// correction (a fifth block; PatternPoseCorrected), against the board's outline.
-struct CameraOutlineWithIntrinsics {
-  Eigen::Vector3d on_pattern;
-  Eigen::Isometry3d sensor_from_pattern;
-  Eigen::Matrix<double, 6, 4> pose_per_intrinsics;
-  double sigma, half_width, half_height;
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, const T* intrinsics,
-                  T* residual) const {
-    const Eigen::Matrix<T, 3, 1> point = PatternPoseCorrected<T>(sensor_from_pattern, pose_per_intrinsics, intrinsics).point(on_pattern);
-    const Eigen::Map<const Eigen::Quaternion<T>> q_sensor(rotation), q_board(board_rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_sensor(translation), t_board(board_translation);
-    const Eigen::Matrix<T, 3, 1> on_board = q_board.conjugate() * (q_sensor * point + t_sensor - t_board);
-    residual[0] = distanceToOutline(on_board.x(), on_board.y(), half_width, half_height) / T(sigma);
-    return true;
-  }
-};
 
 // Where a sensor saw the board's centre: a camera's pattern, a range sensor's edge points (both ends of
 // every line) or, with too few of them, its points.
@@ -203,40 +106,6 @@ struct ChainAt {
   std::vector<double*> origins;      // the free origins' corrections (JointDescription::free_origin), in chain order
 };
 
-// A residual on (sensor rotation, sensor translation, then kBlocks more) for a sensor behind joints: the
-// sensor's pose is the chain's at the pose's positions plus the offsets (the blocks after those) and the
-// pose's reading corrections (the next blocks), its free joints' origins corrected by the blocks after
-// those, times its mount (blocks 0, 1).
-template <typename Residual, int kBlocks>
-struct ThroughJoints {
-  Residual residual;
-  const std::vector<JointDescription>* joints;
-  std::vector<int> chain;
-  std::vector<double> positions;
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* out) const {
-    Eigen::Quaternion<T> chain_rotation;
-    Eigen::Matrix<T, 3, 1> chain_translation;
-    const int first = 2 + kBlocks;
-    std::vector<const T*> origins(chain.size(), nullptr);
-    T const* const* free_origin = blocks + first + 2 * chain.size();
-    for (std::size_t i = 0; i < chain.size(); ++i)
-      if ((*joints)[chain[i]].free_origin) origins[i] = *free_origin++;
-    correctedChainTransform<T>(*joints, chain, positions.data(), blocks + first, blocks + first + chain.size(), &chain_rotation,
-                               &chain_translation, origins.data());
-    const Eigen::Map<const Eigen::Quaternion<T>> mount_rotation(blocks[0]);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> mount_translation(blocks[1]);
-    const Eigen::Quaternion<T> rotation = chain_rotation * mount_rotation;
-    const Eigen::Matrix<T, 3, 1> translation = chain_translation + chain_rotation * mount_translation;
-    return call(rotation.coeffs().data(), translation.data(), blocks + 2, out, std::make_index_sequence<kBlocks>());
-  }
-  template <typename T, std::size_t... I>
-  bool call(const T* rotation, const T* translation, T const* const* rest, T* out, std::index_sequence<I...>) const {
-    return residual(rotation, translation, rest[I]..., out);
-  }
-};
-
 // A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes), through the
 // sensor's joints when `chain` is set; kSize residuals, or `residuals` where kSize is ceres::DYNAMIC.
 template <typename Residual, int kSize, int... kSizes>
@@ -290,43 +159,6 @@ void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::
                                                          {board->rotation.coeffs().data(), board->translation.data()});
 }
 
-// r times sqrt(log(1 + x) / x), x = (r / c)^2: its square is Cauchy's c^2 log(1 + (r / c)^2), the loss Ceres
-// applies to a block of one residual, for residuals that share a block.
-template <typename T>
-T cauchyResidual(const T& r, double c) {
-  using std::log1p;
-  using std::sqrt;
-  const T x = r * r / T(c * c);
-  const T factor = x < T(1e-8) ? T(1.0) - x / T(2.0) : log1p(x) / x;
-  return r * sqrt(factor);
-}
-
-// Every outline point of one observation in one block (OutlinePointResidual each, Cauchy within): the
-// sensor-to-board turn is composed once per observation rather than once per point (behind joints the
-// chain too: a head's depth camera brings hundreds of edge points a view; per point, the outline took 8x
-// the whole solve; a pan-tilt head described as rigid took 95 s with its rigid sensors' points one block
-// each, 22 s per view).
-struct OutlinePointsResidual {
-  std::vector<Eigen::Vector3d> points;
-  double sigma, half_width, half_height, loss_sigmas;
-
-  template <typename T>
-  bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
-    // The board's x and y rows of board <- sensor, once: per point a 2x3 product.
-    const Eigen::Matrix<T, 3, 3> turn = (q_board.conjugate() * q).toRotationMatrix();
-    const Eigen::Matrix<T, 3, 1> offset = q_board.conjugate() * (t - t_board);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d& p = points[i];
-      const T x = turn(0, 0) * p.x() + turn(0, 1) * p.y() + turn(0, 2) * p.z() + offset.x();
-      const T y = turn(1, 0) * p.x() + turn(1, 1) * p.y() + turn(1, 2) * p.z() + offset.y();
-      residual[i] = cauchyResidual(distanceToOutline(x, y, half_width, half_height) / T(sigma), loss_sigmas);
-    }
-    return true;
-  }
-};
-
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
                          const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board, const ChainAt* chain) {
   if (outline.empty()) return;
@@ -334,33 +166,6 @@ void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vecto
       problem, OutlinePointsResidual{outline, sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas}, nullptr, sensor, chain,
       {board->rotation.coeffs().data(), board->translation.data()}, static_cast<int>(outline.size()));
 }
-
-// A board pose held weakly (1 m, 1 rad) to where it started: no say where the sensors place it, but a pose
-// whose place in its plane no sensor's outline fixes (seen by a 2D laser and a lidar's few rings) stays
-// defined, so the covariance of everything else can still be computed.
-struct WeakBoardPrior {
-  Eigen::Quaterniond rotation;
-  Eigen::Vector3d translation;
-  template <typename T>
-  bool operator()(const T* q_data, const T* t_data, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> q(q_data);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(t_data);
-    Eigen::Quaternion<T> turn = rotation.conjugate().cast<T>() * q;
-    if (turn.w() < T(0)) turn.coeffs() = -turn.coeffs();
-    for (int i = 0; i < 3; ++i) residual[i] = t[i] - T(translation[i]), residual[3 + i] = T(2) * turn.vec()[i];
-    return true;
-  }
-};
-
-// A still pose's reading of a joint as its true position less the reading: a prior of the reading's sigma.
-struct ReadingCorrectionPrior {
-  double sigma;
-  template <typename T>
-  bool operator()(const T* correction, T* residual) const {
-    residual[0] = correction[0] / T(sigma);
-    return true;
-  }
-};
 
 // The joints' offsets as Ceres blocks (one per joint of `mounts`), and each still pose's reading
 // corrections (target pose, joint), what a sensor behind joints needs.
@@ -377,8 +182,10 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
   if (added) {
     const JointDescription& joint = joints.mounts->joints[j];
     const double sigma = joints.mounts->tolerances.readingSigma(joint);
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ReadingCorrectionPrior, 1, 1>(new ReadingCorrectionPrior{sigma}), nullptr,
-                              &entry->second);
+    auto* prior = new ceres::DynamicAutoDiffCostFunction<ReadingCorrectionsResidual>(new ReadingCorrectionsResidual{{sigma}});
+    prior->AddParameterBlock(1);
+    prior->SetNumResiduals(1);
+    problem->AddResidualBlock(prior, nullptr, &entry->second);
     if (joint.type == JointType::kFixed) problem->SetParameterBlockConstant(&entry->second);
   }
   return &entry->second;
@@ -410,7 +217,7 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
                                                     intrinsics);
       if (intrinsics) addIntrinsicsEvidence(problem, measurement, intrinsics);
       if (board && intrinsics) {
-        for (const Eigen::Vector3d& q : patternOutline(edges)) {
+        for (const Eigen::Vector3d& q : patternOutline(edges.width, edges.height)) {
           addSensorResidual<CameraOutlineWithIntrinsics, 1, 4, 3, 4>(
               problem,
               CameraOutlineWithIntrinsics{q, measurement.sensor_from_pattern, measurement.pose_per_intrinsics, edges.camera_sigma,

@@ -1,7 +1,7 @@
 #pragma once
-// A range sensor's point on the board's edge against the board's outline, for the Ceres graphs
-// (graph_calibration with board edges, hand-eye for a 2D laser's scan ends): Eigen only, so it stays
-// out of Ceres's headers.
+// A range sensor's point on the board's edge against the board's outline, for the Ceres graphs (hand-eye
+// for a 2D laser's scan ends; the still-pose graph holds a view's points in one block,
+// outline_points_residual.h): Eigen only, so it stays out of Ceres's headers.
 
 #include <Eigen/Geometry>
 

@@ -1,0 +1,256 @@
+// The still-pose graph's residual kinds (calibration/solver/*.h used by graph_calibration.cpp), each on
+// its own: zero where the unknowns agree with the observation, and the observation's error in its standard
+// deviations where they are off by a known amount.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "vocal/calibration/joint_chain.h"
+#include "vocal/calibration/solver/camera_outline_residual.h"
+#include "vocal/calibration/solver/on_board_plane.h"
+#include "vocal/calibration/solver/outline_point_residual.h"
+#include "vocal/calibration/solver/outline_points_residual.h"
+#include "vocal/calibration/solver/plane_measurement_residual.h"
+#include "vocal/calibration/solver/point_plane_residual.h"
+#include "vocal/calibration/solver/through_joints_residual.h"
+#include "vocal/calibration/solver/weak_board_prior.h"
+#include "vocal/core/se3.h"
+
+namespace {
+// A pose's rotation (Eigen's x y z w) and translation, as the graph's blocks hold them.
+struct Blocks {
+  explicit Blocks(const Eigen::Isometry3d& pose) : q(pose.linear()), t(pose.translation()) {}
+  Eigen::Quaterniond q;
+  Eigen::Vector3d t;
+};
+
+Eigen::Isometry3d pose(const Eigen::Vector3d& translation, double angle, const Eigen::Vector3d& axis) {
+  return vocal::poseFromTranslationQuaternion(translation, Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())));
+}
+
+// A camera in the rig frame and a board (rig <- board) in front of it, and the camera's view of the board.
+struct Scene {
+  Eigen::Isometry3d camera = pose({0.05, -0.02, 0.1}, 0.3, {1, 2, 3});
+  Eigen::Isometry3d board = camera * pose({0.1, -0.05, 1.2}, 0.4, {1, -1, 0.2});
+  vocal::PlaneMeasurement view() const {
+    vocal::PlaneMeasurement m;
+    m.sensor_from_pattern = camera.inverse() * board;
+    return m;
+  }
+};
+
+// Evaluates a 4-block plane residual (sensor q, t, plane normal, offset) at a plane of the rig frame.
+template <typename Residual, int kSize>
+Eigen::Matrix<double, kSize, 1> onPlane(const Residual& residual, const Eigen::Isometry3d& sensor, const Eigen::Isometry3d& board) {
+  const Blocks x(sensor);
+  const Eigen::Vector3d normal = board.linear().col(2);
+  const double offset = -normal.dot(board.translation());
+  Eigen::Matrix<double, kSize, 1> r;
+  residual(x.q.coeffs().data(), x.t.data(), normal.data(), &offset, r.data());
+  return r;
+}
+}  // namespace
+
+// A camera's plane measurement: zero on the board's plane; the plane 10 mm further along its normal with a
+// 2 mm sigma on the centre's distance is 5 sigmas there alone; the board tilted by 3 mrad about the
+// pattern's x with 1 mrad sigmas is 3 of them on the tilt about y (the normal leaning along y).
+TEST(RigGraphResiduals, PlaneMeasurementIsThePatternsTiltAndDistanceInTheirSigmas) {
+  const Scene scene;
+  vocal::PlaneMeasurement view = scene.view();
+  view.covariance = Eigen::Vector3d(1e-6, 1e-6, 4e-6).asDiagonal();
+  const vocal::PlaneMeasurementResidual residual(view);
+  EXPECT_LT((onPlane<vocal::PlaneMeasurementResidual, 3>(residual, scene.camera, scene.board)).norm(), 1e-9);
+
+  const Eigen::Isometry3d further = Eigen::Translation3d(0.01 * scene.board.linear().col(2)) * scene.board;
+  const Eigen::Vector3d shifted = onPlane<vocal::PlaneMeasurementResidual, 3>(residual, scene.camera, further);
+  EXPECT_NEAR(std::abs(shifted[2]), 5.0, 1e-6);
+  EXPECT_LT(shifted.head<2>().norm(), 1e-9);
+
+  const Eigen::Isometry3d tilted = scene.board * pose(Eigen::Vector3d::Zero(), 3e-3, {1, 0, 0});
+  const Eigen::Vector3d turned = onPlane<vocal::PlaneMeasurementResidual, 3>(residual, scene.camera, tilted);
+  EXPECT_NEAR(std::abs(turned[1]), 3.0, 1e-3);
+  EXPECT_LT(std::abs(turned[0]) + std::abs(turned[2]), 1e-6);
+}
+
+// With no intrinsics correction the fifth block changes nothing; a correction moves the view as
+// pose_per_intrinsics says: a focal length 1 % longer that moves the pattern 5 mm further (along the
+// camera's z, here the board's normal) is 5 mm off the board's plane.
+TEST(RigGraphResiduals, PlaneMeasurementWithIntrinsicsMovesTheViewByItsResponse) {
+  Scene scene;
+  scene.board = scene.camera * pose({0.0, 0.0, 1.0}, 0.0, {1, 0, 0});  // the board square to the camera
+  vocal::PlaneMeasurement view = scene.view();
+  view.covariance = Eigen::Matrix3d::Identity() * 1e-6;
+  view.pose_per_intrinsics(5, 0) = 0.5;  // dt_z per dfx / fx
+  const vocal::PlaneMeasurementWithIntrinsics with{vocal::PlaneMeasurementResidual(view)};
+  const Blocks x(scene.camera);
+  const Eigen::Vector3d normal = scene.board.linear().col(2);
+  const double offset = -normal.dot(scene.board.translation());
+  for (const double dfx : {0.0, 0.01}) {
+    const Eigen::Vector4d dk(dfx, 0.0, 0.0, 0.0);
+    Eigen::Vector3d r;
+    with(x.q.coeffs().data(), x.t.data(), normal.data(), &offset, dk.data(), r.data());
+    EXPECT_NEAR(std::abs(r[2]), dfx * 0.5 / 1e-3, 1e-6);
+    EXPECT_LT(r.head<2>().norm(), 1e-9);
+  }
+}
+
+// A plane residual on a board pose is the same residual on the board's z = 0 plane, for a camera's view
+// and for a range sensor's points.
+TEST(RigGraphResiduals, OnBoardPlaneIsThePlaneResidualOnTheBoardsPlane) {
+  const Scene scene;
+  vocal::PlaneMeasurement view = scene.view();
+  view.covariance = Eigen::Vector3d(1e-6, 2e-6, 4e-6).asDiagonal();
+  const Eigen::Isometry3d board = Eigen::Translation3d(0.004, -0.002, 0.007) * scene.board * pose(Eigen::Vector3d::Zero(), 0.01, {1, 1, 0});
+  const Blocks x(scene.camera), b(board);
+
+  const vocal::PlaneMeasurementResidual plane(view);
+  Eigen::Vector3d on_board;
+  vocal::OnBoardPlane<vocal::PlaneMeasurementResidual>{plane}(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), on_board.data());
+  EXPECT_LT((on_board - onPlane<vocal::PlaneMeasurementResidual, 3>(plane, scene.camera, board)).norm(), 1e-9);
+  EXPECT_GT(on_board.norm(), 1.0);  // the moved board is seen as moved
+
+  std::vector<Eigen::Vector3d> points;
+  for (double u = -0.2; u <= 0.2; u += 0.1)
+    for (double v = -0.15; v <= 0.15; v += 0.1) points.push_back(view.sensor_from_pattern * Eigen::Vector3d(u, v, 0.0));
+  const vocal::ObservationOnPlaneResidual range(points, 0.005);
+  Eigen::Vector4d range_on_board;
+  vocal::OnBoardPlane<vocal::ObservationOnPlaneResidual>{range}(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(),
+                                                               range_on_board.data());
+  EXPECT_LT((range_on_board - onPlane<vocal::ObservationOnPlaneResidual, 4>(range, scene.camera, board)).norm(), 1e-9);
+}
+
+// The outline a camera's pattern predicts: zero on the board's edges; the board 10 mm to the side of
+// where the view puts it, 2 standard deviations of 5 mm for the points that shift moves off the outline.
+TEST(RigGraphResiduals, CameraOutlineIsThePredictedEdgesDistanceToTheBoards) {
+  const Scene scene;
+  const vocal::PlaneMeasurement view = scene.view();
+  const double width = 0.6, height = 0.45;
+  const Eigen::Vector4d no_correction = Eigen::Vector4d::Zero();
+  const Blocks x(scene.camera);
+  for (const double shift : {0.0, 0.01}) {
+    const Blocks b(scene.board * Eigen::Translation3d(shift, 0.0, 0.0));
+    for (const Eigen::Vector3d& on_pattern : vocal::patternOutline(width, height)) {
+      const vocal::CameraOutlineWithIntrinsics residual{on_pattern, view.sensor_from_pattern, view.pose_per_intrinsics, 0.005, 0.5 * width,
+                                                        0.5 * height};
+      double r = 0.0;
+      residual(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), no_correction.data(), &r);
+      // The board's frame moved along its x: the points on its +x edge lie inside by the shift (its
+      // corners stay on the outline's y edges), those on its -x edge outside by it.
+      const bool on_x_edge = std::abs(std::abs(on_pattern.x()) - 0.5 * width) < 1e-12;
+      const bool off = on_x_edge && (on_pattern.x() < 0.0 || std::abs(on_pattern.y()) < 1e-12);
+      EXPECT_NEAR(std::abs(r), off ? shift / 0.005 : 0.0, 1e-9) << on_pattern.transpose();
+    }
+  }
+  // Each edge's ends and middle (the corners twice), each on the outline.
+  const std::vector<Eigen::Vector3d> outline = vocal::patternOutline(width, height);
+  ASSERT_EQ(outline.size(), 12u);
+  for (const Eigen::Vector3d& p : outline) EXPECT_NEAR(vocal::distanceToOutline(p.x(), p.y(), 0.5 * width, 0.5 * height), 0.0, 1e-12);
+}
+
+// Cauchy's loss spread over a block: the square is c^2 log(1 + (r / c)^2) on either branch, the sign kept.
+TEST(RigGraphResiduals, CauchyResidualSquaresToCauchysLoss) {
+  for (const double c : {1.0, 3.0}) {
+    for (const double r : {-7.0, -0.5, 1e-6, 2.0, 30.0}) {
+      const double spread = vocal::cauchyResidual(r, c);
+      EXPECT_NEAR(spread * spread, c * c * std::log1p(r * r / (c * c)), 1e-12 * (1.0 + r * r)) << r << " " << c;
+      EXPECT_EQ(std::signbit(spread), std::signbit(r));
+    }
+  }
+}
+
+// A view's outline points in one block: each point's OutlinePointResidual under Cauchy's loss, in order.
+TEST(RigGraphResiduals, OutlinePointsAreEachPointsOutlineDistanceUnderCauchy) {
+  const Scene scene;
+  const double half_width = 0.3, half_height = 0.2, sigma = 0.01, loss = 3.0;
+  const Eigen::Isometry3d camera_from_board = scene.camera.inverse() * scene.board;
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector2d& on_board : {Eigen::Vector2d(0.3, 0.05), Eigen::Vector2d(0.32, -0.1), Eigen::Vector2d(-0.1, 0.2),
+                                          Eigen::Vector2d(0.0, -0.5), Eigen::Vector2d(-0.25, 0.0)}) {
+    points.push_back(camera_from_board * Eigen::Vector3d(on_board.x(), on_board.y(), 0.0));
+  }
+  const vocal::OutlinePointsResidual all{points, sigma, half_width, half_height, loss};
+  const Blocks x(scene.camera), b(scene.board);
+  std::vector<double> r(points.size());
+  all(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), r.data());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double one = 0.0;
+    vocal::OutlinePointResidual{points[i], sigma, half_width, half_height}(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), &one);
+    EXPECT_NEAR(r[i], vocal::cauchyResidual(one, loss), 1e-9) << i;
+  }
+  EXPECT_NEAR(r[0], 0.0, 1e-9);                                // on the edge
+  EXPECT_NEAR(r[1], vocal::cauchyResidual(2.0, loss), 1e-9);   // 20 mm beyond it
+  EXPECT_NEAR(r[3], loss * std::sqrt(std::log1p(100.0)), 1e-9);  // 30 sigmas out: 6.4 under Cauchy's loss, not 30
+}
+
+// The weak board prior: zero where the board started; its shift in metres and its turn in radians.
+TEST(RigGraphResiduals, WeakBoardPriorIsTheShiftAndTurnFromTheStart) {
+  const Scene scene;
+  const vocal::WeakBoardPrior prior{Eigen::Quaterniond(scene.board.linear()), scene.board.translation()};
+  const Eigen::Isometry3d moved = Eigen::Translation3d(0.1, -0.2, 0.05) * scene.board * pose(Eigen::Vector3d::Zero(), 0.02, {0, 0, 1});
+  for (const bool same : {true, false}) {
+    const Eigen::Isometry3d& at = same ? scene.board : moved;
+    Blocks b(at);
+    b.q.coeffs() = -b.q.coeffs();  // the same turn either sign
+    Eigen::Matrix<double, 6, 1> r;
+    prior(b.q.coeffs().data(), b.t.data(), r.data());
+    EXPECT_NEAR((r.head<3>() - (at.translation() - scene.board.translation())).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(r.tail<3>().norm(), same ? 0.0 : 2.0 * std::sin(0.01), 1e-12);
+    if (!same) EXPECT_NEAR(r[5], 2.0 * std::sin(0.01), 1e-12);  // the turn in the board's own frame: about its z
+  }
+}
+
+namespace {
+// A residual that hands back the pose it is given: (translation, quaternion's x y z w).
+struct PoseEcho {
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, T* out) const {
+    for (int i = 0; i < 3; ++i) out[i] = translation[i];
+    for (int i = 0; i < 4; ++i) out[3 + i] = rotation[i];
+    return true;
+  }
+};
+}  // namespace
+
+// A sensor behind joints: the residual sees its chain's pose at the readings plus offsets and corrections
+// times its mount, and a free origin's correction moves the chain.
+TEST(RigGraphResiduals, ThroughJointsComposesTheChainAndTheMount) {
+  std::vector<vocal::JointDescription> joints(2);
+  joints[0].name = "pan", joints[0].parent = "base", joints[0].child = "pan_link", joints[0].axis = Eigen::Vector3d::UnitZ();
+  joints[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
+  joints[1].name = "tilt", joints[1].parent = "pan_link", joints[1].child = "tilt_link", joints[1].axis = Eigen::Vector3d::UnitY();
+  joints[1].origin.translation() = Eigen::Vector3d(0.1, 0.0, 0.1);
+  const std::vector<int> chain = {0, 1};
+  const std::vector<double> readings = {0.4, -0.3};
+  const Eigen::Isometry3d mount = pose({0.03, 0.0, 0.05}, 0.2, {0, 1, 0});
+  const Blocks m(mount);
+
+  const auto through = [&](const std::vector<vocal::JointDescription>& described, const double* offsets, const double* corrections,
+                           const double* origin) {
+    const vocal::ThroughJoints<PoseEcho, 0> residual{PoseEcho{}, &described, chain, readings};
+    std::vector<const double*> blocks = {m.q.coeffs().data(), m.t.data(), &offsets[0], &offsets[1], &corrections[0], &corrections[1]};
+    if (origin) blocks.push_back(origin);
+    Eigen::Matrix<double, 7, 1> out;
+    residual(blocks.data(), out.data());
+    return vocal::poseFromTranslationQuaternion(out.head<3>(), Eigen::Quaterniond(out[6], out[3], out[4], out[5]));
+  };
+  const double offsets[] = {0.002, -0.001}, corrections[] = {0.0005, 0.0};
+  const Eigen::Isometry3d expected = vocal::chainPose(joints, chain, {0.4 + 0.002 + 0.0005, -0.3 - 0.001}) * mount;
+  const Eigen::Isometry3d seen = through(joints, offsets, corrections, nullptr);
+  EXPECT_LT((seen.translation() - expected.translation()).norm(), 1e-12);
+  EXPECT_LT(vocal::rotationAngle(seen.inverse() * expected), 1e-9);
+
+  // The tilt's origin free, 1 cm higher than its model.
+  std::vector<vocal::JointDescription> free = joints;
+  free[1].free_origin = true;
+  Eigen::Matrix<double, 6, 1> correction = Eigen::Matrix<double, 6, 1>::Zero();
+  correction[5] = 0.01;
+  std::vector<vocal::JointDescription> corrected = joints;
+  corrected[1].origin = vocal::jointOriginCorrected(joints[1], correction);
+  const Eigen::Isometry3d higher = vocal::chainPose(corrected, chain, {0.4 + 0.002 + 0.0005, -0.3 - 0.001}) * mount;
+  const Eigen::Isometry3d seen_higher = through(free, offsets, corrections, correction.data());
+  EXPECT_LT((seen_higher.translation() - higher.translation()).norm(), 1e-12);
+  EXPECT_GT((seen_higher.translation() - seen.translation()).norm(), 0.009);
+}
