@@ -435,6 +435,45 @@ TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
   EXPECT_EQ(r.output, "calibrate_rig: error: option --imu-bag: the rig has no sensor of type imu\n");
 }
 
+// A camera on an arm's tool with an IMU beside it (a wrist camera with its own IMU): the camera from the
+// arm's still poses, the IMU from a waved recording of its own, placed through the camera in the tool's
+// frame. An IMU as an arm rig's reference is refused, naming what to give instead.
+TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnItsTool) {
+  const std::string arm = vocal_test::makeTempFolder("cli_imu_arm"), waved = vocal_test::makeTempFolder("cli_imu_arm_waved");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + arm + " --eye-in-hand --poses 12 --seed 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("simulate_calibration_session " + waved + " --waved-imu --seconds 20 --camera-name arm_camera --seed 4"
+                          " --pattern-cols 10 --pattern-rows 7 --square 0.03 --board-width 0.36 --board-height 0.27");  // the arm's board
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  vocal_test::writeText(arm + "/rig_imu.yaml", vocal_test::readText(arm + "/rig.yaml") +
+                                                   "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: arm_camera}\n");
+  r = vocal_test::runTool("calibrate_rig " + arm + "/rig_imu.yaml " + arm + "/session.bag --imu-bag " + waved + "/session.bag --quiet --output-dir " +
+                          arm);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("imu in arm_tool"), std::string::npos) << r.output;
+  const Eigen::Isometry3d camera_truth = poseOfEntry(YAML::LoadFile(arm + "/ground_truth.yaml")["sensors"]["arm_camera"]["pose"]);
+  const Eigen::Isometry3d imu_truth = camera_truth * poseFromList(YAML::LoadFile(waved + "/ground_truth.yaml")["camera_in_imu"]).inverse();
+  const YAML::Node result = YAML::LoadFile(arm + "/calibration.yaml");
+  ASSERT_TRUE(result["imus"]) << vocal_test::readText(arm + "/calibration.yaml");
+  EXPECT_EQ(result["imus"][0]["parent"].as<std::string>(), "arm_tool");
+  EXPECT_TRUE(result["imus"][0]["published"].as<bool>());
+  const Eigen::Isometry3d imu_error = imu_truth.inverse() * poseOfEntry(result["imus"][0]);
+  EXPECT_LT(imu_error.translation().norm(), 0.003);
+  EXPECT_LT(rotationAngle(imu_error), 0.003);
+  EXPECT_NE(vocal_test::readText(arm + "/calibration.launch").find("arm_tool imu_link"), std::string::npos);
+  EXPECT_NE(vocal_test::readText(arm + "/calibration.urdf").find("<parent link=\"arm_tool\"/>\n  <child link=\"imu_link\"/>"), std::string::npos)
+      << vocal_test::readText(arm + "/calibration.urdf");
+
+  RigDescription imu_reference = readRigDescription(arm + "/rig_imu.yaml");
+  imu_reference.imus[0].pose = imu_truth;
+  writeRigDescription(arm + "/rig_imu_reference.yaml", imu_reference);
+  r = vocal_test::runTool("calibrate_rig " + arm + "/rig_imu_reference.yaml " + arm + "/session.bag --imu-bag " + waved + "/session.bag --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output, "calibrate_rig: error: " + arm + "/rig_imu_reference.yaml: imu 'imu': its 'pose' makes it the reference of a rig with "
+                      "joints or an arm, which is not supported: give the pose of a sensor fixed in arm_base (or none), and the IMU is placed "
+                      "through its camera\n");
+}
+
 TEST(CameraImuCalibration, TheRigsImuEntryIsChecked) {
   const std::string folder = vocal_test::makeTempFolder("rig_imu_checks");
   const std::string head = "reference_frame: base_link\ntarget: {type: checkerboard, rows: 6, cols: 7, square_size: 0.05}\nsensors:\n"

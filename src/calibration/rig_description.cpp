@@ -376,13 +376,12 @@ void pairImusWithCameras(RigDescription* rig_out, const std::vector<std::string>
       throw InputError(where + ": " + (cameras[i].empty() ? std::string("the rig has no camera to calibrate it against (type: camera)")
                                                           : "its camera '" + cameras[i] + "' is no camera of the rig"));
     }
-    if (!rig.joints.empty() || !rig.urdf.empty() || !rig.urdf_param.empty() || !rig.target.parent.empty()) {
-      throw InputError(where + ": an IMU in a rig with joints or an arm is not supported yet: calibrate it with its camera in a session "
-                       "of their own");
-    }
-    if (!rig.sensors[imu.camera].parent.empty()) {
-      throw InputError(where + ": its camera '" + rig.sensors[imu.camera].spec.name + "' is on a moving frame; an IMU is calibrated "
-                       "against a camera fixed in the rig");
+    // Placed through its camera, in the frame the camera is mounted in (a link or an arm's tool where it
+    // moves); as the reference it would have to hold the still poses' frame, which a moving frame cannot.
+    const bool moving_frames = !rig.joints.empty() || !rig.urdf.empty() || !rig.urdf_param.empty() || !rig.target.parent.empty();
+    if (imu.pose && moving_frames) {
+      throw InputError(where + ": its 'pose' makes it the reference of a rig with joints or an arm, which is not supported: give the pose of "
+                       "a sensor fixed in " + rig.reference_frame + " (or none), and the IMU is placed through its camera");
     }
     if (imu.pose) {
       if (rig.reference_imu >= 0) throw InputError(where + ": two IMUs have a 'pose'; give one reference");

@@ -263,6 +263,102 @@ void printRefinedIntrinsics(const std::string& name, const Eigen::Vector4d& give
   std::printf("%s\n", std::abs(change) > 1.0 ? ": its camera_info is off by more than 1 %; put the refined values in its K" : "");
 }
 
+// Every IMU of the rig against its camera from the waved frames, placed in the rig through its camera:
+// `camera_pose` gives a sensor's pose in its parent frame (left empty: the rig's reference frame; an arm's tool
+// or link for a camera the arm moves), or none with why (withheld, not placed).
+using CameraPlacement = std::function<std::optional<Eigen::Isometry3d>(int, std::string* why, std::string* parent)>;
+
+std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag,
+                                                       const CameraPlacement& camera_pose) {
+  std::vector<vocal::ImuCalibrationOutput> outputs;
+  for (std::size_t i = 0; i < rig.imus.size(); ++i) {
+    const vocal::RigImuDescription& imu = rig.imus[i];
+    const vocal::RigSensorDescription& camera = rig.sensors[imu.camera];
+    vocal::ImuCalibrationOutput out;
+    out.name = imu.name;
+    out.frame_id = imu.frame_id;
+    out.camera_name = camera.spec.name;
+    out.camera_frame = camera.spec.frame_id;
+    out.camera_topic = camera.image_topic;
+    // The waved frames: in the session's recording, or in one of their own (--imu-bag).
+    const vocal::CameraImuRecording recording =
+        vocal::readCameraImuBag(args.text("imu-bag", bag), rig, static_cast<int>(i), args.integer("threads", 0));
+    out.camera = recording.camera;
+    out.lens = recording.lens;
+    const double rate = vocal::imuRate(recording.imu);
+    std::printf("imu '%s' against camera '%s': the board in %zu of %zu frames, %zu IMU samples (%.1f Hz), %zu messages dropped\n", imu.name.c_str(),
+                camera.spec.name.c_str(), recording.views.size(), recording.images, recording.imu.size(), rate, recording.dropped);
+    for (const std::string& problem : recording.problems) std::printf("  dropped: %s\n", problem.c_str());
+    try {
+      // Each frame's corners through the camera's lens (its camera_info's model) in the graph.
+      vocal::CameraImuOptions options;
+      options.camera_model = vocal::CameraImuCameraModel{recording.camera, recording.lens, rig.target.pattern};
+      out.result = vocal::calibrateCameraImu(recording.views, recording.imu, imu.noise, options);
+    } catch (const vocal::InputError& e) {
+      out.withheld = std::string("not calibrated: ") + e.what();
+      std::printf("withheld: imu '%s' %s\n", imu.name.c_str(), out.withheld.c_str());
+      outputs.push_back(out);
+      continue;
+    }
+    const vocal::CameraImuResult& r = out.result;
+    std::printf("  closed forms: time offset %+.2f ms (the angular speeds correlate %.3f there), rotation from the angular velocities\n",
+                1000 * r.initial_time_offset, r.angular_speed_correlation);
+    if (r.views_at_rest > 0) {
+      std::printf("  %d view%s outside the span where the gyro turns (the rig at rest): not used\n", r.views_at_rest,
+                  r.views_at_rest == 1 ? "" : "s");
+    }
+    if (r.left_out_views > 0) {
+      std::printf("  %d view%s left out: the board turned away and straight back between its neighbours (PnP's mirrored solution of "
+                  "a board seen small or square on)\n", r.left_out_views, r.left_out_views == 1 ? "" : "s");
+    }
+    printPose((camera.spec.name + " in " + imu.name).c_str(), r.camera_in_imu, &r.sigma, nullptr);
+    std::printf("  time offset: IMU stamp = camera stamp %+.3f ms (sigma %.3f ms)\n", 1000 * r.time_offset, 1000 * r.time_offset_sigma);
+    std::printf("  biases: gyro [%.5f, %.5f, %.5f] rad/s, accelerometer [%.4f, %.4f, %.4f] m/s^2\n", r.gyro_bias.x(), r.gyro_bias.y(),
+                r.gyro_bias.z(), r.accel_bias.x(), r.accel_bias.y(), r.accel_bias.z());
+    std::printf("  residuals (rms): gyro %.4f rad/s, accelerometer %.4f m/s^2 (its noise figures say %.4f / %.4f), board views %.2f mm / "
+                "%.2f mrad; %d views, %d IMU samples, %d iterations\n",
+                r.gyro_rms, r.accel_rms, imu.noise.gyro_noise_density * std::sqrt(rate), imu.noise.accel_noise_density * std::sqrt(rate),
+                1000 * r.view_translation_rms, 1000 * r.view_rotation_rms, r.views, r.imu_samples, r.iterations);
+    out.withheld = r.withheld;
+    if (rig.reference_imu == static_cast<int>(i)) {
+      out.rig_from_imu = *imu.pose;
+    } else {
+      std::string why;
+      if (const std::optional<Eigen::Isometry3d> placed = camera_pose(imu.camera, &why, &out.parent_frame)) {
+        out.rig_from_imu = *placed * r.camera_in_imu.inverse();
+      } else if (out.withheld.empty()) {
+        out.withheld = "its camera '" + camera.spec.name + "' is not placed in the rig (" + why + ")";
+      }
+    }
+    const std::string parent = out.parent_frame.empty() ? rig.reference_frame : out.parent_frame;
+    if (out.rig_from_imu) printPose((imu.name + " in " + parent).c_str(), *out.rig_from_imu, nullptr, nullptr);
+    if (!out.withheld.empty()) {
+      std::printf("withheld: imu '%s' is kept out of calibration.urdf and calibration.launch: %s\n", imu.name.c_str(), out.withheld.c_str());
+    }
+    outputs.push_back(out);
+  }
+  return outputs;
+}
+
+// The IMUs' results beside the rig's files: their block of calibration.yaml, their joints and transforms in
+// the URDF snippet and launch file, and Kalibr's camchain-imucam.yaml.
+void writeImuOutputs(const std::string& dir, const vocal::RigDescription& rig, const std::vector<vocal::ImuCalibrationOutput>& imus) {
+  const auto append = [](const std::string& path, const std::string& text, const std::string& before) {
+    std::ifstream in(path);
+    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = before.empty() ? std::string::npos : content.rfind(before);
+    content.insert(at == std::string::npos ? content.size() : at, text);
+    std::ofstream out(path);
+    if (!(out << content) || !out.flush()) throw vocal::InputError(path + ": cannot write calibration output");
+  };
+  append(dir + "/calibration.yaml", vocal::imuCalibrationYaml(imus, rig.reference_frame), "");
+  append(dir + "/calibration.urdf", vocal::imuUrdfJoints(imus, rig.reference_frame), "");
+  append(dir + "/calibration.launch", vocal::imuStaticTransformNodes(imus, rig.reference_frame), "</launch>");
+  vocal::writeKalibrCamchain(dir + "/camchain-imucam.yaml", imus);
+  std::printf("wrote %s/camchain-imucam.yaml (Kalibr's layout) and the IMUs into calibration.yaml, calibration.urdf, calibration.launch\n",
+              dir.c_str());
+}
+
 // A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
@@ -367,106 +463,27 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     }
     writeRobotUrdf(rig, offsets, dir, origins);
   }
-  return any_withheld ? 1 : 0;
-}
-
-// Every IMU of the rig against its camera from the waved frames, placed in the rig through its camera:
-// `camera_pose` gives a sensor's pose in the rig, or none with why (withheld, not placed).
-std::vector<vocal::ImuCalibrationOutput> calibrateImus(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag,
-                                                       const std::function<std::optional<Eigen::Isometry3d>(int, std::string*)>& camera_pose) {
-  std::vector<vocal::ImuCalibrationOutput> outputs;
-  for (std::size_t i = 0; i < rig.imus.size(); ++i) {
-    const vocal::RigImuDescription& imu = rig.imus[i];
-    const vocal::RigSensorDescription& camera = rig.sensors[imu.camera];
-    vocal::ImuCalibrationOutput out;
-    out.name = imu.name;
-    out.frame_id = imu.frame_id;
-    out.camera_name = camera.spec.name;
-    out.camera_frame = camera.spec.frame_id;
-    out.camera_topic = camera.image_topic;
-    // The waved frames: in the session's recording, or in one of their own (--imu-bag).
-    const vocal::CameraImuRecording recording =
-        vocal::readCameraImuBag(args.text("imu-bag", bag), rig, static_cast<int>(i), args.integer("threads", 0));
-    out.camera = recording.camera;
-    out.lens = recording.lens;
-    const double rate = vocal::imuRate(recording.imu);
-    std::printf("imu '%s' against camera '%s': the board in %zu of %zu frames, %zu IMU samples (%.1f Hz), %zu messages dropped\n", imu.name.c_str(),
-                camera.spec.name.c_str(), recording.views.size(), recording.images, recording.imu.size(), rate, recording.dropped);
-    for (const std::string& problem : recording.problems) std::printf("  dropped: %s\n", problem.c_str());
-    try {
-      // Each frame's corners through the camera's lens (its camera_info's model) in the graph.
-      vocal::CameraImuOptions options;
-      options.camera_model = vocal::CameraImuCameraModel{recording.camera, recording.lens, rig.target.pattern};
-      out.result = vocal::calibrateCameraImu(recording.views, recording.imu, imu.noise, options);
-    } catch (const vocal::InputError& e) {
-      out.withheld = std::string("not calibrated: ") + e.what();
-      std::printf("withheld: imu '%s' %s\n", imu.name.c_str(), out.withheld.c_str());
-      outputs.push_back(out);
-      continue;
-    }
-    const vocal::CameraImuResult& r = out.result;
-    std::printf("  closed forms: time offset %+.2f ms (the angular speeds correlate %.3f there), rotation from the angular velocities\n",
-                1000 * r.initial_time_offset, r.angular_speed_correlation);
-    if (r.views_at_rest > 0) {
-      std::printf("  %d view%s outside the span where the gyro turns (the rig at rest): not used\n", r.views_at_rest,
-                  r.views_at_rest == 1 ? "" : "s");
-    }
-    if (r.left_out_views > 0) {
-      std::printf("  %d view%s left out: the board turned away and straight back between its neighbours (PnP's mirrored solution of "
-                  "a board seen small or square on)\n", r.left_out_views, r.left_out_views == 1 ? "" : "s");
-    }
-    printPose((camera.spec.name + " in " + imu.name).c_str(), r.camera_in_imu, &r.sigma, nullptr);
-    std::printf("  time offset: IMU stamp = camera stamp %+.3f ms (sigma %.3f ms)\n", 1000 * r.time_offset, 1000 * r.time_offset_sigma);
-    std::printf("  biases: gyro [%.5f, %.5f, %.5f] rad/s, accelerometer [%.4f, %.4f, %.4f] m/s^2\n", r.gyro_bias.x(), r.gyro_bias.y(),
-                r.gyro_bias.z(), r.accel_bias.x(), r.accel_bias.y(), r.accel_bias.z());
-    std::printf("  residuals (rms): gyro %.4f rad/s, accelerometer %.4f m/s^2 (its noise figures say %.4f / %.4f), board views %.2f mm / "
-                "%.2f mrad; %d views, %d IMU samples, %d iterations\n",
-                r.gyro_rms, r.accel_rms, imu.noise.gyro_noise_density * std::sqrt(rate), imu.noise.accel_noise_density * std::sqrt(rate),
-                1000 * r.view_translation_rms, 1000 * r.view_rotation_rms, r.views, r.imu_samples, r.iterations);
-    out.withheld = r.withheld;
-    if (rig.reference_imu == static_cast<int>(i)) {
-      out.rig_from_imu = *imu.pose;
-    } else {
-      std::string why;
-      if (const std::optional<Eigen::Isometry3d> placed = camera_pose(imu.camera, &why)) {
-        out.rig_from_imu = *placed * r.camera_in_imu.inverse();
-      } else if (out.withheld.empty()) {
-        out.withheld = "its camera '" + camera.spec.name + "' is not placed in the rig (" + why + ")";
+  // The IMUs through their cameras, in the frame each camera is mounted in (the tool for one the arm moves).
+  if (!rig.imus.empty()) {
+    const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
+      if (!withheld[s].empty()) {
+        *why = "withheld: " + withheld[s];
+        return std::optional<Eigen::Isometry3d>();
       }
-    }
-    if (out.rig_from_imu) printPose((imu.name + " in " + rig.reference_frame).c_str(), *out.rig_from_imu, nullptr, nullptr);
-    if (!out.withheld.empty()) {
-      std::printf("withheld: imu '%s' is kept out of calibration.urdf and calibration.launch: %s\n", imu.name.c_str(), out.withheld.c_str());
-    }
-    outputs.push_back(out);
+      *parent = frames.parentOf(s);
+      return std::optional<Eigen::Isometry3d>(result.sensors[s]);
+    });
+    for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
+    if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
   }
-  return outputs;
-}
-
-// The IMUs' results beside the rig's files: their block of calibration.yaml, their joints and transforms in
-// the URDF snippet and launch file, and Kalibr's camchain-imucam.yaml.
-void writeImuOutputs(const std::string& dir, const vocal::RigDescription& rig, const std::vector<vocal::ImuCalibrationOutput>& imus) {
-  const auto append = [](const std::string& path, const std::string& text, const std::string& before) {
-    std::ifstream in(path);
-    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::size_t at = before.empty() ? std::string::npos : content.rfind(before);
-    content.insert(at == std::string::npos ? content.size() : at, text);
-    std::ofstream out(path);
-    if (!(out << content) || !out.flush()) throw vocal::InputError(path + ": cannot write calibration output");
-  };
-  append(dir + "/calibration.yaml", vocal::imuCalibrationYaml(imus, rig.reference_frame), "");
-  append(dir + "/calibration.urdf", vocal::imuUrdfJoints(imus, rig.reference_frame), "");
-  append(dir + "/calibration.launch", vocal::imuStaticTransformNodes(imus, rig.reference_frame), "</launch>");
-  vocal::writeKalibrCamchain(dir + "/camchain-imucam.yaml", imus);
-  std::printf("wrote %s/camchain-imucam.yaml (Kalibr's layout) and the IMUs into calibration.yaml, calibration.urdf, calibration.launch\n",
-              dir.c_str());
+  return any_withheld ? 1 : 0;
 }
 
 // A rig of one camera and its IMU: no still poses; the camera where the rig gives it, or placed through the
 // IMU when the IMU is the reference.
 int runCameraImu(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag) {
   const vocal::RigSensorDescription& camera = rig.sensors.front();
-  const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why) {
+  const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why, std::string*) {
     if (rig.sensors[s].pose) return rig.sensors[s].pose;
     *why = "the rig gives it no pose";
     return std::optional<Eigen::Isometry3d>();
@@ -531,11 +548,12 @@ int run(const vocal::CommandLine& args) {
   const std::string bag = args.positional()[1];
   if (args.has("output-dir")) vocal::makeFolders(args.text("output-dir", ""));  // before the work, not after
   if (args.has("imu-bag") && rig.imus.empty()) throw vocal::InputError("option --imu-bag: the rig has no sensor of type imu");
-  if (!rig.imus.empty() && rig.sensors.size() == 1) return runCameraImu(args, rig, bag);
+  // A camera and its IMU alone: no still poses (a camera an arm or joints move has them).
+  if (!rig.imus.empty() && rig.sensors.size() == 1 && !rig.handEye() && rig.jointedMounts().chains.empty()) return runCameraImu(args, rig, bag);
   // An IMU as the reference: calibrated first, its camera placed through it holds the still poses' frame.
   std::optional<std::vector<vocal::ImuCalibrationOutput>> imus_first;
   if (rig.reference_imu >= 0) {
-    imus_first = calibrateImus(args, rig, bag, [](int, std::string* why) {
+    imus_first = calibrateImus(args, rig, bag, [](int, std::string* why, std::string*) {
       *why = "it is placed through the reference IMU";
       return std::optional<Eigen::Isometry3d>();
     });
@@ -674,10 +692,12 @@ int run(const vocal::CommandLine& args) {
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
   if (!rig.imus.empty()) {
-    const std::vector<vocal::ImuCalibrationOutput> imus = imus_first ? *imus_first : calibrateImus(args, rig, bag, [&](int s, std::string* why) {
-      *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
-      return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
-    });
+    const std::vector<vocal::ImuCalibrationOutput> imus =
+        imus_first ? *imus_first : calibrateImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
+          *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
+          *parent = vocal::sensorParent(result, s, rig.reference_frame);  // a camera on a head: its link
+          return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
+        });
     for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
     if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
   }

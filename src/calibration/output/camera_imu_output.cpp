@@ -24,16 +24,20 @@ std::string pose(const Eigen::Isometry3d& p, const std::string& indent) {
       << indent << "rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
   return out.str();
 }
+
+const std::string& parentFrame(const ImuCalibrationOutput& imu, const std::string& reference_frame) {
+  return imu.parent_frame.empty() ? reference_frame : imu.parent_frame;
+}
 }  // namespace
 
 std::string imuCalibrationYaml(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
   std::ostringstream out;
-  out << std::setprecision(9) << "imus:  # camera-IMU calibration from the waved session: each IMU in " << reference_frame << "\n";
+  out << std::setprecision(9) << "imus:  # camera-IMU calibration from the waved session: each IMU in its parent, its camera's\n";
   for (const ImuCalibrationOutput& imu : imus) {
     const CameraImuResult& r = imu.result;
     out << "  - name: " << imu.name << "\n"
         << "    frame_id: " << imu.frame_id << "\n"
-        << "    parent: " << reference_frame << "\n";
+        << "    parent: " << parentFrame(imu, reference_frame) << "\n";
     if (imu.rig_from_imu) out << pose(*imu.rig_from_imu, "    ");
     out << "    camera: " << imu.camera_name << "\n"
         << "    camera_in_imu:  # x_imu = T x_camera (" << imu.camera_frame << " in " << imu.frame_id << ")\n"
@@ -68,12 +72,14 @@ std::string perImu(const std::vector<ImuCalibrationOutput>& imus, const std::str
 }  // namespace
 
 std::string imuUrdfJoints(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
-  return perImu(imus, "", [&](const ImuCalibrationOutput& imu) { return urdfFixedJoint(reference_frame, imu.frame_id, *imu.rig_from_imu); });
+  return perImu(imus, "", [&](const ImuCalibrationOutput& imu) {
+    return urdfFixedJoint(parentFrame(imu, reference_frame), imu.frame_id, *imu.rig_from_imu);
+  });
 }
 
 std::string imuStaticTransformNodes(const std::vector<ImuCalibrationOutput>& imus, const std::string& reference_frame) {
   return perImu(imus, "  ", [&](const ImuCalibrationOutput& imu) {
-    return staticTransformNode(imu.name + "_extrinsic", reference_frame, imu.frame_id, *imu.rig_from_imu);
+    return staticTransformNode(imu.name + "_extrinsic", parentFrame(imu, reference_frame), imu.frame_id, *imu.rig_from_imu);
   });
 }
 

@@ -22,9 +22,12 @@ struct ImuCalibrationOutput {
   PinholeCamera camera;
   LensDistortion lens;
   CameraImuResult result;
-  // The IMU in the rig frame: its camera's pose there times the camera in the IMU inverted; none where
+  // The IMU in its parent frame: its camera's pose there times the camera in the IMU inverted; none where
   // its camera was not placed.
   std::optional<Eigen::Isometry3d> rig_from_imu;
+  // The frame rig_from_imu is in, its camera's parent: empty for the rig's reference frame, an arm's tool or
+  // link for a camera the arm moves.
+  std::string parent_frame;
   std::string withheld;  // why it stays out of the URDF and launch file (empty: published)
 };
 
