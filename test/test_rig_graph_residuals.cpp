@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/joint_chain.h"
+#include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/on_board_plane.h"
 #include "vocal/calibration/solver/outline_point_residual.h"
@@ -120,6 +121,27 @@ TEST(RigGraphResiduals, OnBoardPlaneIsThePlaneResidualOnTheBoardsPlane) {
   vocal::OnBoardPlane<vocal::ObservationOnPlaneResidual>{range}(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(),
                                                                range_on_board.data());
   EXPECT_LT((range_on_board - onPlane<vocal::ObservationOnPlaneResidual, 4>(range, scene.camera, board)).norm(), 1e-9);
+}
+
+// A 2D laser's scan as range errors along its beams: zero on the plane; the plane 20 mm further along a
+// normal facing the laser leaves each beam 2 standard deviations of 10 mm over the cosine of its
+// incidence short, whichever way the plane's normal points.
+TEST(RigGraphResiduals, BeamRangeIsEachBeamsRangeErrorToThePlane) {
+  const Eigen::Isometry3d laser = pose({0.1, 0.2, 0.3}, 0.5, {0, 0, 1});
+  std::vector<Eigen::Vector3d> points;  // the scan (laser frame) on the plane x = 1 m of the laser's frame
+  for (const double y : {-0.3, 0.0, 0.2}) points.push_back({1.0, y, 0.0});
+  const vocal::BeamRangePlaneResidual residual{points, 0.01};
+  for (const double shift : {0.0, 0.02}) {
+    for (const double side : {1.0, -1.0}) {
+      const Eigen::Vector3d normal = side * (laser.linear() * Eigen::Vector3d::UnitX());
+      const Eigen::Vector3d on_plane = laser * Eigen::Vector3d(1.0 + shift, 0.0, 0.0);
+      const double offset = -normal.dot(on_plane);
+      const Blocks x(laser);
+      double r[3];
+      residual(x.q.coeffs().data(), x.t.data(), normal.data(), &offset, r);
+      for (std::size_t i = 0; i < points.size(); ++i) EXPECT_NEAR(r[i], -shift / 0.01 * points[i].norm(), 1e-9) << i << " " << side;
+    }
+  }
 }
 
 // The outline a camera's pattern predicts: zero on the board's edges; the board 10 mm to the side of

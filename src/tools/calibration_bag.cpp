@@ -246,7 +246,10 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.person_holds_target = options.person_holds_target;
       view.mixed_pixels = options.mixed_pixels;
       const bool lidar = sensors[s].spec.type == SensorType::kLidar3d;
-      view.range_noise = lidar && options.lidar_noise >= 0.0 ? options.lidar_noise : options.range_noise;
+      const bool laser = sensors[s].spec.type == SensorType::kLaser2d;
+      view.range_noise = lidar && options.lidar_noise >= 0.0   ? options.lidar_noise
+                         : laser && options.laser_noise >= 0.0 ? options.laser_noise
+                                                               : options.range_noise;
       view.ring_bias = lidar ? ring_bias : std::vector<double>{};
       view.lidar_model = options.lidar_model;
       if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;

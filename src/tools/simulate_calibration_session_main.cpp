@@ -34,6 +34,7 @@ const char kUsage[] =
     "                      cabinet whose front is the board's size, a table, a shelf, a sofa)\n"
     "  --person            someone holds the board by its sides (furnished rooms)\n"
     "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
+    "  --laser-noise M     the 2D laser's range noise, metres (default --noise; a Hokuyo UTM-30LX's is ~0.01-0.03)\n"
     "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
     "  --range-offset M    a range offset every lidar ring shares, metres (default 0)\n"
     "  --vertical-offsets  each VLP-16 laser at its own height (the manual's +-11 mm): points' elevations drift\n"
@@ -326,6 +327,7 @@ int run(const vocal::CommandLine& args) {
     throw vocal::InputError("option --person: only in a furnished room (--room furnished)");
   }
   options.lidar_noise = args.number("lidar-noise", -1.0);
+  options.laser_noise = args.number("laser-noise", -1.0);
   options.ring_bias = args.number("ring-bias", 0.0);
   options.lidar_range_offset = args.number("range-offset", 0.0);
   options.lidar_model = lidar_model;
@@ -364,7 +366,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("simulate_calibration_session", kUsage, run, argc, argv,
-                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "ring-bias", "turn",
+                        {"rgbd", "lidar", "laser", "camera", "poses", "noise", "seed", "rate", "lens", "room", "lidar-noise", "laser-noise", "ring-bias", "turn",
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets", "link-error", "free-origins",

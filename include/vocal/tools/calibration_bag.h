@@ -55,6 +55,7 @@ struct SimulatedSessionOptions {
   RoomLayout room = RoomLayout::kPlain;
   bool person_holds_target = false;
   double lidar_noise = -1.0;  // metres; < 0: range_noise
+  double laser_noise = -1.0;  // a 2D laser's, metres; < 0: range_noise
   double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
   double lidar_range_offset = 0.0;  // metres added to every ring's ranges (a range offset the rings share)
   LidarModel lidar_model = LidarModel::kVlp16;

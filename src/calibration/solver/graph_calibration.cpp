@@ -21,6 +21,7 @@
 #include "vocal/calibration/extraction/board_outline.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
 #include "vocal/calibration/solver/on_board_plane.h"
@@ -134,9 +135,10 @@ void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres:
 
 // A plane residual on the target pose's plane, or (with board edges) on its board's pose; a camera's
 // with its intrinsics correction where `intrinsics` is set (then Residual is PlaneMeasurementResidual).
+// `residuals` where kSize is ceres::DYNAMIC.
 template <typename Residual, int kSize>
 void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                      PlaneState* plane, SensorState* board, const ChainAt* chain, double* intrinsics = nullptr) {
+                      PlaneState* plane, SensorState* board, const ChainAt* chain, double* intrinsics = nullptr, int residuals = kSize) {
   if constexpr (std::is_same_v<Residual, PlaneMeasurementResidual>) {
     if (intrinsics) {
       const PlaneMeasurementWithIntrinsics with{residual};
@@ -152,11 +154,11 @@ void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::
     }
   }
   if (plane) {
-    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, {plane->normal.data(), &plane->offset});
+    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, {plane->normal.data(), &plane->offset}, residuals);
     return;
   }
   addSensorResidual<OnBoardPlane<Residual>, kSize, 4, 3>(problem, OnBoardPlane<Residual>{residual}, loss, sensor, chain,
-                                                         {board->rotation.coeffs().data(), board->translation.data()});
+                                                         {board->rotation.coeffs().data(), board->translation.data()}, residuals);
 }
 
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
@@ -231,8 +233,16 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
     return;
   }
   const double threshold = options.huber_sigmas * std::sqrt(static_cast<double>(o.points.size()));
-  addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
-                                                  new ceres::HuberLoss(threshold), sensor, plane, board, chain);
+  if (type == SensorType::kLaser2d) {
+    // Range errors along its beams, as in the arm's graph (beam_range_residual.h): a line's distances to
+    // the board would bias the laser's height and pitch towards grazing beams.
+    addPlaneResidual<BeamRangePlaneResidual, ceres::DYNAMIC>(problem, BeamRangePlaneResidual{o.points, estimatedPointSigma(o.points, type)},
+                                                             new ceres::HuberLoss(threshold), sensor, plane, board, chain, nullptr,
+                                                             static_cast<int>(o.points.size()));
+  } else {
+    addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
+                                                    new ceres::HuberLoss(threshold), sensor, plane, board, chain);
+  }
   if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
 }
 

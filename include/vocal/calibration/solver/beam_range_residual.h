@@ -1,6 +1,6 @@
 #pragma once
-// A range sensor's board points against a plane as range errors along each beam, for the Ceres graphs:
-// Eigen only, so it stays out of Ceres's headers.
+// A range sensor's board points against a plane as range errors along each beam, for the Ceres graphs (a
+// 2D laser's view in both): Eigen only, so it stays out of Ceres's headers.
 //
 // A scanner's noise lies along its beams. The point-to-plane distance of a noisy point is that noise
 // times the cosine of the beam's incidence, which depends on the sensor's pose: a least-squares fit of
@@ -36,5 +36,20 @@ void beamRangeResiduals(const std::vector<Eigen::Vector3d>& points, double sigma
     residuals[i] = (along_normal + at_origin) / (cosine * T(sigma));
   }
 }
+
+// beamRangeResiduals with the blocks of ObservationOnPlaneResidual (point_plane_residual.h): the sensor's
+// rotation (Eigen quaternion) and translation and the plane's normal and offset, in one frame; one residual
+// per point. The still-pose graph's 2D laser view (graph_calibration.h).
+struct BeamRangePlaneResidual {
+  std::vector<Eigen::Vector3d> points;
+  double sigma;
+
+  template <typename T>
+  bool operator()(const T* rotation, const T* translation, const T* normal, const T* offset, T* residuals) const {
+    beamRangeResiduals(points, sigma, Eigen::Quaternion<T>(rotation), Eigen::Matrix<T, 3, 1>(translation), Eigen::Matrix<T, 3, 1>(normal),
+                       offset[0], residuals);
+    return true;
+  }
+};
 
 }  // namespace vocal
