@@ -3,6 +3,8 @@
 // are off by a known amount.
 #include <gtest/gtest.h>
 
+#include "graph_residual_support.h"
+
 #include <cmath>
 #include <vector>
 
@@ -20,16 +22,8 @@
 #include "vocal/core/se3.h"
 
 namespace {
-// A pose's rotation (Eigen's x y z w) and translation, as the graph's blocks hold them.
-struct Blocks {
-  explicit Blocks(const Eigen::Isometry3d& pose) : q(pose.linear()), t(pose.translation()) {}
-  Eigen::Quaterniond q;
-  Eigen::Vector3d t;
-};
-
-Eigen::Isometry3d pose(const Eigen::Vector3d& translation, double angle, const Eigen::Vector3d& axis) {
-  return vocal::poseFromTranslationQuaternion(translation, Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())));
-}
+using vocal_test::Blocks;
+using vocal_test::pose;
 
 // A sensor on the tool over a fixed board, or fixed before a board on the tool: the frames of one still pose.
 struct Scene {
@@ -128,18 +122,22 @@ TEST(ArmGraphResiduals, BeamRangeViewIsTheRangeErrorAlongEachBeam) {
   }
 }
 
-// A scan end on the board's outline: zero on its edge, 1 standard deviation (10 mm) 10 mm beyond it.
+// A scan's ends on the board's outline: zero on its edge, 1 standard deviation (10 mm) 10 mm beyond it,
+// under Cauchy's loss of 3 sigmas.
 TEST(ArmGraphResiduals, OutlineViewIsTheEndsDistanceToTheBoardsEdge) {
   const Scene scene;
   const vocal::FrameMounting mounting{true, true};
   const Eigen::Isometry3d sensor_from_board = scene.sensor.inverse() * mounting.boardInSensorParent(scene.board, scene.sensor_frame, scene.board_frame);
   const Blocks x(scene.sensor), board(scene.board), sensor_frame(scene.sensor_frame), board_frame(scene.board_frame);
   for (const double beyond : {0.0, 0.01}) {
-    const vocal::OutlineViewResidual residual{{sensor_from_board * Eigen::Vector3d(0.18 + beyond, 0.05, 0.0), 0.01, 0.18, 0.135}, mounting};
-    double r = 0.0;
+    const std::vector<Eigen::Vector3d> ends = {sensor_from_board * Eigen::Vector3d(0.18 + beyond, 0.05, 0.0),
+                                               sensor_from_board * Eigen::Vector3d(-0.18, -0.02, 0.0)};
+    const vocal::OutlineViewResidual residual{{ends, 0.01, 0.18, 0.135, 3.0}, mounting};
+    double r[2];
     residual(x.q.coeffs().data(), x.t.data(), board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
-             board_frame.q.coeffs().data(), board_frame.t.data(), &r);
-    EXPECT_NEAR(std::abs(r), beyond / 0.01, 1e-9);
+             board_frame.q.coeffs().data(), board_frame.t.data(), r);
+    EXPECT_NEAR(r[0], vocal::cauchyResidual(beyond / 0.01, 3.0), 1e-9);
+    EXPECT_NEAR(r[1], 0.0, 1e-9);
   }
 }
 
@@ -159,11 +157,7 @@ TEST(ArmGraphResiduals, ToolPoseIsTheDepartureFromTheReportInTheArmsRepeatabilit
 // A frame from its joints: zero where the chain puts it; a first joint's offset 1 mrad off turns the
 // chain's end by 1 mrad about that joint's axis, 100 of the tie's 10 urad.
 TEST(ArmGraphResiduals, LinkFromJointsTiesTheFrameToItsChain) {
-  std::vector<vocal::JointDescription> joints(2);
-  joints[0].name = "pan", joints[0].parent = "base", joints[0].child = "pan_link", joints[0].axis = Eigen::Vector3d::UnitZ();
-  joints[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
-  joints[1].name = "tilt", joints[1].parent = "pan_link", joints[1].child = "tilt_link", joints[1].axis = Eigen::Vector3d::UnitY();
-  joints[1].origin.translation() = Eigen::Vector3d(0.1, 0.0, 0.1);
+  const std::vector<vocal::JointDescription> joints = vocal_test::panTiltJoints();
   const std::vector<int> chain = {0, 1};
   const std::vector<double> readings = {0.4, -0.3};
   const vocal::LinkFromJointsResidual residual{&joints, chain, readings};

@@ -3,6 +3,8 @@
 // deviations where they are off by a known amount.
 #include <gtest/gtest.h>
 
+#include "graph_residual_support.h"
+
 #include <cmath>
 #include <vector>
 
@@ -12,7 +14,6 @@
 #include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/on_board_plane.h"
-#include "vocal/calibration/solver/outline_point_residual.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
@@ -21,16 +22,8 @@
 #include "vocal/core/se3.h"
 
 namespace {
-// A pose's rotation (Eigen's x y z w) and translation, as the graph's blocks hold them.
-struct Blocks {
-  explicit Blocks(const Eigen::Isometry3d& pose) : q(pose.linear()), t(pose.translation()) {}
-  Eigen::Quaterniond q;
-  Eigen::Vector3d t;
-};
-
-Eigen::Isometry3d pose(const Eigen::Vector3d& translation, double angle, const Eigen::Vector3d& axis) {
-  return vocal::poseFromTranslationQuaternion(translation, Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())));
-}
+using vocal_test::Blocks;
+using vocal_test::pose;
 
 // A camera in the rig frame and a board (rig <- board) in front of it, and the camera's view of the board.
 struct Scene {
@@ -183,12 +176,14 @@ TEST(RigGraphResiduals, CauchyResidualSquaresToCauchysLoss) {
   }
 }
 
-// A view's outline points in one block: each point's OutlinePointResidual under Cauchy's loss, in order.
+// A view's outline points in one block: each point's distance to the outline in the board's plane, in its
+// sigmas, under Cauchy's loss, in order.
 TEST(RigGraphResiduals, OutlinePointsAreEachPointsOutlineDistanceUnderCauchy) {
   const Scene scene;
   const double half_width = 0.3, half_height = 0.2, sigma = 0.01, loss = 3.0;
   const Eigen::Isometry3d camera_from_board = scene.camera.inverse() * scene.board;
   std::vector<Eigen::Vector3d> points;
+  const std::vector<double> distances = {0.0, 0.02, 0.0, 0.3, -0.05};  // to the outline: on, 20 mm beyond, on, 300 mm beyond, inside
   for (const Eigen::Vector2d& on_board : {Eigen::Vector2d(0.3, 0.05), Eigen::Vector2d(0.32, -0.1), Eigen::Vector2d(-0.1, 0.2),
                                           Eigen::Vector2d(0.0, -0.5), Eigen::Vector2d(-0.25, 0.0)}) {
     points.push_back(camera_from_board * Eigen::Vector3d(on_board.x(), on_board.y(), 0.0));
@@ -197,13 +192,7 @@ TEST(RigGraphResiduals, OutlinePointsAreEachPointsOutlineDistanceUnderCauchy) {
   const Blocks x(scene.camera), b(scene.board);
   std::vector<double> r(points.size());
   all(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), r.data());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    double one = 0.0;
-    vocal::OutlinePointResidual{points[i], sigma, half_width, half_height}(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), &one);
-    EXPECT_NEAR(r[i], vocal::cauchyResidual(one, loss), 1e-9) << i;
-  }
-  EXPECT_NEAR(r[0], 0.0, 1e-9);                                // on the edge
-  EXPECT_NEAR(r[1], vocal::cauchyResidual(2.0, loss), 1e-9);   // 20 mm beyond it
+  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_NEAR(r[i], vocal::cauchyResidual(distances[i] / sigma, loss), 1e-9) << i;
   EXPECT_NEAR(r[3], loss * std::sqrt(std::log1p(100.0)), 1e-9);  // 30 sigmas out: 6.4 under Cauchy's loss, not 30
 }
 
@@ -239,11 +228,7 @@ struct PoseEcho {
 // A sensor behind joints: the residual sees its chain's pose at the readings plus offsets and corrections
 // times its mount, and a free origin's correction moves the chain.
 TEST(RigGraphResiduals, ThroughJointsComposesTheChainAndTheMount) {
-  std::vector<vocal::JointDescription> joints(2);
-  joints[0].name = "pan", joints[0].parent = "base", joints[0].child = "pan_link", joints[0].axis = Eigen::Vector3d::UnitZ();
-  joints[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, 0.2);
-  joints[1].name = "tilt", joints[1].parent = "pan_link", joints[1].child = "tilt_link", joints[1].axis = Eigen::Vector3d::UnitY();
-  joints[1].origin.translation() = Eigen::Vector3d(0.1, 0.0, 0.1);
+  const std::vector<vocal::JointDescription> joints = vocal_test::panTiltJoints();
   const std::vector<int> chain = {0, 1};
   const std::vector<double> readings = {0.4, -0.3};
   const Eigen::Isometry3d mount = pose({0.03, 0.0, 0.05}, 0.2, {0, 1, 0});

@@ -505,11 +505,13 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
                     new RangeViewResidual(view.points, estimatedPointSigma(view.points, rig.sensors[view.sensor].type), mounting));
       problem.AddResidualBlock(cost, nullptr, blocks);
       if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
-      for (const Eigen::Vector3d& end : view.outline) {
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, 1, 4, 3, 4, 3, 4, 3, 4, 3>(new OutlineViewResidual{
-                                     {end, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height}, mounting}),
-                                 new ceres::CauchyLoss(options.edge_loss_sigmas), blocks);
-      }
+      if (view.outline.empty()) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, ceres::DYNAMIC, 4, 3, 4, 3, 4, 3, 4, 3>(
+                                   new OutlineViewResidual{{view.outline, options.edge_sigma, 0.5 * options.board_width,
+                                                            0.5 * options.board_height, options.edge_loss_sigmas},
+                                                           mounting},
+                                   static_cast<int>(view.outline.size())),
+                               nullptr, blocks);
     }
     PoseState& tool = graph->tools[k];
     if (!options.arm_joints) {

@@ -1,7 +1,8 @@
 #pragma once
-// Every outline point of one view against the board's outline in one residual block, for the still-pose
-// graph with board edges (graph_calibration.h): a range sensor's edge points, or the outline a camera's
-// pattern pose predicts. Eigen only.
+// Every outline point of one view against the board's outline in one residual block, for both graphs: the
+// still-pose graph's with board edges (graph_calibration.h: a range sensor's edge points, the outline a
+// camera's pattern pose predicts) and the arm's (a 2D laser's scan ends, outline_view_residual.h). Eigen
+// only.
 
 #include <cmath>
 #include <vector>
@@ -23,7 +24,9 @@ T cauchyResidual(const T& r, double c) {
   return r * sqrt(factor);
 }
 
-// Each point's OutlinePointResidual under Cauchy's loss of `loss_sigmas`: the sensor-to-board turn is
+// Each point (sensor frame) against a width x height board (centred on the board frame, x along the
+// width): its distance within the board's plane to the outline (distanceToOutline), in `sigma`s, under
+// Cauchy's loss of `loss_sigmas`. The sensor-to-board turn is
 // composed once per view rather than once per point (behind joints the chain too: a head's depth camera
 // brings hundreds of edge points a view; per point, the outline took 8x the whole solve; a pan-tilt head
 // described as rigid took 95 s with its rigid sensors' points one block each, 22 s per view). Blocks: the

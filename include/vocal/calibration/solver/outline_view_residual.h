@@ -1,18 +1,19 @@
 #pragma once
-// A range sensor's point on the board's edge (a 2D laser's scan end) in the arm's graph
+// A range sensor's points on the board's edge (a 2D laser's scan ends) in the arm's graph
 // (hand_eye_calibration.h): against the board's outline where the unknowns put it.
 
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/solver/frame_mounting.h"
-#include "vocal/calibration/solver/outline_point_residual.h"
+#include "vocal/calibration/solver/outline_points_residual.h"
 
 namespace vocal {
 
-// OutlinePointResidual with the board in the sensor's parent frame (FrameMounting). Blocks as
-// CameraViewResidual's.
+// OutlinePointsResidual (a view's edge points in one block, Cauchy's loss within, as the still-pose graph
+// holds them) with the board in the sensor's parent frame (FrameMounting). Blocks as CameraViewResidual's;
+// one residual per point.
 struct OutlineViewResidual {
-  OutlinePointResidual on_outline;
+  OutlinePointsResidual on_outline;
   FrameMounting mounting;
 
   template <typename T>
