@@ -26,11 +26,11 @@ T cauchyResidual(const T& r, double c) {
 
 // Each point (sensor frame) against a width x height board (centred on the board frame, x along the
 // width): its distance within the board's plane to the outline (distanceToOutline), in `sigma`s, under
-// Cauchy's loss of `loss_sigmas`. The sensor-to-board turn is
-// composed once per view rather than once per point (behind joints the chain too: a head's depth camera
-// brings hundreds of edge points a view; per point, the outline took 8x the whole solve; a pan-tilt head
-// described as rigid took 95 s with its rigid sensors' points one block each, 22 s per view). Blocks: the
-// sensor's and the board's rotation and translation in one frame; one residual per point.
+// Cauchy's loss of `loss_sigmas`. The sensor-to-board turn is composed once per view rather than once per
+// point (behind joints the chain too: a head's depth camera brings hundreds of edge points a view; per
+// point, the outline took 8x the whole solve; a pan-tilt head described as rigid took 95 s with its rigid
+// sensors' points one block each, 22 s per view). Blocks: the sensor's and the board's rotation and
+// translation in one frame; one residual per point.
 struct OutlinePointsResidual {
   std::vector<Eigen::Vector3d> points;
   double sigma, half_width, half_height, loss_sigmas;
