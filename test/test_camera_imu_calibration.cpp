@@ -437,8 +437,9 @@ TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
 
 // A camera on an arm's tool with an IMU beside it (a wrist camera with its own IMU): the camera from the
 // arm's still poses, the IMU from a waved recording of its own, placed through the camera in the tool's
-// frame. An IMU as an arm rig's reference is refused, naming what to give instead.
-TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnItsTool) {
+// frame; a head camera's IMU in the head's link. An IMU as an arm rig's reference is refused, naming what
+// to give instead.
+TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnTheToolOrAHead) {
   const std::string arm = vocal_test::makeTempFolder("cli_imu_arm"), waved = vocal_test::makeTempFolder("cli_imu_arm_waved");
   vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + arm + " --eye-in-hand --poses 12 --seed 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -463,6 +464,30 @@ TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnItsTool) {
   EXPECT_NE(vocal_test::readText(arm + "/calibration.launch").find("arm_tool imu_link"), std::string::npos);
   EXPECT_NE(vocal_test::readText(arm + "/calibration.urdf").find("<parent link=\"arm_tool\"/>\n  <child link=\"imu_link\"/>"), std::string::npos)
       << vocal_test::readText(arm + "/calibration.urdf");
+
+  // A head camera's IMU beside the arm (a mobile manipulator's): in the head's tilt link, as right as the
+  // camera's mount there (which takes up the held tilt offset), to a millimetre / milliradian more.
+  const std::string head = vocal_test::makeTempFolder("cli_imu_head"), head_waved = vocal_test::makeTempFolder("cli_imu_head_waved");
+  r = vocal_test::runTool("simulate_calibration_session " + head + " --eye-to-hand --arm --head --poses 12 --seed 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("simulate_calibration_session " + head_waved + " --waved-imu --seconds 20 --camera-name head_camera --seed 4"
+                          " --pattern-cols 10 --pattern-rows 7 --square 0.03 --board-width 0.36 --board-height 0.27");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  vocal_test::writeText(head + "/rig_imu.yaml", vocal_test::readText(head + "/rig.yaml") +
+                                                    "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: head_camera}\n");
+  r = vocal_test::runTool("calibrate_rig " + head + "/rig_imu.yaml " + head + "/session.bag --imu-bag " + head_waved +
+                          "/session.bag --quiet --output-dir " + head);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Eigen::Isometry3d head_camera_truth = poseOfEntry(YAML::LoadFile(head + "/ground_truth.yaml")["sensors"]["head_camera"]["pose"]);
+  const Eigen::Isometry3d head_imu_truth =
+      head_camera_truth * poseFromList(YAML::LoadFile(head_waved + "/ground_truth.yaml")["camera_in_imu"]).inverse();
+  const YAML::Node head_result = YAML::LoadFile(head + "/calibration.yaml");
+  EXPECT_EQ(head_result["imus"][0]["parent"].as<std::string>(), "head_tilt_link");
+  const Eigen::Isometry3d head_camera_error = head_camera_truth.inverse() * poseOfEntry(head_result["sensors"][1]);
+  const Eigen::Isometry3d head_imu_error = head_imu_truth.inverse() * poseOfEntry(head_result["imus"][0]);
+  EXPECT_LT(head_imu_error.translation().norm(), head_camera_error.translation().norm() + 0.001 + 0.05 * rotationAngle(head_camera_error));
+  EXPECT_LT(rotationAngle(head_imu_error), rotationAngle(head_camera_error) + 0.001);
+  EXPECT_NE(vocal_test::readText(head + "/calibration.launch").find("head_tilt_link imu_link"), std::string::npos);
 
   RigDescription imu_reference = readRigDescription(arm + "/rig_imu.yaml");
   imu_reference.imus[0].pose = imu_truth;
