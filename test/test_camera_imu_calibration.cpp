@@ -384,6 +384,21 @@ TEST(CameraImuCalibration, AWavedSessionThroughTheTools) {
   EXPECT_NE(vocal_test::readText(one_axis + "/calibration.urdf").find("<!-- imu_link withheld: not calibrated: "), std::string::npos);
 }
 
+// `camera` of the still-pose or arm session in `session` waved with an IMU in a recording of its own (`board`:
+// the session's board as simulate_calibration_session's options), the IMU added to the session's rig
+// (rig_imu.yaml), and calibrate_rig on both into `session`: its run.
+vocal_test::RunResult calibrateWithWavedImu(const std::string& session, const std::string& waved, const std::string& camera,
+                                            const std::string& board) {
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + waved + " --waved-imu --seconds 20 --camera-name " + camera +
+                                                " --seed 4 " + board);
+  if (r.exit_code != 0) return r;
+  vocal_test::writeText(session + "/rig_imu.yaml", vocal_test::readText(session + "/rig.yaml") +
+                                                       "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: " + camera +
+                                                       "}\n");
+  return vocal_test::runTool("calibrate_rig " + session + "/rig_imu.yaml " + session + "/session.bag --imu-bag " + waved +
+                             "/session.bag --quiet --output-dir " + session);
+}
+
 // One rig: a still-pose session of an RGB-D camera (the reference), a lidar and a camera, and the camera
 // waved with an IMU in a recording of its own; every sensor, the IMU included, in base_link.
 TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
@@ -391,13 +406,7 @@ TEST(CameraImuCalibration, AnImuJoinsARigCalibratedAtStillPoses) {
   vocal_test::RunResult r =
       vocal_test::runTool("simulate_calibration_session " + still + " --rgbd 1 --lidar 1 --laser 0 --camera 1 --poses 8 --seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = vocal_test::runTool("simulate_calibration_session " + waved + " --waved-imu --seconds 20 --camera-name camera0 --seed 4"
-                          " --pattern-cols 8 --pattern-rows 6 --square 0.06 --board-width 0.9 --board-height 0.7");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  vocal_test::writeText(still + "/rig_imu.yaml", vocal_test::readText(still + "/rig.yaml") +
-                                                      "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: camera0}\n");
-  r = vocal_test::runTool("calibrate_rig " + still + "/rig_imu.yaml " + still + "/session.bag --imu-bag " + waved +
-                          "/session.bag --quiet --output-dir " + still);
+  r = calibrateWithWavedImu(still, waved, "camera0", "--pattern-cols 8 --pattern-rows 6 --square 0.06 --board-width 0.9 --board-height 0.7");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The truth: camera0's mount from the still session's, the camera in the IMU from the waved one's.
   const RigDescription truth = readRigDescription(still + "/ground_truth.yaml");
@@ -443,13 +452,8 @@ TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnTheToolOrAHead) {
   const std::string arm = vocal_test::makeTempFolder("cli_imu_arm"), waved = vocal_test::makeTempFolder("cli_imu_arm_waved");
   vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + arm + " --eye-in-hand --poses 12 --seed 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = vocal_test::runTool("simulate_calibration_session " + waved + " --waved-imu --seconds 20 --camera-name arm_camera --seed 4"
-                          " --pattern-cols 10 --pattern-rows 7 --square 0.03 --board-width 0.36 --board-height 0.27");  // the arm's board
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  vocal_test::writeText(arm + "/rig_imu.yaml", vocal_test::readText(arm + "/rig.yaml") +
-                                                   "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: arm_camera}\n");
-  r = vocal_test::runTool("calibrate_rig " + arm + "/rig_imu.yaml " + arm + "/session.bag --imu-bag " + waved + "/session.bag --quiet --output-dir " +
-                          arm);
+  const std::string arm_board = "--pattern-cols 10 --pattern-rows 7 --square 0.03 --board-width 0.36 --board-height 0.27";
+  r = calibrateWithWavedImu(arm, waved, "arm_camera", arm_board);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("imu in arm_tool"), std::string::npos) << r.output;
   const Eigen::Isometry3d camera_truth = poseOfEntry(YAML::LoadFile(arm + "/ground_truth.yaml")["sensors"]["arm_camera"]["pose"]);
@@ -470,13 +474,7 @@ TEST(CameraImuCalibration, AnImuJoinsAnArmsRigOnTheToolOrAHead) {
   const std::string head = vocal_test::makeTempFolder("cli_imu_head"), head_waved = vocal_test::makeTempFolder("cli_imu_head_waved");
   r = vocal_test::runTool("simulate_calibration_session " + head + " --eye-to-hand --arm --head --poses 12 --seed 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = vocal_test::runTool("simulate_calibration_session " + head_waved + " --waved-imu --seconds 20 --camera-name head_camera --seed 4"
-                          " --pattern-cols 10 --pattern-rows 7 --square 0.03 --board-width 0.36 --board-height 0.27");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  vocal_test::writeText(head + "/rig_imu.yaml", vocal_test::readText(head + "/rig.yaml") +
-                                                    "  - {name: imu, type: imu, frame_id: imu_link, imu_topic: /imu/data, camera: head_camera}\n");
-  r = vocal_test::runTool("calibrate_rig " + head + "/rig_imu.yaml " + head + "/session.bag --imu-bag " + head_waved +
-                          "/session.bag --quiet --output-dir " + head);
+  r = calibrateWithWavedImu(head, head_waved, "head_camera", arm_board);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Eigen::Isometry3d head_camera_truth = poseOfEntry(YAML::LoadFile(head + "/ground_truth.yaml")["sensors"]["head_camera"]["pose"]);
   const Eigen::Isometry3d head_imu_truth =
