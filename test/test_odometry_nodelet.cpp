@@ -219,7 +219,9 @@ TEST_F(OdometryNodelet, TracksABagAndPublishesTheBaseOdometry) {
     // 26 mm/s. The library comparison pins the plumbing (frame mapping, conversions) down.
     EXPECT_LT(worst_translation, 0.06);
     EXPECT_LT(worst_rotation, 0.02);
-    if (run == &received_.odom) EXPECT_LT(worst_parity, 1e-4);  // compared for exact sync only
+    if (run == &received_.odom) {
+      EXPECT_LT(worst_parity, 1e-4);  // compared for exact sync only
+    }
   }
 
   ASSERT_TRUE(received_.path);

@@ -141,9 +141,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       return;
     }
     // Only a stream that skips frames has a pace to keep; every frame in order is tracked at full size.
-    if (skip_to_newest_ && config_.keep_pace_max_level > 0 && config_.levels > 1) {
-      governor_.emplace(std::min(config_.keep_pace_max_level, config_.levels - 1));
-    }
+    keepPaceAt(config_.keep_pace_row_step);
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 10);
     path_pub_ = nh.advertise<nav_msgs::Path>("path", 1);
@@ -393,10 +391,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   void trackFrame(const PendingFrame& frame) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto started = std::chrono::steady_clock::now();
-    const int level = governor_ ? governor_->level() : 0;
+    const int resolution = governor_ ? governor_->resolution() : 0;
     bool paced = false;
     try {
-      paced = track(*frame.rgb, *frame.depth, *frame.info, level);
+      paced = track(*frame.rgb, *frame.depth, *frame.info, resolutions_[resolution]);
     } catch (const std::exception& e) {
       // Bad input is counted and reported; it never reaches the manager.
       ++frames_dropped_;
@@ -408,40 +406,59 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     processing_seconds_ += seconds;
     if (governor_ && !paced) governor_->sawFrame(frame.arrived, frame.received);
     if (governor_ && paced) {
-      governor_->tracked(level, seconds, frame.arrived, frame.received);
+      governor_->tracked(resolution, seconds, frame.arrived, frame.received);
       // Coarser and finer apart, so that a failed try at full resolution is not hidden by its start.
-      if (governor_->level() > level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));
-      if (governor_->level() < level) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(governor_->level(), level));
+      const int next = governor_->resolution();
+      if (next > resolution) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(next, resolution));
+      if (next < resolution) NODELET_INFO_STREAM_THROTTLE(10.0, "IcpDvoOdometry: " << paceText(next, resolution));
     }
   }
 
-  // "WxH" of the camera at pyramid level `level` ("0x0" before the first frame).
-  std::string resolutionText(int level) const {
-    const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
-    return std::to_string(width >> level) + "x" + std::to_string(height >> level);
+  // The resolutions a stream that skips frames keeps pace at (with a row step of `row_step` before the
+  // coarser levels) and the governor choosing among them; none for a stream of every frame in order. It
+  // starts at the row step (as accurate as every row, lighter through the first, slowest frames), else
+  // at the coarsest level.
+  void keepPaceAt(int row_step) {
+    resolutions_ = keepPaceResolutions(config_.levels, config_.keep_pace_max_level, row_step);
+    governor_.reset();
+    if (skip_to_newest_ && resolutions_.size() > 1) {
+      const int coarsest = static_cast<int>(resolutions_.size()) - 1;
+      governor_.emplace(coarsest, row_step > 1 ? 1 : coarsest);
+    }
   }
 
-  // Why the next frames are tracked at `level` after `previous` (the governor's), for the log and the
-  // diagnostics.
+  // "WxH" of the camera at resolution `resolution`'s pyramid level ("0x0" before the first frame), and
+  // its row step where it has one: "640x480 every 2nd row".
+  std::string resolutionText(int resolution) const {
+    const TrackingResolution& r = resolutions_.at(resolution);
+    const int width = odometry_ ? odometry_->camera().width : 0, height = odometry_ ? odometry_->camera().height : 0;
+    std::string text = std::to_string(width >> r.level) + "x" + std::to_string(height >> r.level);
+    if (r.row_step > 1) text += " every " + std::to_string(r.row_step) + (r.row_step == 2 ? "nd" : r.row_step == 3 ? "rd" : "th") + " row";
+    return text;
+  }
+
+  // Why the next frames are tracked at resolution `level` after `previous` (the governor's choices), for
+  // the log and the diagnostics.
   std::string paceText(int level, int previous) const {
     std::ostringstream text;
-    text << std::fixed << std::setprecision(1) << "tracking at " << resolutionText(level) << " (level " << level << ")";
+    text << std::fixed << std::setprecision(1) << "tracking at " << resolutionText(level) << " (level " << resolutions_.at(level).level
+         << ")";
     if (level > previous && !(governor_->secondsAt(previous) > 0.0)) {
       text << " as the stream starts (its first frames are the slowest; " << resolutionText(previous) << " is tried after "
-           << ResolutionGovernor::kFirstProbeWaitFrames << " frames)";
+           << ResolutionGovernor::kStartProbeWaitFrames << " frames)";
       return text.str();
     }
     text << (level > previous ? " to keep pace with the " : ": there is time again in the ")
          << (governor_->period() > 0.0 ? 1.0 / governor_->period() : 0.0) << " Hz stream (" << resolutionText(previous) << " took "
          << 1000.0 * governor_->secondsAt(previous) << " ms a frame against a budget of " << 1000.0 * governor_->budget()
-         << " ms; keep_pace_max_level " << config_.keep_pace_max_level << ")";
+         << " ms; keep_pace_max_level " << config_.keep_pace_max_level << ", keep_pace_row_step " << config_.keep_pace_row_step << ")";
     return text.str();
   }
 
-  // `level`: the finest pyramid level to track at (the governor's choice). Returns whether the frame was
-  // tracked against another, what the governor times (a first frame only builds the estimator and the
-  // reference).
-  bool track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info, int level) {
+  // `resolution`: the finest pyramid level to track at and its row step (the governor's choice). Returns
+  // whether the frame was tracked against another, what the governor times (a first frame only builds
+  // the estimator and the reference).
+  bool track(const ImageMsg& rgb, const ImageMsg& depth, const CameraInfoMsg& info, TrackingResolution resolution) {
     if (!setup_error_.empty()) throw InputError(setup_error_);
     auto clock = std::chrono::steady_clock::now();
     if (!last_stamp_.isZero() && rgb.header.stamp <= last_stamp_) {
@@ -484,6 +501,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       backend_name_ = odometry_->backend().name();
       NODELET_INFO_STREAM("IcpDvoOdometry: " << camera.width << "x" << camera.height << " camera, backend " << backend_name_
                                              << "; " << odometry_->cameraModelText());
+      if (governor_ && config_.keep_pace_row_step > 1) {
+        odometry_->setFinestLevel(0, config_.keep_pace_row_step);
+        if (odometry_->finestRowStep() == 1) {
+          NODELET_INFO_STREAM("IcpDvoOdometry: the " << backend_name_ << " backend tracks every row: keep_pace_row_step "
+                                                     << config_.keep_pace_row_step << " left out");
+          keepPaceAt(1);
+        }
+      }
     }
     const std::string camera_frame = rgb.header.frame_id;
     const std::string base_frame = frame_id_.empty() ? camera_frame : frame_id_;
@@ -500,7 +525,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     const std::optional<RotationPrior> gyro = gyroPrior(camera_frame, rgb.header.stamp);
     if (!imu_topic_.empty() && !last_stamp_.isZero()) ++(gyro ? gyro_priors_ : gyro_missing_);
     const std::vector<AccelerometerSample> accelerometer = accelerometerInCamera(camera_frame);
-    odometry_->setFinestLevel(level);
+    odometry_->setFinestLevel(resolution.level, resolution.row_step);
     const OdometryResult result = odometry_->track(frame, gyro ? &*gyro : nullptr, accelerometer.empty() ? nullptr : &accelerometer);
     const bool paced = !result.first_frame;
     if (result.gravity_error_deg >= 0.0) gravity_error_deg_ = result.gravity_error_deg;
@@ -714,7 +739,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       status.summary(DiagnosticStatus::WARN, last_problem_);
     } else {
       std::string summary = trackingStateName(state_);
-      if (governor_ && governor_->level() > 0 && odometry_) summary += " at " + resolutionText(governor_->level()) + " to keep pace with the stream";
+      if (governor_ && governor_->resolution() > 0 && odometry_) summary += " at " + resolutionText(governor_->resolution()) + " to keep pace with the stream";
       status.summary(DiagnosticStatus::OK, summary);
     }
     status.add("backend", backend_name_.empty() ? "not started" : backend_name_);
@@ -748,14 +773,14 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
     status.add("frames received per second (last report period)", period.received_hz);
     status.add("frames processed per second (last report period)", period.processed_hz);
     if (governor_) {
-      // Frames tracked below the input's resolution to keep pace (keep_pace_max_level), per level.
-      std::ostringstream levels;
-      for (std::size_t level = 0; level < governor_->framesAt().size(); ++level) {
-        levels << (level ? ", " : "") << resolutionText(static_cast<int>(level)) << ": " << governor_->framesAt()[level];
+      // Frames tracked below the input's resolution to keep pace (keep_pace_row_step, keep_pace_max_level).
+      std::ostringstream counts;
+      for (std::size_t resolution = 0; resolution < governor_->framesAt().size(); ++resolution) {
+        counts << (resolution ? ", " : "") << resolutionText(static_cast<int>(resolution)) << ": " << governor_->framesAt()[resolution];
       }
-      status.add("frames tracked at each resolution (keep_pace_max_level)", levels.str());
-      status.add("tracking at", governor_->level() == 0 ? std::string("the input's resolution")
-                                                         : paceText(governor_->level(), governor_->level() - 1));
+      status.add("frames tracked at each resolution (keep_pace_row_step, keep_pace_max_level)", counts.str());
+      const int now = governor_->resolution();
+      status.add("tracking at", now == 0 ? std::string("the input's resolution") : paceText(now, now - 1));
       if (config_.keep_pace_refines_keyframes && config_.local_window_keyframes == 0) {
         // Keyframes made coarser than the input, their link solved again at its resolution (and those skipped:
         // the last one's was still being solved).
@@ -813,6 +838,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
   std::string setup_error_;
   // The finest level each frame is tracked at on a stream that skips frames (keep_pace_max_level > 0).
   std::optional<ResolutionGovernor> governor_;
+  std::vector<TrackingResolution> resolutions_;  // the governor's choices, finest first
 
   // ROS plumbing.
   image_transport::SubscriberFilter rgb_sub_, depth_sub_;

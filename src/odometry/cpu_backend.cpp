@@ -1,5 +1,6 @@
 #include "vocal/odometry/cpu_backend.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vocal/odometry/depth_noise_model.h"
@@ -44,7 +45,8 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
   const float min_cos = static_cast<float>(std::cos(config_.icp_max_angle_deg * M_PI / 180.0));
   const DepthNoiseModel depth_noise(config_.depth_noise_floor, config_.depth_noise_quadratic);
   NormalEquations system;
-  for (int y = 0; y < cur.vertices.height(); ++y) {
+  const int step = rowStep(level);
+  for (int y = 0; y < cur.vertices.height(); y += step) {
     for (int x = 0; x < cur.vertices.width(); ++x) {
       const Eigen::Vector3f& vc = cur.vertices(x, y);
       const Eigen::Vector3f& nc = cur.normals(x, y);
@@ -66,6 +68,7 @@ NormalEquations CpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d
       system.addRow(J, r, depth_noise.icpWeight(p.z(), vr.z()), true);
     }
   }
+  system *= step;
   return system;
 }
 
@@ -80,7 +83,8 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
   const float huber = static_cast<float>(huber_threshold);
   const int w = ref.depth.width(), h = ref.depth.height();
   NormalEquations system;
-  for (int y = 0; y < cur.depth.height(); ++y) {
+  const int step = rowStep(level);
+  for (int y = 0; y < cur.depth.height(); y += step) {
     for (int x = 0; x < cur.depth.width(); ++x) {
       const Eigen::Vector3f& vc = cur.vertices(x, y);
       if (std::isnan(vc.z()) || vc.z() > max_depth) continue;
@@ -106,7 +110,14 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
       system.addRow(J, r, weight);
     }
   }
+  system *= step;
   return system;
+}
+
+bool CpuOdometryBackend::setSampledRows(int level, int step) {
+  sampled_level_ = level;
+  sampled_row_step_ = std::max(1, step);
+  return true;
 }
 
 std::size_t CpuOdometryBackend::memoryBytes() const {

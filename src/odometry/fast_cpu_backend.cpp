@@ -1,5 +1,6 @@
 #include "vocal/odometry/fast_cpu_backend.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -50,18 +51,34 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
                               static_cast<float>(huber_threshold),
                               DepthNoiseModel(config_.depth_noise_floor, config_.depth_noise_quadratic)};
   using Sums = std::array<double, 2 * kReductionValues>;
-  block_sums_.resize(WorkerPool::blockCount(cur.height, kTrackingRowsPerBlock));
-  workers_.forBlocks(cur.height, kTrackingRowsPerBlock, [&](int block, int y_begin, int y_end) {
+  // Blocks of the rows taken (every `step`-th from the first), each block's sums apart: the total does
+  // not depend on the threads.
+  const int step = level == sampled_level_ ? sampled_row_step_ : 1;
+  const int rows = (cur.height + step - 1) / step;
+  block_sums_.resize(WorkerPool::blockCount(rows, kTrackingRowsPerBlock));
+  workers_.forBlocks(rows, kTrackingRowsPerBlock, [&](int block, int row_begin, int row_end) {
     Sums& sums = block_sums_[block];
     sums.fill(0.0);
-    for (int y = y_begin; y < y_end; ++y)
-      track_row_(cur, ref, warp, thresholds, y, icp ? sums.data() : nullptr, rgb ? sums.data() + kReductionValues : nullptr);
+    for (int row = row_begin; row < row_end; ++row)
+      track_row_(cur, ref, warp, thresholds, row * step, icp ? sums.data() : nullptr, rgb ? sums.data() + kReductionValues : nullptr);
   });
   Sums total{};
   for (const Sums& sums : block_sums_)
     for (int k = 0; k < 2 * kReductionValues; ++k) total[k] += sums[k];
-  if (icp) *icp = NormalEquations::fromPacked(total.data());
-  if (rgb) *rgb = NormalEquations::fromPacked(total.data() + kReductionValues);
+  if (icp) {
+    *icp = NormalEquations::fromPacked(total.data());
+    *icp *= step;
+  }
+  if (rgb) {
+    *rgb = NormalEquations::fromPacked(total.data() + kReductionValues);
+    *rgb *= step;
+  }
+}
+
+bool FastCpuOdometryBackend::setSampledRows(int level, int step) {
+  sampled_level_ = level;
+  sampled_row_step_ = std::max(1, step);
+  return true;
 }
 
 NormalEquations FastCpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {

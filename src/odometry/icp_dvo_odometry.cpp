@@ -60,15 +60,21 @@ IcpDvoOdometry::IcpDvoOdometry(const PinholeCamera& camera, const OdometryConfig
   residual_levels_.assign(config_.levels, 0.0);
 }
 
-void IcpDvoOdometry::setFinestLevel(int level) {
+void IcpDvoOdometry::setFinestLevel(int level, int row_step) {
   if (level < 0 || level >= config_.levels || config_.iterations[level] <= 0) {
     std::ostringstream message;
     message << "odometry: finest level " << level << " cannot be tracked (levels 0 to " << config_.levels - 1
             << " with iterations: " << (level >= 0 && level < config_.levels ? "this one has none" : "out of range") << ")";
     throw InputError(message.str());
   }
+  if (row_step < 1 || row_step > kMaxFinestRowStep) {
+    throw InputError("odometry: a finest level's row step must be in [1, " + std::to_string(kMaxFinestRowStep) + "], got " +
+                     std::to_string(row_step));
+  }
   finest_level_ = level;
   backend_->setFinestLevel(level);
+  finest_row_step_ = backend_->setSampledRows(level, row_step) ? row_step : 1;
+  if (finest_row_step_ != row_step) backend_->setSampledRows(level, 1);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {
@@ -191,6 +197,7 @@ IcpDvoOdometry::DenseSolve IcpDvoOdometry::solveFrom(const RgbdFrame& reference,
   const bool use_rgb = config_.mode != OdometryMode::kIcp;
   DenseSolve solve;
   solve.quality.finest_level = finest;
+  solve.quality.finest_row_step = backend == backend_.get() ? finest_row_step_ : 1;
   solve.level_residual.assign(config_.levels, 0.0);
   solve.level_inliers.assign(config_.levels, 0);
   Eigen::Isometry3d& T = solve.increment;

@@ -58,6 +58,10 @@ void OdometryConfig::validate() const {
       fail("keep_pace_max_level " + std::to_string(keep_pace_max_level) + " needs iterations at level " + std::to_string(level) +
            " (it may be tracked as the finest), got " + std::to_string(iterations[level]));
   }
+  if (keep_pace_row_step < 1 || keep_pace_row_step > kMaxFinestRowStep) {
+    fail("keep_pace_row_step must be in [1, " + std::to_string(kMaxFinestRowStep) + "] (1: every row), got " +
+         std::to_string(keep_pace_row_step));
+  }
   if (threads < 0 || threads > 256) fail("threads must be in [0, 256] (0 = OMP_NUM_THREADS or the cores), got " + std::to_string(threads));
 }
 

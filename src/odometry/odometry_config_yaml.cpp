@@ -74,6 +74,7 @@ OdometryConfig odometryConfigFromYaml(const YAML::Node& root, const std::string&
       {"max_condition", [&](const YAML::Node& n) { config.max_condition = n.as<double>(); }},
       {"backend", [&](const YAML::Node& n) { config.backend = parseOdometryBackend(n.as<std::string>()); }},
       {"keep_pace_max_level", [&](const YAML::Node& n) { config.keep_pace_max_level = n.as<int>(); }},
+      {"keep_pace_row_step", [&](const YAML::Node& n) { config.keep_pace_row_step = n.as<int>(); }},
       {"keep_pace_refines_keyframes", [&](const YAML::Node& n) { config.keep_pace_refines_keyframes = n.as<bool>(); }},
       {"threads", [&](const YAML::Node& n) { config.threads = n.as<int>(); }},
       {"cpu_threads", [&](const YAML::Node& n) { config.threads = n.as<int>(); }},  // the name before 'threads'

@@ -38,6 +38,8 @@ const char kUsage[] =
     "                              frame in N on a busy CPU (default 1: every frame)\n"
     "  --finest-level L            track at pyramid level L and the coarser ones only, as a live node does\n"
     "                              whose frames come faster than it tracks them (default 0: the input's size)\n"
+    "  --finest-row-step N         that level's systems from one row in N, as a live node does before a coarser\n"
+    "                              level (keep_pace_row_step; a CPU backend's; default 1: every row)\n"
     "  --start-from-ground-truth   first pose = ground truth at the first frame (default: identity)\n"
     "  --imu FILE                  an IMU's imu.txt (`timestamp wx wy wz ax ay az`; default: the folder's imu.txt\n"
     "                              when there is one): its gyro's rotation between frames as a prior\n"
@@ -133,7 +135,11 @@ int run(const vocal::CommandLine& args) {
   auto backend = vocal::makeOdometryBackend(sequence.camera(), config, &notice);
   if (!notice.empty()) std::fprintf(stderr, "%s\n", notice.c_str());
   vocal::IcpDvoOdometry odometry(sequence.camera(), config, std::move(backend), sequence.lens());
-  odometry.setFinestLevel(args.integer("finest-level", 0));
+  odometry.setFinestLevel(args.integer("finest-level", 0), args.integer("finest-row-step", 1));
+  if (odometry.finestRowStep() != args.integer("finest-row-step", 1)) {
+    std::fprintf(stderr, "--finest-row-step %d: the %s backend tracks every row\n", args.integer("finest-row-step", 1),
+                 odometry.backend().name().c_str());
+  }
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s; %s\n", frames, sequence.cameraSource().c_str(),
                vocal::odometryModeName(config.mode).c_str(), odometry.backend().name().c_str(),
                odometry.cameraModelText().c_str());
@@ -256,7 +262,7 @@ int run(const vocal::CommandLine& args) {
 
 int main(int argc, char** argv) {
   return vocal::runTool("tum_odometry", kUsage, run, argc, argv,
-                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "every", "finest-level", "delta",
+                        {"output", "config", "mode", "backend", "threads", "rgb-weight", "features", "reference", "brightness", "frames", "skip", "every", "finest-level", "finest-row-step", "delta",
                          "imu", "imu-extrinsics", "imu-weight", "gravity-time-constant"},
                         {"start-from-ground-truth", "quiet", "verbose", "no-imu", "no-accelerometer"}, 1);
 }

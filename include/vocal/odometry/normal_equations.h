@@ -34,6 +34,16 @@ struct NormalEquations {
     return *this;
   }
 
+  // Every sum times `factor`: rows sampled one in `factor` then stand for all (OdometryBackend::
+  // setSampledRows), as information, inlier counts and residual sums.
+  NormalEquations& operator*=(double factor) {
+    A *= factor;
+    b *= factor;
+    squared_residual_sum *= factor;
+    count *= factor;
+    return *this;
+  }
+
   double rmse() const { return count > 0.0 ? std::sqrt(squared_residual_sum / count) : 0.0; }
 
   // Unpacks the 29-value layout produced by a reduction (upper triangle row by row, then b, then the

@@ -37,6 +37,11 @@ class OdometryBackend {
   // levels' maps and gradients out (building only what the coarser levels are made from). The caller
   // pushes a frame again before tracking it at a finer level. Ignored by default (every level built).
   virtual void setFinestLevel(int /*level*/) {}
+  // The systems of `level` from one row in `step` (the others at every row), each sum times `step` so
+  // that they stand for the whole image: a CPU's finest level at a fraction of its cost, nearly all of
+  // its precision (the coarser level has a quarter of the pixels and of the detail). Returns whether the
+  // backend does so; one that does not (a GPU's: no time to save) builds every row. Step 1: every row.
+  virtual bool setSampledRows(int /*level*/, int step) { return step == 1; }
 
   // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T). The
   // photometric residual compares the reference's intensity with the current one mapped by
