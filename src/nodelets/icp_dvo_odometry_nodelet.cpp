@@ -504,7 +504,7 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       if (governor_ && config_.keep_pace_row_step > 1) {
         odometry_->setFinestLevel(0, config_.keep_pace_row_step);
         if (odometry_->finestRowStep() == 1) {
-          NODELET_INFO_STREAM("IcpDvoOdometry: the " << backend_name_ << " backend tracks every row: keep_pace_row_step "
+          NODELET_INFO_STREAM("IcpDvoOdometry: backend " << backend_name_ << " tracks every row: keep_pace_row_step "
                                                      << config_.keep_pace_row_step << " left out");
           keepPaceAt(1);
         }

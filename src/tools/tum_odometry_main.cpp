@@ -137,7 +137,7 @@ int run(const vocal::CommandLine& args) {
   vocal::IcpDvoOdometry odometry(sequence.camera(), config, std::move(backend), sequence.lens());
   odometry.setFinestLevel(args.integer("finest-level", 0), args.integer("finest-row-step", 1));
   if (odometry.finestRowStep() != args.integer("finest-row-step", 1)) {
-    std::fprintf(stderr, "--finest-row-step %d: the %s backend tracks every row\n", args.integer("finest-row-step", 1),
+    std::fprintf(stderr, "--finest-row-step %d: backend %s tracks every row\n", args.integer("finest-row-step", 1),
                  odometry.backend().name().c_str());
   }
   std::fprintf(stderr, "%zu frames, intrinsics from %s, mode %s, backend %s; %s\n", frames, sequence.cameraSource().c_str(),
