@@ -360,6 +360,19 @@ void writeImuOutputs(const std::string& dir, const vocal::RigDescription& rig, c
 }
 
 // A camera on an arm's tool, or the board in its gripper: the arm's still poses from the recording's tf.
+// The end of a run with still poses: the rig's IMUs calibrated through their cameras (placed by `place`),
+// or the ones `calibrated` first (a reference IMU's rig), and their outputs written. Whether any is
+// withheld.
+bool finishImus(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag, const CameraPlacement& place,
+                const std::vector<vocal::ImuCalibrationOutput>* calibrated = nullptr) {
+  if (rig.imus.empty()) return false;
+  const std::vector<vocal::ImuCalibrationOutput> imus = calibrated ? *calibrated : calibrateImus(args, rig, bag, place);
+  bool withheld = false;
+  for (const vocal::ImuCalibrationOutput& imu : imus) withheld = withheld || !imu.withheld.empty();
+  if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
+  return withheld;
+}
+
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
   vocal::HandEyeOptions options = session.handEyeOptions();
@@ -464,19 +477,15 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
     writeRobotUrdf(rig, offsets, dir, origins);
   }
   // The IMUs through their cameras, in the frame each camera is mounted in (the tool for one the arm moves).
-  if (!rig.imus.empty()) {
-    const std::vector<vocal::ImuCalibrationOutput> imus = calibrateImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
-      if (!withheld[s].empty()) {
-        *why = "withheld: " + withheld[s];
-        return std::optional<Eigen::Isometry3d>();
-      }
-      *parent = frames.parentOf(s);
-      return std::optional<Eigen::Isometry3d>(result.sensors[s]);
-    });
-    for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
-    if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
-  }
-  return any_withheld ? 1 : 0;
+  const bool imu_withheld = finishImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
+    if (!withheld[s].empty()) {
+      *why = "withheld: " + withheld[s];
+      return std::optional<Eigen::Isometry3d>();
+    }
+    *parent = frames.parentOf(s);
+    return std::optional<Eigen::Isometry3d>(result.sensors[s]);
+  });
+  return any_withheld || imu_withheld ? 1 : 0;
 }
 
 // A rig of one camera and its IMU: no still poses; the camera where the rig gives it, or placed through the
@@ -691,18 +700,16 @@ int run(const vocal::CommandLine& args) {
     writeRobotUrdf(rig, offsets, dir, origins);
     if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
   }
-  if (!rig.imus.empty()) {
-    const std::vector<vocal::ImuCalibrationOutput> imus =
-        imus_first ? *imus_first : calibrateImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
-          *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
-          *parent = vocal::sensorParent(result, s, rig.reference_frame);  // a camera on a head: its link
-          return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
-        });
-    for (const vocal::ImuCalibrationOutput& imu : imus) any_withheld = any_withheld || !imu.withheld.empty();
-    if (args.has("output-dir")) writeImuOutputs(args.text("output-dir", ""), rig, imus);
-  }
+  const bool imu_withheld = finishImus(
+      args, rig, bag,
+      [&](int s, std::string* why, std::string* parent) {
+        *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
+        *parent = vocal::sensorParent(result, s, rig.reference_frame);  // a camera on a head: its link
+        return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
+      },
+      imus_first ? &*imus_first : nullptr);
   // Non-zero when a sensor was left out, so a script applying the result notices.
-  return any_withheld ? 1 : 0;
+  return any_withheld || imu_withheld ? 1 : 0;
 }
 }  // namespace
 
