@@ -1123,6 +1123,42 @@ TEST(JointedCalibration, ArmBeforeAGivenCameraALidarAndA2dLaserThroughCalibrateR
   EXPECT_EQ(result["sensors"].size(), 4u);
 }
 
+// The same arm before the given camera, its RGB-D camera bumped 1 cm / 10 mrad half way through (16
+// poses; simulate_calibration_session --faults): its views disagree far beyond their noise, so the arm's
+// poses are split in time and it is placed apart before and after: named as moved from pose 9 on (not as
+// uncertain: no number of poses would make it right), withheld, reported where it sits after the bump, and
+// its two placements pull on none of the other sensors (the lidar within 2 mm / 3 mrad of the truth).
+TEST(JointedCalibration, ASensorBumpedPartWayThroughAnArmSessionIsNamedAndKeptApart) {
+  const std::string folder = vocal_test::makeTempFolder("cli_joint_arm_bumped");
+  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder +
+                                                " --eye-to-hand --arm --beside --given-reference --poses 16 --faults bumped:arm_rgbd:0.01");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("withheld: sensor 'arm_rgbd' is kept out of calibration.urdf and calibration.launch: it moved part-way through "
+                          "the session: its placement from the arm poses before pose 9 and from those after differ by"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("withheld: sensor 'arm_lidar'"), std::string::npos) << r.output;
+  const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+  const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+  // The bump as the simulator makes it (calibration_bag.cpp's faultyPlacement): in the sensor's frame.
+  Eigen::Isometry3d bump = Eigen::Isometry3d::Identity();
+  bump.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d(1.0, 1.0, 0.0).normalized()).toRotationMatrix();
+  bump.translation() = 0.01 * Eigen::Vector3d(1.0, -1.0, 1.0).normalized();
+  for (const YAML::Node& sensor : result["sensors"]) {
+    const std::string name = sensor["name"].as<std::string>();
+    if (name != "arm_rgbd" && name != "arm_lidar") continue;
+    const Eigen::Isometry3d expected = yamlPose(truth["sensors"][name]["pose"]) * (name == "arm_rgbd" ? bump : Eigen::Isometry3d::Identity());
+    const Eigen::Isometry3d error = expected.inverse() * yamlPose(sensor);
+    std::printf("%s in arm_base: %.2f mm / %.2f mrad from the truth%s\n", name.c_str(), 1000 * error.translation().norm(),
+                1000 * vocal::rotationAngle(error), name == "arm_rgbd" ? " after the bump" : "");
+    EXPECT_EQ(sensor["published"].as<bool>(), name != "arm_rgbd") << name;
+    EXPECT_LT(error.translation().norm(), 0.002) << name;
+    EXPECT_LT(vocal::rotationAngle(error), 0.003) << name;
+  }
+}
+
 // A 6-joint arm's session as a robot records it (images, /joint_states at 200 Hz, /tf from the readings)
 // through calibrate_rig with a rig that names the arm's joints: the tool from the joint states, the
 // joints' offsets solved, OpenCV's closed forms beside.

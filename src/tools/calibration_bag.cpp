@@ -76,11 +76,9 @@ SimulatedSensorFault parseSimulatedSensorFault(const std::string& text, const st
   return fault;
 }
 
-namespace {
-// Where a faulty sensor sits at still pose k of `poses` (kMoves, kBumped), as the session's ground truth has it otherwise.
-Eigen::Isometry3d faultyPlacement(const SimulatedSensor& sensor, const std::vector<SimulatedSensorFault>& faults, int sensor_index, int k,
-                                  int poses, std::uint32_t seed) {
-  Eigen::Isometry3d placed = sensor.reference_from_sensor;
+Eigen::Isometry3d faultyPlacement(const Eigen::Isometry3d& as_built, const std::vector<SimulatedSensorFault>& faults, int sensor_index,
+                                  int k, int poses, std::uint32_t seed) {
+  Eigen::Isometry3d placed = as_built;
   for (const SimulatedSensorFault& fault : faults) {
     if (fault.sensor != sensor_index) continue;
     if (fault.kind == SimulatedSensorFault::Kind::kMoves) {
@@ -105,6 +103,7 @@ Eigen::Isometry3d faultyPlacement(const SimulatedSensor& sensor, const std::vect
   return placed;
 }
 
+namespace {
 // Keeps the returns (sensor frame) within `radius` of any still pose's board centre.
 void cropAroundBoards(std::vector<Eigen::Vector3d>* cloud, std::vector<int>* rings, const Eigen::Isometry3d& rig_from_sensor,
                       const std::vector<Eigen::Isometry3d>& boards, double radius) {
@@ -260,7 +259,7 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.board_on_stand = options.board_on_stand;
       view.time = time;
       SimulatedSensor placed = sensors[s];
-      placed.reference_from_sensor = faultyPlacement(sensors[s], options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
+      placed.reference_from_sensor = faultyPlacement(sensors[s].reference_from_sensor, options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
       if (options.head && static_cast<int>(s) == options.head_sensor) {
         placed.reference_from_sensor = options.head->baseFromSensor(options.head->anglesAt(time, options.still_seconds, options.moving_seconds));
       }

@@ -135,14 +135,31 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
     SimulatedSensor sensor{d.spec, Eigen::Isometry3d::Identity()};
     if ((d.parent == kForearm || d.parent == kHead) && !options.joint_arm)
       throw InputError(bag_path + ": a camera on the " + d.parent + " needs the robot's joints");
+    double late = 0.0, focal_scale = 1.0;  // the sensor's faults of its stamps and its camera_info
+    for (const SimulatedSensorFault& fault : options.faults) {
+      if (fault.sensor != static_cast<int>(s)) continue;
+      if (fault.kind == SimulatedSensorFault::Kind::kTimeOffset) late += fault.amount;
+      if (fault.kind == SimulatedSensorFault::Kind::kFocalScale) focal_scale *= fault.amount;
+    }
+    PinholeCamera stated = camera;
+    stated.fx *= focal_scale;
+    stated.fy *= focal_scale;
+    const int poses = static_cast<int>(arm.true_tool.size());
     for (double t = (0.5 + 0.3 * s) / options.camera_rate; t <= end; t += 1.0 / options.camera_rate) {
-      const ros::Time stamp(start + t);
+      const ros::Time stamp(start + t + late);
       const Eigen::Isometry3d tool = toolAt(t, arm.true_tool);
       const bool in_hand = arm.setup == HandEyeSetup::kEyeInHand;
-      Eigen::Isometry3d base_from_sensor = d.parent == kTool ? tool * sensorPoseInParent(arm, d) : sensorPoseInParent(arm, d);
-      if (d.parent == kForearm)
-        base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) * arm.forearm_camera;
-      if (d.parent == kHead) base_from_sensor = options.joint_arm->headAt(t, options.still_seconds, options.moving_seconds) * arm.head_camera;
+      // In its parent, as the faults place it at this still pose (the one being left while moving).
+      const int k = std::min(static_cast<int>(t / period), poses - 1);
+      const auto placed = [&](const Eigen::Isometry3d& as_built) {
+        return faultyPlacement(as_built, options.faults, static_cast<int>(s), k, poses, options.seed);
+      };
+      Eigen::Isometry3d base_from_sensor = d.parent == kTool ? tool * placed(sensorPoseInParent(arm, d)) : placed(sensorPoseInParent(arm, d));
+      if (d.parent == kForearm) {
+        base_from_sensor = options.joint_arm->forearmAt(options.joint_arm->anglesAt(t, options.still_seconds, options.moving_seconds)) *
+                           placed(arm.forearm_camera);
+      }
+      if (d.parent == kHead) base_from_sensor = options.joint_arm->headAt(t, options.still_seconds, options.moving_seconds) * placed(arm.head_camera);
       sensor.reference_from_sensor = roomFromBase() * base_from_sensor;
       SimulatedRoomView view;
       view.sensor = &sensor;
@@ -166,7 +183,7 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
         bag.write(d.depth_topic, stamp, toDepth32FImage(simulateDepthImage(view, depth_camera, &rng), d.spec.frame_id, stamp));
         continue;
       }
-      bag.write(d.camera_info_topic, stamp, toCameraInfo(camera, d.spec.frame_id, stamp));
+      bag.write(d.camera_info_topic, stamp, toCameraInfo(stated, d.spec.frame_id, stamp));
       const ColorImage image = simulateCameraImage(view, rays, options.image_noise, &rng);
       if (options.compressed_images) {
         bag.write(d.image_topic, stamp, toCompressedJpeg(image, d.spec.frame_id, stamp));

@@ -60,7 +60,8 @@ const char kUsage[] =
     "                      moves:SENSOR:RAD (on a pan-tilt head the rig does not describe, turned by up to RAD\n"
     "                      at each still pose), bumped:SENSOR:M (moved M metres and M rad half way through),\n"
     "                      time-offset:SENSOR:S (its stamps S seconds late), focal:SENSOR:SCALE (a camera's\n"
-    "                      camera_info focal length times SCALE); ground_truth.yaml keeps the mount as built\n"
+    "                      camera_info focal length times SCALE); ground_truth.yaml keeps the mount as built;\n"
+    "                      an arm's session takes them too (its sensors, the arm's still poses)\n"
     "  --dark-absorbs      lidar beams on the board's dark squares return nothing\n"
     "  --stand             the board stands on two posts with feet, carried with it (no one holds it)\n"
     "  --crop-lidar M      each lidar cloud cropped to the returns within M metres of a still pose's board\n"
@@ -144,6 +145,17 @@ void checkJointModelOptions(const vocal::CommandLine& args, const char* with) {
 // A robot arm's hand-eye session (hand_eye_bag.h).
 int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   if (args.has("eye-in-hand") && args.has("eye-to-hand")) throw vocal::InputError("options --eye-in-hand and --eye-to-hand: give one");
+  // The still-pose session's sensors, room and target motion are not the arm's: refused rather than left
+  // unused, so that a session is what its command line says.
+  for (const char* still_only : {"rgbd", "lidar", "laser", "camera", "noise", "rate", "lens", "room", "lidar-noise", "laser-noise",
+                                 "ring-bias", "turn", "range-offset", "lidar-model", "dark-range-offset", "camera-rate", "rgbd-rate",
+                                 "lidar-rate", "laser-rate", "still", "moving", "crop-lidar", "person", "mixed-pixels", "vertical-offsets",
+                                 "dark-absorbs", "stand", "pan-tilt", "pose-known"}) {
+    if (args.has(still_only)) {
+      throw vocal::InputError(std::string("option --") + still_only + ": not for an arm's session (--eye-in-hand, --eye-to-hand); " +
+                              "its sensors are the camera and, with --beside, those fixed beside it");
+    }
+  }
   vocal::SimulatedArmOptions arm_options;
   arm_options.setup = args.has("eye-in-hand") ? vocal::HandEyeSetup::kEyeInHand : vocal::HandEyeSetup::kEyeToHand;
   arm_options.poses = args.integer("poses", arm_options.poses);
@@ -192,6 +204,14 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   vocal::writeHandEyeGroundTruth(dir + "/ground_truth.yaml", arm, rig, arm_options.poor_pose, joint_arm ? &*joint_arm : nullptr);
   vocal::HandEyeBagOptions bag_options;
   bag_options.seed = arm_options.seed;
+  std::vector<vocal::SimulatedSensor> named;
+  for (const vocal::RigSensorDescription& d : rig.sensors) named.push_back({d.spec, Eigen::Isometry3d::Identity()});
+  const std::string faults = args.text("faults", "");
+  for (std::size_t begin = 0; !faults.empty() && begin <= faults.size();) {
+    const std::size_t end = std::min(faults.find(',', begin), faults.size());
+    bag_options.faults.push_back(vocal::parseSimulatedSensorFault(faults.substr(begin, end - begin), named, "option --faults"));
+    begin = end + 1;
+  }
   bag_options.compressed_images = args.has("compressed");
   bag_options.joint_arm = joint_arm ? &*joint_arm : nullptr;
   vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");

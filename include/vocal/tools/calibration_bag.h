@@ -39,6 +39,11 @@ struct SimulatedSensorFault {
 // "moves:SENSOR:RAD", "bumped:SENSOR:AMOUNT", "time-offset:SENSOR:S", "focal:SENSOR:SCALE" with a sensor
 // named in `sensors`; throws InputError naming `what` otherwise.
 SimulatedSensorFault parseSimulatedSensorFault(const std::string& text, const std::vector<SimulatedSensor>& sensors, const std::string& what);
+// Where sensor `sensor_index`, built at `as_built` (in any frame), sits at still pose k of `poses` with
+// `faults` (kMoves turns it about a pivot behind it, kBumped moves it from the session's half way on;
+// the other kinds leave it where it was built).
+Eigen::Isometry3d faultyPlacement(const Eigen::Isometry3d& as_built, const std::vector<SimulatedSensorFault>& faults, int sensor_index,
+                                  int k, int poses, std::uint32_t seed);
 
 struct SimulatedSessionOptions {
   int target_poses = 12;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vocal/calibration/rig_description.h"
+#include "vocal/tools/calibration_bag.h"
 #include "vocal/simulation/simulated_arm.h"
 #include "vocal/simulation/simulated_joint_arm.h"
 
@@ -27,6 +28,10 @@ struct HandEyeBagOptions {
   // An arm with joints (simulated_joint_arm.h): its readings on /joint_states at tf_rate too, and /tf as
   // robot_state_publisher makes it of them (uncalibrated).
   const SimulatedJointArm* joint_arm = nullptr;
+  // Faults of one sensor each (calibration_bag.h), the still poses being the arm's: moved in its parent
+  // frame (kMoves, kBumped), its stamps late (kTimeOffset), a camera's camera_info focal length scaled
+  // (kFocalScale); ground_truth.yaml keeps the sensor as built.
+  std::vector<SimulatedSensorFault> faults;
   std::uint32_t seed = 1;
 };
 

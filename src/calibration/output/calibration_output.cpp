@@ -297,8 +297,17 @@ std::vector<HandEyeSensor> HandEyeFrames::solverSensors() const {
 
 std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, SensorType type, const SpreadTolerance& tolerance,
                             bool publish_uncertain) {
+  char line[420];
+  // Moved, not uncertain: no number of poses makes it right, so it is withheld even when uncertain ones are not.
+  if (sensor < result.placement_changes.size() && result.placement_changes[sensor].station >= 0) {
+    const HandEyePlacementChange& change = result.placement_changes[sensor];
+    std::snprintf(line, sizeof(line),
+                  "it moved part-way through the session: its placement from the arm poses before pose %d and from those after "
+                  "differ by %.1f mm / %.1f mrad, %.0f times their sigmas (bumped, or a loose mount); fix it and record again",
+                  change.station + 1, 1000 * change.translation, 1000 * change.rotation, change.sigmas);
+    return line;
+  }
   if (publish_uncertain) return "";
-  char line[320];
   if (result.spread_solves < 2) {
     std::snprintf(line, sizeof(line), "no spread across the arm's poses could be computed (%d re-solves without one pose): add poses",
                   result.spread_solves);

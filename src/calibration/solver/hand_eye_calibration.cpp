@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <utility>
@@ -301,6 +302,7 @@ struct ArmGraph {
   std::vector<std::vector<int>> origin_held;     // ... its parts held at the model's (the session does not fix them)
   std::vector<Eigen::Vector4d> intrinsics;       // per sensor: a refined camera's correction (intrinsics_refinement.h)
   std::unique_ptr<ceres::Problem> problem;
+  double cost = 0.0;  // Ceres's, at the solution
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
 };
 
@@ -595,6 +597,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   if (options.arm_joints && !joint_starts && holdUnfixedOriginParts(&problem, &graph->origins, options.arm_joints->tolerances, &graph->origin_held))
     ceres::Solve(solver_options, &problem, &summary);
   if (!summary.IsSolutionUsable()) throw InputError("hand-eye calibration: the solver failed: " + summary.message);
+  graph->cost = summary.final_cost;
   return graph;
 }
 
@@ -738,6 +741,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
     calibratedTools();
   }
   for (const PoseState& p : graph->sensors) result.sensors.push_back(p.pose());
+  result.cost = graph->cost;
   for (const HandEyeSensor& sensor : rig.sensors) result.held.push_back(sensor.given_pose.has_value());
   result.board = graph->board.pose();
   result.given_intrinsics = givenIntrinsics(rig, stations, options);
@@ -892,6 +896,101 @@ int spreadWithoutEachStation(const ArmRig& rig, const std::vector<HandEyeStation
   }
   return static_cast<int>(moves.size());
 }
+
+// `stations` with each sensor that moved (`changes`) doubled in `rig`: its views from the change on are
+// of the double (appended to rig's sensors in sensor order, named "... (later)"; `doubles[s]` its index,
+// -1 for a sensor that did not move).
+std::vector<HandEyeStation> withMovedSensorsDoubled(ArmRig* rig, std::vector<HandEyeStation> stations,
+                                                    const std::vector<HandEyePlacementChange>& changes, std::vector<int>* doubles) {
+  const std::size_t sensors = rig->sensors.size();
+  doubles->assign(sensors, -1);
+  for (std::size_t s = 0; s < sensors; ++s) {
+    if (s >= changes.size() || changes[s].station < 0) continue;
+    rig->sensors.push_back(rig->sensors[s]);
+    rig->sensors.back().name = rig->sensors[s].name + " (later)";
+    (*doubles)[s] = static_cast<int>(rig->sensors.size()) - 1;
+    for (std::size_t k = static_cast<std::size_t>(changes[s].station); k < stations.size(); ++k)
+      for (HandEyeView& view : stations[k].views)
+        if (view.sensor == static_cast<int>(s)) view.sensor = (*doubles)[s];
+  }
+  return stations;
+}
+
+// Sensor s's placement before and after each split of its stations in time (at least kLeast stations a
+// part), the sensor doubled for the second part (and those in `found` at theirs) and the rig solved
+// again; the split whose solve fits best (least cost: where the sensor moved, each part fits its own
+// views), kept when its two placements lie kMovedSigmas apart. Only for a sensor whose views disagree
+// (its spread far over its sigma): the search costs a solve per split.
+HandEyePlacementChange placementChange(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
+                                       const std::vector<HandEyePlacementChange>& found, int s) {
+  constexpr std::size_t kLeast = 4;
+  std::vector<std::size_t> its;  // the stations where it saw the board
+  for (std::size_t k = 0; k < stations.size(); ++k)
+    if (std::any_of(stations[k].views.begin(), stations[k].views.end(), [&](const HandEyeView& v) { return v.sensor == s; })) its.push_back(k);
+  HandEyePlacementChange best;
+  if (its.size() < 2 * kLeast) return best;
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t split = kLeast; split + kLeast <= its.size(); ++split) {
+    std::vector<HandEyePlacementChange> changes = found;
+    changes[s].station = static_cast<int>(its[split]);
+    ArmRig doubled = rig;
+    std::vector<int> doubles;
+    const std::vector<HandEyeStation> relabelled = withMovedSensorsDoubled(&doubled, stations, changes, &doubles);
+    HandEyeResult parts;
+    try {
+      parts = solveArmRig(doubled, relabelled, options, false);
+    } catch (const InputError&) {
+      continue;  // a part alone does not fix it
+    }
+    const int later = doubles[s];
+    const Eigen::Isometry3d apart = parts.sensors[s].inverse() * parts.sensors[later];
+    const Eigen::Matrix<double, 6, 1> sigma = (parts.sensor_sigmas[s].cwiseAbs2() + parts.sensor_sigmas[later].cwiseAbs2()).cwiseSqrt();
+    const double sigmas = std::max(apart.translation().norm() / std::max(sigma.head<3>().norm(), 1e-9),
+                                   rotationAngle(apart) / std::max(sigma.tail<3>().norm(), 1e-9));
+    if (parts.cost < least) {
+      least = parts.cost;
+      best = {changes[s].station, apart.translation().norm(), rotationAngle(apart), sigmas};
+    }
+  }
+  if (best.sigmas < HandEyeResult::kMovedSigmas) best.station = -1;
+  return best;
+}
+
+// The rig solved with each sensor that moved (`changes`) as two, before and after, so that its two
+// placements pull on nothing else (the board, the tool, the joints, the other sensors); each reported as
+// it sits after, its spread across the stations computed again.
+HandEyeResult solvedWithMovedSensorsApart(const ArmRig& rig, const std::vector<HandEyeStation>& stations, const HandEyeOptions& options,
+                                          const std::vector<HandEyePlacementChange>& changes) {
+  ArmRig doubled = rig;
+  std::vector<int> doubles;
+  const std::vector<HandEyeStation> relabelled = withMovedSensorsDoubled(&doubled, stations, changes, &doubles);
+  HandEyeResult result = solveArmRig(doubled, relabelled, options, true);
+  result.spread_solves = spreadWithoutEachStation(doubled, relabelled, options, result.sensors, &result.sensor_spreads);
+  const std::size_t n = rig.sensors.size();
+  result.placement_changes = changes;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (doubles[s] < 0) continue;
+    // The move as this solve, every move apart, puts it (the search's was with the later ones' unmodelled).
+    HandEyePlacementChange& change = result.placement_changes[s];
+    const Eigen::Isometry3d apart = result.sensors[s].inverse() * result.sensors[doubles[s]];
+    const Eigen::Matrix<double, 6, 1> sigma =
+        (result.sensor_sigmas[s].cwiseAbs2() + result.sensor_sigmas[doubles[s]].cwiseAbs2()).cwiseSqrt();
+    change.translation = apart.translation().norm();
+    change.rotation = rotationAngle(apart);
+    change.sigmas = std::max(change.translation / std::max(sigma.head<3>().norm(), 1e-9), change.rotation / std::max(sigma.tail<3>().norm(), 1e-9));
+    result.sensors[s] = result.sensors[doubles[s]];
+    result.sensor_sigmas[s] = result.sensor_sigmas[doubles[s]];
+    result.sensor_spreads[s] = result.sensor_spreads[doubles[s]];
+  }
+  result.sensors.resize(n);
+  result.sensor_sigmas.resize(n);
+  result.sensor_spreads.resize(n);
+  result.held.resize(n);
+  result.given_intrinsics.resize(n);
+  result.refined_intrinsics.resize(n);
+  result.intrinsics_sigma.resize(n);
+  return result;
+}
 }  // namespace
 
 std::string handEyeMotionProblem(const std::vector<HandEyeStation>& stations, const HandEyeOptions& options) {
@@ -995,6 +1094,26 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
   }
   HandEyeResult result = solveArmRig(rig, stations, options, true);
   result.spread_solves = spreadWithoutEachStation(rig, stations, options, result.sensors, &result.sensor_spreads);
+  // A sensor whose views disagree far beyond their noise: did it move part-way? Each found is isolated
+  // (solvedWithMovedSensorsApart) before the next is looked for, so that one sensor's move is not taken
+  // for another's.
+  result.placement_changes.assign(sensors.size(), HandEyePlacementChange());
+  for (bool found = true; found && result.spread_solves >= 2;) {
+    found = false;
+    std::vector<HandEyePlacementChange> changes = result.placement_changes;
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      // The main camera pins every station's board: it is not split.
+      if (result.held[s] || static_cast<int>(s) == rig.main_camera || changes[s].station >= 0) continue;
+      const Eigen::Matrix<double, 6, 1>& spread = result.sensor_spreads[s];
+      const Eigen::Matrix<double, 6, 1>& sigma = result.sensor_sigmas[s];
+      const double ratio = std::max(spread.head<3>().norm() / std::max(sigma.head<3>().norm(), 1e-9),
+                                    spread.tail<3>().norm() / std::max(sigma.tail<3>().norm(), 1e-9));
+      if (ratio < HandEyeResult::kInconsistentSpread) continue;
+      changes[s] = placementChange(rig, stations, options, result.placement_changes, static_cast<int>(s));
+      found = found || changes[s].station >= 0;
+    }
+    if (found) result = solvedWithMovedSensorsApart(rig, stations, options, changes);
+  }
   return result;
 }
 

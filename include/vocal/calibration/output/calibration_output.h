@@ -86,9 +86,10 @@ struct HandEyeFrames {
 };
 // A hand-eye rig's frames (`arm`: rig.handEye()).
 HandEyeFrames handEyeFrames(const RigDescription& rig, const HandEyeRig& arm);
-// Why a sensor stays out of the URDF and launch file ("" where it may go in): its spread across the
-// arm's poses is over `tolerance`, or none could be computed - unless `publish_uncertain`; what to record
-// more of, by the sensor's `type`.
+// Why a sensor stays out of the URDF and launch file ("" where it may go in): it moved part-way through
+// the session (HandEyeResult::placement_changes: always), or its spread across the arm's poses is over
+// `tolerance`, or none could be computed - unless `publish_uncertain`; what to record more of, by the
+// sensor's `type`.
 std::string handEyeWithheld(const HandEyeResult& result, std::size_t sensor, SensorType type, const SpreadTolerance& tolerance,
                             bool publish_uncertain);
 // `withheld`: per sensor, handEyeWithheld.
