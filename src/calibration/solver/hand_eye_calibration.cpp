@@ -897,6 +897,12 @@ int spreadWithoutEachStation(const ArmRig& rig, const std::vector<HandEyeStation
   return static_cast<int>(moves.size());
 }
 
+// A difference of `translation` and `rotation` in `sigma`'s (its translation's and rotation's norms): the
+// larger of the two.
+double inSigmas(double translation, double rotation, const Eigen::Matrix<double, 6, 1>& sigma) {
+  return std::max(translation / std::max(sigma.head<3>().norm(), 1e-9), rotation / std::max(sigma.tail<3>().norm(), 1e-9));
+}
+
 // `stations` with each sensor that moved (`changes`) doubled in `rig`: its views from the change on are
 // of the double (appended to rig's sensors in sensor order, named "... (later)"; `doubles[s]` its index,
 // -1 for a sensor that did not move).
@@ -945,11 +951,10 @@ HandEyePlacementChange placementChange(const ArmRig& rig, const std::vector<Hand
     const int later = doubles[s];
     const Eigen::Isometry3d apart = parts.sensors[s].inverse() * parts.sensors[later];
     const Eigen::Matrix<double, 6, 1> sigma = (parts.sensor_sigmas[s].cwiseAbs2() + parts.sensor_sigmas[later].cwiseAbs2()).cwiseSqrt();
-    const double sigmas = std::max(apart.translation().norm() / std::max(sigma.head<3>().norm(), 1e-9),
-                                   rotationAngle(apart) / std::max(sigma.tail<3>().norm(), 1e-9));
     if (parts.cost < least) {
       least = parts.cost;
-      best = {changes[s].station, apart.translation().norm(), rotationAngle(apart), sigmas};
+      best = {changes[s].station, apart.translation().norm(), rotationAngle(apart),
+              inSigmas(apart.translation().norm(), rotationAngle(apart), sigma)};
     }
   }
   if (best.sigmas < HandEyeResult::kMovedSigmas) best.station = -1;
@@ -977,7 +982,7 @@ HandEyeResult solvedWithMovedSensorsApart(const ArmRig& rig, const std::vector<H
         (result.sensor_sigmas[s].cwiseAbs2() + result.sensor_sigmas[doubles[s]].cwiseAbs2()).cwiseSqrt();
     change.translation = apart.translation().norm();
     change.rotation = rotationAngle(apart);
-    change.sigmas = std::max(change.translation / std::max(sigma.head<3>().norm(), 1e-9), change.rotation / std::max(sigma.tail<3>().norm(), 1e-9));
+    change.sigmas = inSigmas(change.translation, change.rotation, sigma);
     result.sensors[s] = result.sensors[doubles[s]];
     result.sensor_sigmas[s] = result.sensor_sigmas[doubles[s]];
     result.sensor_spreads[s] = result.sensor_spreads[doubles[s]];
@@ -1105,14 +1110,17 @@ HandEyeResult calibrateArmRig(const std::vector<HandEyeSensor>& sensors, bool bo
       // The main camera pins every station's board: it is not split.
       if (result.held[s] || static_cast<int>(s) == rig.main_camera || changes[s].station >= 0) continue;
       const Eigen::Matrix<double, 6, 1>& spread = result.sensor_spreads[s];
-      const Eigen::Matrix<double, 6, 1>& sigma = result.sensor_sigmas[s];
-      const double ratio = std::max(spread.head<3>().norm() / std::max(sigma.head<3>().norm(), 1e-9),
-                                    spread.tail<3>().norm() / std::max(sigma.tail<3>().norm(), 1e-9));
-      if (ratio < HandEyeResult::kInconsistentSpread) continue;
+      if (inSigmas(spread.head<3>().norm(), spread.tail<3>().norm(), result.sensor_sigmas[s]) < HandEyeResult::kInconsistentSpread) continue;
       changes[s] = placementChange(rig, stations, options, result.placement_changes, static_cast<int>(s));
       found = found || changes[s].station >= 0;
     }
-    if (found) result = solvedWithMovedSensorsApart(rig, stations, options, changes);
+    if (!found) break;
+    try {
+      result = solvedWithMovedSensorsApart(rig, stations, options, changes);
+    } catch (const InputError&) {
+      result.placement_changes = changes;  // named all the same, the rig as solved whole
+      break;
+    }
   }
   return result;
 }
