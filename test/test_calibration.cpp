@@ -1481,3 +1481,24 @@ TEST(CalibrationOutput, WithholdsUncertainAndUntrustedSensors) {
     EXPECT_NE(text.find("camera0"), std::string::npos) << text;
   }
 }
+
+// An arm's sensor that moved part-way through the session (HandEyeResult::placement_changes) is withheld
+// with the pose it moved at, even with --publish-uncertain: no number of poses makes it right. An
+// uncertain one (its spread over the tolerance) is published when asked; one within it always.
+TEST(CalibrationOutput, AnArmsSensorThatMovedIsWithheldEvenWhenUncertainOnesArePublished) {
+  vocal::HandEyeResult result;
+  result.spread_solves = 10;
+  result.sensor_spreads = {vocal::Vector6d::Constant(0.0005), vocal::Vector6d::Constant(0.0005), vocal::Vector6d::Constant(0.02)};
+  result.placement_changes.resize(3);
+  result.placement_changes[1] = {12, 0.0196, 0.0193, 14.2};
+  const vocal::SpreadTolerance tolerance;
+  const std::string moved =
+      "it moved part-way through the session: its placement from the arm poses before pose 13 and from those after differ by 19.6 mm "
+      "/ 19.3 mrad, 14 times their sigmas (bumped, or a loose mount); fix it and record again";
+  for (bool publish_uncertain : {false, true}) {
+    EXPECT_EQ(vocal::handEyeWithheld(result, 0, vocal::SensorType::kCamera, tolerance, publish_uncertain), "");
+    EXPECT_EQ(vocal::handEyeWithheld(result, 1, vocal::SensorType::kLidar3d, tolerance, publish_uncertain), moved);
+  }
+  EXPECT_EQ(vocal::handEyeWithheld(result, 2, vocal::SensorType::kRgbd, tolerance, true), "");
+  EXPECT_EQ(vocal::handEyeWithheld(result, 2, vocal::SensorType::kRgbd, tolerance, false).rfind("uncertain: it moves", 0), 0u);
+}

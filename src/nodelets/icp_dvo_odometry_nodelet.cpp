@@ -501,13 +501,10 @@ class IcpDvoOdometryNodelet : public nodelet::Nodelet {
       backend_name_ = odometry_->backend().name();
       NODELET_INFO_STREAM("IcpDvoOdometry: " << camera.width << "x" << camera.height << " camera, backend " << backend_name_
                                              << "; " << odometry_->cameraModelText());
-      if (governor_ && config_.keep_pace_row_step > 1) {
-        odometry_->setFinestLevel(0, config_.keep_pace_row_step);
-        if (odometry_->finestRowStep() == 1) {
-          NODELET_INFO_STREAM("IcpDvoOdometry: backend " << backend_name_ << " tracks every row: keep_pace_row_step "
-                                                     << config_.keep_pace_row_step << " left out");
-          keepPaceAt(1);
-        }
+      if (governor_ && config_.keep_pace_row_step > 1 && !odometry_->backend().samplesRows()) {
+        NODELET_INFO_STREAM("IcpDvoOdometry: backend " << backend_name_ << " tracks every row: keep_pace_row_step "
+                                                   << config_.keep_pace_row_step << " left out");
+        keepPaceAt(1);
       }
     }
     const std::string camera_frame = rgb.header.frame_id;

@@ -1,6 +1,5 @@
 #include "vocal/odometry/cpu_backend.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "vocal/odometry/depth_noise_model.h"
@@ -112,12 +111,6 @@ NormalEquations CpuOdometryBackend::rgbSystem(int level, const Eigen::Isometry3d
   }
   system *= step;
   return system;
-}
-
-bool CpuOdometryBackend::setSampledRows(int level, int step) {
-  sampled_level_ = level;
-  sampled_row_step_ = std::max(1, step);
-  return true;
 }
 
 std::size_t CpuOdometryBackend::memoryBytes() const {

@@ -1,6 +1,5 @@
 #include "vocal/odometry/fast_cpu_backend.h"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -53,7 +52,7 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
   using Sums = std::array<double, 2 * kReductionValues>;
   // Blocks of the rows taken (every `step`-th from the first), each block's sums apart: the total does
   // not depend on the threads.
-  const int step = level == sampled_level_ ? sampled_row_step_ : 1;
+  const int step = rowStep(level);
   const int rows = (cur.height + step - 1) / step;
   block_sums_.resize(WorkerPool::blockCount(rows, kTrackingRowsPerBlock));
   workers_.forBlocks(rows, kTrackingRowsPerBlock, [&](int block, int row_begin, int row_end) {
@@ -73,12 +72,6 @@ void FastCpuOdometryBackend::trackingSystems(int level, const Eigen::Isometry3d&
     *rgb = NormalEquations::fromPacked(total.data() + kReductionValues);
     *rgb *= step;
   }
-}
-
-bool FastCpuOdometryBackend::setSampledRows(int level, int step) {
-  sampled_level_ = level;
-  sampled_row_step_ = std::max(1, step);
-  return true;
 }
 
 NormalEquations FastCpuOdometryBackend::icpSystem(int level, const Eigen::Isometry3d& reference_from_current) {

@@ -73,8 +73,8 @@ void IcpDvoOdometry::setFinestLevel(int level, int row_step) {
   }
   finest_level_ = level;
   backend_->setFinestLevel(level);
+  // A backend that does not sample rows builds every row (and keeps none of the step).
   finest_row_step_ = backend_->setSampledRows(level, row_step) ? row_step : 1;
-  if (finest_row_step_ != row_step) backend_->setSampledRows(level, 1);
 }
 
 void IcpDvoOdometry::reset(const Eigen::Isometry3d& pose) {

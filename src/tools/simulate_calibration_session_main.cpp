@@ -142,6 +142,18 @@ void checkJointModelOptions(const vocal::CommandLine& args, const char* with) {
   }
 }
 
+// --faults F[,F...], each of a sensor in `sensors` (parseSimulatedSensorFault).
+std::vector<vocal::SimulatedSensorFault> faultsOption(const vocal::CommandLine& args, const std::vector<vocal::SimulatedSensor>& sensors) {
+  std::vector<vocal::SimulatedSensorFault> faults;
+  const std::string text = args.text("faults", "");
+  for (std::size_t begin = 0; !text.empty() && begin <= text.size();) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    faults.push_back(vocal::parseSimulatedSensorFault(text.substr(begin, end - begin), sensors, "option --faults"));
+    begin = end + 1;
+  }
+  return faults;
+}
+
 // A robot arm's hand-eye session (hand_eye_bag.h).
 int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   if (args.has("eye-in-hand") && args.has("eye-to-hand")) throw vocal::InputError("options --eye-in-hand and --eye-to-hand: give one");
@@ -206,12 +218,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   bag_options.seed = arm_options.seed;
   std::vector<vocal::SimulatedSensor> named;
   for (const vocal::RigSensorDescription& d : rig.sensors) named.push_back({d.spec, Eigen::Isometry3d::Identity()});
-  const std::string faults = args.text("faults", "");
-  for (std::size_t begin = 0; !faults.empty() && begin <= faults.size();) {
-    const std::size_t end = std::min(faults.find(',', begin), faults.size());
-    bag_options.faults.push_back(vocal::parseSimulatedSensorFault(faults.substr(begin, end - begin), named, "option --faults"));
-    begin = end + 1;
-  }
+  bag_options.faults = faultsOption(args, named);
   bag_options.compressed_images = args.has("compressed");
   bag_options.joint_arm = joint_arm ? &*joint_arm : nullptr;
   vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");
@@ -359,12 +366,7 @@ int run(const vocal::CommandLine& args) {
   options.board_on_stand = args.has("stand");
   options.lidar_crop = args.number("crop-lidar", 0.0);
   if (options.lidar_crop < 0.0) throw vocal::InputError("option --crop-lidar: metres must be >= 0");
-  const std::string faults = args.text("faults", "");
-  for (std::size_t begin = 0; !faults.empty() && begin <= faults.size();) {
-    const std::size_t end = std::min(faults.find(',', begin), faults.size());
-    options.faults.push_back(vocal::parseSimulatedSensorFault(faults.substr(begin, end - begin), sensors, "option --faults"));
-    begin = end + 1;
-  }
+  options.faults = faultsOption(args, sensors);
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, target, true);

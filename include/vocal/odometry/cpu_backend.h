@@ -16,7 +16,7 @@ class CpuOdometryBackend : public OdometryBackend {
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                             double huber_threshold, const BrightnessTransfer& brightness) override;
-  bool setSampledRows(int level, int step) override;
+  bool samplesRows() const override { return true; }
   std::size_t memoryBytes() const override;
 
   const FramePyramid& reference() const { return reference_; }
@@ -27,8 +27,6 @@ class CpuOdometryBackend : public OdometryBackend {
   OdometryConfig config_;
   FramePyramid reference_;
   FramePyramid current_;
-  int sampled_level_ = 0, sampled_row_step_ = 1;  // setSampledRows
-  int rowStep(int level) const { return level == sampled_level_ ? sampled_row_step_ : 1; }
 };
 
 }  // namespace vocal

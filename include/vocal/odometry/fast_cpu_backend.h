@@ -35,7 +35,7 @@ class FastCpuOdometryBackend : public OdometryBackend {
   std::string name() const override;
   void pushFrame(const RgbdFrame& frame, ReferenceUpdate update) override;
   void setFinestLevel(int level) override { finest_level_ = level; }
-  bool setSampledRows(int level, int step) override;
+  bool samplesRows() const override { return true; }
   NormalEquations icpSystem(int level, const Eigen::Isometry3d& reference_from_current) override;
   NormalEquations rgbSystem(int level, const Eigen::Isometry3d& reference_from_current,
                             double huber_threshold, const BrightnessTransfer& brightness) override;
@@ -54,7 +54,6 @@ class FastCpuOdometryBackend : public OdometryBackend {
   SoaFramePyramid frames_[2];  // the reference is the one that is not current; buffers swap roles
   int current_ = 0;
   int finest_level_ = 0;  // setFinestLevel: the finer levels of frames pushed are not built
-  int sampled_level_ = 0, sampled_row_step_ = 1;  // setSampledRows
   TrackRowFunction track_row_;
   std::vector<std::array<double, 2 * kReductionValues>> block_sums_;  // the tracking pass's, per block of rows
 };

@@ -150,7 +150,7 @@ class IcpDvoOdometry {
   // inlier minima are kept per level, so switching makes no keyframe and no suspicious frame of itself.
   // `row_step` > 1: that level's systems from one row in row_step (OdometryBackend::setSampledRows), the
   // step before a coarser level where the backend does so (a CPU's; else every row, finestRowStep() 1):
-  // on the real TUM sequences RPE within 1.5 % of every row's at 2, where level 1 is 3-11 % above.
+  // on the real TUM sequences RPE within 1.5 % of every row's at 2, where level 1 is 3-12 % above.
   // Throws InputError for a level outside [0, levels), one with no iterations or a row_step outside [1, 8].
   void setFinestLevel(int level, int row_step = 1);
   int finestLevel() const { return finest_level_; }

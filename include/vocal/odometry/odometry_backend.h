@@ -3,6 +3,7 @@
 // into pyramids, and build the ICP and DVO normal equations of one pyramid level for a given motion.
 // The CPU reference and the OpenCL backend implement the same math (parity-tested).
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -40,8 +41,16 @@ class OdometryBackend {
   // The systems of `level` from one row in `step` (the others at every row), each sum times `step` so
   // that they stand for the whole image: a CPU's finest level at a fraction of its cost, nearly all of
   // its precision (the coarser level has a quarter of the pixels and of the detail). Returns whether the
-  // backend does so; one that does not (a GPU's: no time to save) builds every row. Step 1: every row.
-  virtual bool setSampledRows(int /*level*/, int step) { return step == 1; }
+  // backend does so (samplesRows); one that does not (a GPU's: no time to save) builds every row. Step
+  // 1: every row.
+  bool setSampledRows(int level, int step) {
+    if (step > 1 && !samplesRows()) return false;
+    sampled_level_ = level;
+    sampled_row_step_ = std::max(1, step);
+    return true;
+  }
+  // Whether the backend builds a level's systems from sampled rows (setSampledRows).
+  virtual bool samplesRows() const { return false; }
 
   // Systems in the twist of a left update of reference_from_current (x = [v; w], T <- exp(x) T). The
   // photometric residual compares the reference's intensity with the current one mapped by
@@ -61,6 +70,13 @@ class OdometryBackend {
   // The threads the backend runs its loops on, for the estimator's own (rectification, brightness
   // transfer) to share; null where the backend has none (its work runs elsewhere, e.g. on a GPU).
   virtual WorkerPool* workers() { return nullptr; }
+
+ protected:
+  // The step between the rows `level`'s systems are built from (setSampledRows; 1: every row).
+  int rowStep(int level) const { return level == sampled_level_ ? sampled_row_step_ : 1; }
+
+ private:
+  int sampled_level_ = 0, sampled_row_step_ = 1;
 };
 
 // Camera of pyramid level `level`: samples sit at (2^level x, 2^level y) of the input, so the

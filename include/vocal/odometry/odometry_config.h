@@ -175,9 +175,9 @@ struct OdometryConfig {
   // every frame at level 0.
   int keep_pace_max_level = 1;
   // Before a coarser level, such a stream's finest level is tracked from one row in this many
-  // (IcpDvoOdometry::setFinestLevel's row_step; a CPU backend's, a GPU tracks every row): at 2 the
-  // systems cost half, the RPE within 1.5 % of every row's on the real TUM sequences, where level 1 is
-  // 3-11 % above. 1: no such step (straight to the coarser level). At most kMaxFinestRowStep.
+  // (IcpDvoOdometry::setFinestLevel's row_step; a CPU backend's, a GPU tracks every row): at 2 a frame
+  // costs 16-20 % less, the RPE within 1.5 % of every row's on the real TUM sequences, where level 1 is
+  // 3-12 % above (docs/benchmarks.md). 1: no such step (straight to the coarser level). At most kMaxFinestRowStep.
   int keep_pace_row_step = 2;
   // A keyframe made while tracking coarser than the input (keeping pace) has the link it was tracked by
   // solved again at the input's resolution (on the local window's thread where local_window_background)

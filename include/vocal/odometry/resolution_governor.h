@@ -14,9 +14,9 @@
 // features, buffers allocated; kStartFramesNotTimed are not timed) and tries the next finer one once
 // kStartProbeWaitFrames have passed and its running time has room. Each resolution's wall time per
 // frame is followed (a running mean of the frames tracked there); while it exceeds the budget (a share of
-// the stream's period, measured from the frames' arrivals) the next frames go one coarser. A coarser resolution with room to
-// spare tries the finer one after a wait (kFirstProbeWaitFrames; the load may have gone), a wait that
-// doubles each time a try fails (up to kMaxProbeWaitFrames).
+// the stream's period, measured from the frames' arrivals) the next frames go one coarser. A coarser
+// resolution with room to spare tries the finer one after a wait (kFirstProbeWaitFrames; the load may
+// have gone), a wait that doubles each time a try fails (up to kMaxProbeWaitFrames).
 #include <cstddef>
 #include <vector>
 

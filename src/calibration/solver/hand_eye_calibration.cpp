@@ -903,6 +903,15 @@ double inSigmas(double translation, double rotation, const Eigen::Matrix<double,
   return std::max(translation / std::max(sigma.head<3>().norm(), 1e-9), rotation / std::max(sigma.tail<3>().norm(), 1e-9));
 }
 
+// A sensor's move at `station` as `solved` puts it: between its placement `before` and its double `after`,
+// in their combined sigmas.
+HandEyePlacementChange placementChangeIn(const HandEyeResult& solved, int before, int after, int station) {
+  const Eigen::Isometry3d apart = solved.sensors[before].inverse() * solved.sensors[after];
+  const Eigen::Matrix<double, 6, 1> sigma = (solved.sensor_sigmas[before].cwiseAbs2() + solved.sensor_sigmas[after].cwiseAbs2()).cwiseSqrt();
+  const double translation = apart.translation().norm(), rotation = rotationAngle(apart);
+  return {station, translation, rotation, inSigmas(translation, rotation, sigma)};
+}
+
 // `stations` with each sensor that moved (`changes`) doubled in `rig`: its views from the change on are
 // of the double (appended to rig's sensors in sensor order, named "... (later)"; `doubles[s]` its index,
 // -1 for a sensor that did not move).
@@ -948,13 +957,9 @@ HandEyePlacementChange placementChange(const ArmRig& rig, const std::vector<Hand
     } catch (const InputError&) {
       continue;  // a part alone does not fix it
     }
-    const int later = doubles[s];
-    const Eigen::Isometry3d apart = parts.sensors[s].inverse() * parts.sensors[later];
-    const Eigen::Matrix<double, 6, 1> sigma = (parts.sensor_sigmas[s].cwiseAbs2() + parts.sensor_sigmas[later].cwiseAbs2()).cwiseSqrt();
     if (parts.cost < least) {
       least = parts.cost;
-      best = {changes[s].station, apart.translation().norm(), rotationAngle(apart),
-              inSigmas(apart.translation().norm(), rotationAngle(apart), sigma)};
+      best = placementChangeIn(parts, s, doubles[s], changes[s].station);
     }
   }
   if (best.sigmas < HandEyeResult::kMovedSigmas) best.station = -1;
@@ -976,13 +981,7 @@ HandEyeResult solvedWithMovedSensorsApart(const ArmRig& rig, const std::vector<H
   for (std::size_t s = 0; s < n; ++s) {
     if (doubles[s] < 0) continue;
     // The move as this solve, every move apart, puts it (the search's was with the later ones' unmodelled).
-    HandEyePlacementChange& change = result.placement_changes[s];
-    const Eigen::Isometry3d apart = result.sensors[s].inverse() * result.sensors[doubles[s]];
-    const Eigen::Matrix<double, 6, 1> sigma =
-        (result.sensor_sigmas[s].cwiseAbs2() + result.sensor_sigmas[doubles[s]].cwiseAbs2()).cwiseSqrt();
-    change.translation = apart.translation().norm();
-    change.rotation = rotationAngle(apart);
-    change.sigmas = inSigmas(change.translation, change.rotation, sigma);
+    result.placement_changes[s] = placementChangeIn(result, static_cast<int>(s), doubles[s], changes[s].station);
     result.sensors[s] = result.sensors[doubles[s]];
     result.sensor_sigmas[s] = result.sensor_sigmas[doubles[s]];
     result.sensor_spreads[s] = result.sensor_spreads[doubles[s]];
