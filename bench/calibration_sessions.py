@@ -42,6 +42,10 @@ SIMULATED = [
     ("seed 7, 3 Hz, dark squares +2 cm", MUST_SHOW + " --rate 3 --seed 7 --dark-range-offset 0.02", "--edges"),
     ("Ouster OS1-64, seed 7, 3 Hz", MUST_SHOW + " --rate 3 --seed 7 --lidar-model ouster64", "--edges"),
     ("Livox-like, seed 7, 3 Hz", MUST_SHOW + " --rate 3 --seed 7 --lidar-model livox", "--edges"),
+    # The 2D laser's beam as wide as a SICK LMS1xx's (8 mm + 15 mrad across): its scans run on past the
+    # board's edges.
+    ("must-show seed 1, 3 Hz, a wide laser beam", MUST_SHOW + " --rate 3 --laser-beam 0.008,0.015", "--edges"),
+    ("must-show seed 7, 3 Hz, a wide laser beam", MUST_SHOW + " --rate 3 --seed 7 --laser-beam 0.008,0.015", "--edges"),
 ]
 ALTERNATIVES = [("defaults", ""), ("--no-ring-offsets", "--no-ring-offsets")]
 

@@ -134,10 +134,46 @@ TEST(ArmGraphResiduals, OutlineViewIsTheEndsDistanceToTheBoardsEdge) {
                                                sensor_from_board * Eigen::Vector3d(-0.18, -0.02, 0.0)};
     const vocal::OutlineViewResidual residual{{ends, 0.01, 0.18, 0.135, 3.0}, mounting};
     double r[2];
+    const double none[] = {0.0, 0.0};
     residual(x.q.coeffs().data(), x.t.data(), board.q.coeffs().data(), board.t.data(), sensor_frame.q.coeffs().data(), sensor_frame.t.data(),
-             board_frame.q.coeffs().data(), board_frame.t.data(), r);
+             board_frame.q.coeffs().data(), board_frame.t.data(), none, r);
     EXPECT_NEAR(r[0], vocal::cauchyResidual(beyond / 0.01, 3.0), 1e-9);
     EXPECT_NEAR(r[1], 0.0, 1e-9);
+  }
+}
+
+// A wide beam's scan ends reach past the board's edge by its footprint there: a beam of radius 5 mm + 5 mrad
+// x range is 10 mm in radius at 1 m. An end 1 m along the laser's x: facing the board it lies 10 mm past
+// a side; with the board turned 0.6 rad about its y axis, 10 / cos(0.6) mm past the edges across that
+// turn (the footprint stretched) and still 10 mm past those along it. Each is zero there, 1 sigma a
+// millimetre further; with a beam of radius zero (a ray) it is the distance to the edge.
+TEST(ArmGraphResiduals, OutlineViewEndsReachPastTheEdgeByTheBeamsFootprint) {
+  const vocal::FrameMounting mounting{false, false};
+  const Blocks laser(Eigen::Isometry3d::Identity()), identity(Eigen::Isometry3d::Identity());
+  const double beam[] = {0.005, 0.005}, ray[] = {0.0, 0.0};
+  const Eigen::Vector3d end(1.0, 0.0, 0.0);
+  for (const double turned : {0.0, 0.6}) {
+    // The board's z back towards the laser, turned about its own y; its x edges across the turn.
+    const Eigen::Matrix3d turn = (Eigen::AngleAxisd(M_PI / 2, -Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(turned, Eigen::Vector3d::UnitY())).toRotationMatrix();
+    for (const bool across_turn : {true, false}) {
+      const double past = across_turn ? 0.010 / std::cos(turned) : 0.010;
+      for (const double beyond : {0.0, 0.001}) {
+        // The board placed so that the end lies `past + beyond` outside its edge.
+        const Eigen::Vector3d on_board = across_turn ? Eigen::Vector3d(0.18 + past + beyond, 0.02, 0.0) : Eigen::Vector3d(0.03, 0.135 + past + beyond, 0.0);
+        Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
+        board.linear() = turn;
+        board.translation() = end - turn * on_board;
+        const Blocks at(board);
+        const vocal::OutlineViewResidual residual{{{end}, 0.01, 0.18, 0.135, 30.0, {0.001}}, mounting};
+        double r = 0.0;
+        residual(laser.q.coeffs().data(), laser.t.data(), at.q.coeffs().data(), at.t.data(), identity.q.coeffs().data(), identity.t.data(),
+                 identity.q.coeffs().data(), identity.t.data(), beam, &r);
+        EXPECT_NEAR(r, vocal::cauchyResidual(beyond / 0.001, 30.0), 1e-6) << turned << " " << across_turn;
+        residual(laser.q.coeffs().data(), laser.t.data(), at.q.coeffs().data(), at.t.data(), identity.q.coeffs().data(), identity.t.data(),
+                 identity.q.coeffs().data(), identity.t.data(), ray, &r);
+        EXPECT_NEAR(r, vocal::cauchyResidual((past + beyond) / 0.001, 30.0), 1e-6);
+      }
+    }
   }
 }
 

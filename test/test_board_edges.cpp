@@ -11,9 +11,11 @@
 #include <set>
 
 #include "vocal/calibration/extraction/board_outline.h"
+#include "vocal/calibration/solver/scan_ends.h"
 #include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/core/se3.h"
 #include "vocal/simulation/rig_simulator.h"
+#include "vocal/simulation/simulated_sensor_data.h"
 
 namespace {
 std::vector<vocal::SensorSpec> specs(const vocal::SimulatedRig& rig) {
@@ -104,6 +106,79 @@ TEST(BoardOutline, EachLidarRingEndsOnTheBoardsEdges) {
       EXPECT_NEAR(on_board.z(), 0.0, 1e-9);  // in the board's plane
       EXPECT_LT(std::abs(vocal::distanceToOutline(on_board.x(), on_board.y(), half_width, half_height)), step)
           << "tilt " << tilt << " at " << on_board.transpose();
+    }
+  }
+}
+
+// A 2D laser's beam as wide as a SICK LMS1xx's (8 mm + 15 mrad x range across, by its manual) before a
+// board 1 m away facing it: the returns run on past each side by the beam's radius there (4 + 7.5 = 11.5
+// mm, less up to a step between beams, 4.4 mm), each at about the board's range; a ray's stop within a
+// step inside the sides.
+TEST(BoardOutline, AWideBeamSeesTheBoardPastItsEdgesByItsRadius) {
+  vocal::TargetDescription target;
+  target.width = 0.4;
+  target.height = 0.3;
+  const vocal::SimulatedSensor laser{{"laser", vocal::SensorType::kLaser2d, "laser"}, Eigen::Isometry3d::Identity()};
+  vocal::SimulatedRoomView view;
+  view.sensor = &laser;
+  view.target = &target;
+  view.reference_from_target.translation() = Eigen::Vector3d(1.0, 0.05, 0.02);
+  view.reference_from_target.linear() = vocal::targetFacingRig();
+  for (const bool wide : {false, true}) {
+    view.beam_aperture = wide ? 0.008 : 0.0;
+    view.beam_divergence = wide ? 0.015 : 0.0;
+    std::mt19937 rng(1);
+    const std::vector<float> ranges = vocal::simulateLaserRanges(view, &rng);
+    double left = 1.0, right = -1.0;  // the board's returns' extent across (laser y)
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      if (!(ranges[i] < 1.1)) continue;
+      const double azimuth = (-135.0 + 0.25 * i) * M_PI / 180.0;
+      // On the board's plane (a wide beam's edge returns: the range of the part of the board nearest its centre).
+      EXPECT_NEAR(ranges[i] * std::cos(azimuth), 1.0, wide ? 3e-3 : 1e-6) << i;
+      left = std::min(left, ranges[i] * std::sin(azimuth)), right = std::max(right, ranges[i] * std::sin(azimuth));
+    }
+    const double past = wide ? 0.004 + 0.0075 * 1.0 : 0.0, step = 0.25 * M_PI / 180.0;
+    EXPECT_NEAR(right - 0.05, 0.2 + past - 0.5 * step, 0.5 * step + 2e-3) << wide;
+    EXPECT_NEAR(0.05 - left, 0.2 + past - 0.5 * step, 0.5 * step + 2e-3) << wide;
+  }
+}
+
+// A scan end's sigma: where its edge lies within the beams' step at its range (uniform: step / sqrt(12)),
+// stretched along a board turned away, at least the floor, and shared by the scans of one still station;
+// and where a noisy scan's line fit puts it.
+TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
+  const double step = 0.25 * M_PI / 180.0;
+  // A line 1 m ahead facing the laser, and the same turned 60 degrees (its points' range grows along it).
+  for (const double turned : {0.0, M_PI / 3}) {
+    std::vector<Eigen::Vector3d> points;
+    for (int i = -20; i <= 20; ++i) {
+      const double bearing = i * step, range = 1.0 / (std::cos(bearing) - std::tan(turned) * std::sin(bearing));
+      points.push_back(range * Eigen::Vector3d(std::cos(bearing), std::sin(bearing), 0.0));
+    }
+    EXPECT_NEAR(vocal::beamStep(points), step, 1e-9);
+    const std::vector<Eigen::Vector3d> ends = {points.front(), points.back()};
+    for (const int scans : {1, 4}) {
+      const vocal::LaserScanEnds one = vocal::scanEndsOf(ends, points, scans, 0.0);
+      ASSERT_EQ(one.sigmas.size(), 2u);
+      for (int e = 0; e < 2; ++e) {
+        const Eigen::Vector3d& end = ends[e];
+        const Eigen::Vector3d along = (ends[1] - ends[0]).normalized();
+        const double stretch = 1.0 / std::abs(Eigen::Vector3d(-along.y(), along.x(), 0.0).dot(end.normalized()));
+        EXPECT_NEAR(one.sigmas[e], std::sqrt(scans) * step * end.norm() * stretch / std::sqrt(12.0), 1e-9) << turned << " " << e;
+      }
+      EXPECT_NEAR(vocal::scanEndsOf(ends, points, scans, 0.01).sigmas[0], std::sqrt(scans) * std::hypot(one.sigmas[0] / std::sqrt(scans), 0.01), 1e-9);
+    }
+    // With 1 cm of range noise, one scan's line fit moves an end along the line too, as far as its beam
+    // slants to the line's normal: more for the turned board, each scan's own (not times sqrt(scans)).
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.01);
+    std::vector<Eigen::Vector3d> noisy;
+    for (const Eigen::Vector3d& p : points) noisy.push_back((p.norm() + noise(rng)) * p.normalized());
+    const double exact = vocal::scanEndsOf(ends, points, 1, 0.0).sigmas[1], fitted = vocal::scanEndsOf(ends, noisy, 1, 0.0).sigmas[1];
+    if (turned == 0.0) {
+      EXPECT_NEAR(fitted, exact, 0.1 * exact);
+    } else {
+      EXPECT_GT(fitted, 1.2 * exact);
     }
   }
 }

@@ -1501,4 +1501,8 @@ TEST(CalibrationOutput, AnArmsSensorThatMovedIsWithheldEvenWhenUncertainOnesAreP
   }
   EXPECT_EQ(vocal::handEyeWithheld(result, 2, vocal::SensorType::kRgbd, tolerance, true), "");
   EXPECT_EQ(vocal::handEyeWithheld(result, 2, vocal::SensorType::kRgbd, tolerance, false).rfind("uncertain: it moves", 0), 0u);
+  // A 2D laser told what poses fix it.
+  EXPECT_EQ(vocal::handEyeWithheld(result, 2, vocal::SensorType::kLaser2d, tolerance, false),
+            "uncertain: it moves 34.6 mm / 34.6 mrad between re-solves without one arm pose (tolerance 10.0 mm / 10.0 mrad): add arm poses "
+            "whose scan line crosses the board at other places and slants, near its edges too");
 }

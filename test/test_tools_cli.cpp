@@ -602,6 +602,14 @@ TEST(ToolsCli, CalibrateRigNamesASensorThatMovesAndPublishesOnlyTheRest) {
   r = runTool("simulate_calibration_session " + folder + " --faults wobbles:camera0:0.3");
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --faults: 'wobbles:camera0:0.3': expected KIND:SENSOR:AMOUNT, KIND one "
                       "of moves, bumped, time-offset, focal\n");
+  // A laser beam given wrong, or to an arm's session without its laser.
+  for (const char* beam : {"0.008", "0.008,wide", "0.008,0.5"}) {
+    r = runTool("simulate_calibration_session " + folder + " --laser-beam " + beam);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.output.rfind(std::string("simulate_calibration_session: error: option --laser-beam: '") + beam + "' is not M,RAD", 0), 0u) << r.output;
+  }
+  r = runTool("simulate_calibration_session " + folder + " --eye-to-hand --laser-beam 0.008,0.015");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --laser-beam: with --beside (the arm's 2D laser)\n");
 }
 
 // A folder with an IMU (simulate_imu): tum_odometry says what it uses and takes the gyro for every frame;

@@ -10,6 +10,7 @@ namespace vocal {
 
 namespace {
 constexpr double kMaxRange = 8.0;
+constexpr double kNearerSurface = 0.05;  // metres: a surface this much nearer than a beam's centre's is another
 
 // The room with the view's target in it, and the sensor's origin and axes in the rig frame.
 struct SensorInRoom {
@@ -79,15 +80,60 @@ SimulatedRoomView boardHeldInFurnishedRoom(const SimulatedSensor& sensor, const 
 
 std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt19937* rng, SimulatedTruth* truth) {
   const SensorInRoom sensor(view);
+  constexpr int kBeams = 1081;
+  constexpr double kStep = 0.25 * M_PI / 180.0;
+  const auto rayAt = [](double azimuth) { return Eigen::Vector3d(std::cos(azimuth), std::sin(azimuth), 0.0); };
+  std::vector<RoomHit> hits;
+  std::vector<double> noise;  // drawn beam by beam after each beam's return, as the generator's sequence was before wide beams
+  for (int beam = 0; beam < kBeams; ++beam) {
+    const double azimuth = -135.0 * M_PI / 180.0 + kStep * beam;
+    const Eigen::Vector3d ray = rayAt(azimuth);
+    const double footprint = 0.1 * M_PI / 180.0;
+    hits.push_back(rangeReturn(sensor, view, ray, footprint * Eigen::Vector3d(-ray.y(), ray.x(), 0.0), rng));
+    noise.push_back(hits.back().label == SurfaceLabel::kNone ? 0.0 : noisy(0.0, view.range_noise, rng));
+  }
+  if (view.beam_aperture > 0.0 || view.beam_divergence > 0.0) {
+    // A beam as wide as a disc, partly on a surface nearer than its centre's (by kNearerSurface or more:
+    // the board before the room behind it), returns from it: from that surface's part nearest the
+    // centre (the ring nearest it, within half the beam's width at that surface's range), sampled on 24
+    // rings of 16 across its widest cone (at 0.2 m), for the beams whose cone can reach the board (its
+    // corners' bearings and elevations). A beam wholly on one surface returns its centre's range (the
+    // footprint's middle).
+    const auto halfWidth = [&](double range) { return 0.5 * view.beam_aperture / std::max(range, 0.05) + 0.5 * view.beam_divergence; };
+    const double widest = halfWidth(0.2);
+    const Eigen::Isometry3d sensor_from_target = view.sensor->reference_from_sensor.inverse() * view.reference_from_target;
+    double low = M_PI, high = -M_PI, below = M_PI / 2, above = -M_PI / 2;
+    for (const double sx : {-0.5, 0.5})
+      for (const double sy : {-0.5, 0.5}) {
+        const Eigen::Vector3d c = sensor_from_target * Eigen::Vector3d(sx * view.target->width, sy * view.target->height, 0.0);
+        low = std::min(low, std::atan2(c.y(), c.x())), high = std::max(high, std::atan2(c.y(), c.x()));
+        const double elevation = std::atan2(c.z(), c.head<2>().norm());
+        below = std::min(below, elevation), above = std::max(above, elevation);
+      }
+    const bool reaches = below - widest <= 0.0 && above + widest >= 0.0 && high - low < M_PI;  // a board behind: none
+    const auto rangeOf = [](const RoomHit& h) { return h.label == SurfaceLabel::kNone ? kMaxRange : h.range; };
+    for (int beam = 0; beam < kBeams && reaches; ++beam) {
+      const double azimuth = -135.0 * M_PI / 180.0 + kStep * beam;
+      if (azimuth < low - widest || azimuth > high + widest) continue;
+      const Eigen::Vector3d ray = rayAt(azimuth), side(-ray.y(), ray.x(), 0.0), up = Eigen::Vector3d::UnitZ();
+      const RoomHit centre = hits[beam];
+      for (int ring = 1; ring <= 24 && hits[beam].range == centre.range; ++ring)
+        for (int k = 0; k < 16; ++k) {
+          const double radius = widest * ring / 24.0, angle = 2.0 * M_PI * k / 16.0;
+          const RoomHit hit = sensor.cast(ray + radius * (std::cos(angle) * side + std::sin(angle) * up));
+          if (hit.label != SurfaceLabel::kNone && radius <= halfWidth(hit.range) && hit.range < rangeOf(centre) - kNearerSurface &&
+              hit.range < rangeOf(hits[beam])) {
+            hits[beam] = hit;
+          }
+        }
+      if (centre.label == SurfaceLabel::kNone && hits[beam].label != SurfaceLabel::kNone) noise[beam] = noisy(0.0, view.range_noise, rng);
+    }
+  }
   std::vector<float> ranges;
   if (truth) *truth = {};
-  for (int step = 0; step <= 1080; ++step) {
-    const double azimuth = (-135.0 + 0.25 * step) * M_PI / 180.0;
-    const Eigen::Vector3d ray(std::cos(azimuth), std::sin(azimuth), 0.0);
-    const double footprint = 0.1 * M_PI / 180.0;
-    const RoomHit hit = rangeReturn(sensor, view, ray, footprint * Eigen::Vector3d(-ray.y(), ray.x(), 0.0), rng);
-    ranges.push_back(hit.label == SurfaceLabel::kNone ? std::numeric_limits<float>::infinity()
-                                                      : static_cast<float>(noisy(hit.range, view.range_noise, rng)));
+  for (int beam = 0; beam < kBeams; ++beam) {
+    const RoomHit& hit = hits[beam];
+    ranges.push_back(hit.label == SurfaceLabel::kNone ? std::numeric_limits<float>::infinity() : static_cast<float>(hit.range + noise[beam]));
     if (truth) truth->labels.push_back(hit.label);
   }
   return ranges;

@@ -255,6 +255,12 @@ void printPose(const char* what, const Eigen::Isometry3d& pose, const Eigen::Mat
 }
 
 // A camera's intrinsics refined with the poses (--refine-intrinsics), and what to do when they moved far.
+// A 2D laser's beam radius as its scan ends put it (metres at its exit, radians times the range).
+void printBeamRadius(const std::string& name, const Eigen::Vector2d& beam) {
+  std::printf("%s's beam as its scan ends reach past the board's edges: radius %.1f mm + %.1f mrad x range (%.1f mm at 1 m)\n",
+              name.c_str(), 1000 * beam[0], 1000 * beam[1], 1000 * (beam[0] + beam[1]));
+}
+
 void printRefinedIntrinsics(const std::string& name, const Eigen::Vector4d& given, const Eigen::Vector4d& refined, const Eigen::Vector4d& sigma) {
   const double change = 100.0 * (refined[0] / given[0] - 1.0);
   std::printf("intrinsics: %s: focal lengths fx %.1f -> %.1f, fy %.1f -> %.1f px (%+.1f %%, sigma %.1f px)", name.c_str(), given[0], refined[0],
@@ -421,6 +427,8 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     if (result.held[s]) std::printf("%s held at the pose the rig gives in %s\n", rig.sensors[s].spec.name.c_str(), frames.parentOf(s).c_str());
   }
+  for (std::size_t s = 0; s < rig.sensors.size(); ++s)
+    if (result.beam_solved[s]) printBeamRadius(rig.sensors[s].spec.name, result.beam_radius[s]);
   std::printf("spread across the arm's poses: %d re-solves, each without one pose\n", result.spread_solves);
   std::printf("each camera view of the board against the solution: %.2f mm / %.2f mrad rms\n", 1000 * result.rms_distance, 1000 * result.rms_angle);
   if (result.misdetected_views > 0) {
@@ -655,6 +663,7 @@ int run(const vocal::CommandLine& args) {
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
     const vocal::SensorCalibration& c = result.sensors[s];
     if (c.intrinsicsRefined()) printRefinedIntrinsics(rig.sensors[s].spec.name, c.given_intrinsics, c.refined_intrinsics, c.intrinsics_sigma);
+    if (c.beam_solved) printBeamRadius(rig.sensors[s].spec.name, c.beam_radius);
   }
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
   std::optional<vocal::PoseJackknife> spread;

@@ -250,6 +250,8 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
                          : laser && options.laser_noise >= 0.0 ? options.laser_noise
                                                                : options.range_noise;
       view.ring_bias = lidar ? ring_bias : std::vector<double>{};
+      view.beam_aperture = laser ? options.laser_beam_aperture : 0.0;
+      view.beam_divergence = laser ? options.laser_beam_divergence : 0.0;
       view.lidar_model = options.lidar_model;
       if (options.lidar_vertical_offsets && options.lidar_model == LidarModel::kVlp16) view.ring_height = kVlp16VerticalOffsets;
       view.dark_range_offset = lidar ? options.dark_range_offset : 0.0;

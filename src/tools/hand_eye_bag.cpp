@@ -175,6 +175,8 @@ void writeSimulatedHandEyeBag(const SimulatedArm& arm, const RigDescription& rig
         continue;
       }
       if (d.spec.type == SensorType::kLaser2d) {  // a 270-degree scanner, 0.25-degree steps
+        view.beam_aperture = options.laser_beam_aperture;
+        view.beam_divergence = options.laser_beam_divergence;
         bag.write(d.scan_topic, stamp, toLaserScan(simulateLaserRanges(view, &rng), -135.0 * M_PI / 180.0, 0.25 * M_PI / 180.0, 8.0, d.spec.frame_id, stamp));
         continue;
       }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <optional>
@@ -35,6 +36,8 @@ const char kUsage[] =
     "  --person            someone holds the board by its sides (furnished rooms)\n"
     "  --lidar-noise M     the lidar's range noise, metres (default --noise; a VLP-16's is ~0.02)\n"
     "  --laser-noise M     the 2D laser's range noise, metres (default --noise; a Hokuyo UTM-30LX's is ~0.01-0.03)\n"
+    "  --laser-beam M,RAD  the 2D laser's beam across: metres at its exit and its divergence (default 0,0: a\n"
+    "                      ray; a SICK LMS1xx's is 0.008,0.015): a beam partly on the board returns from it\n"
     "  --ring-bias M       each lidar ring's range bias, drawn from +-M metres (default 0)\n"
     "  --range-offset M    a range offset every lidar ring shares, metres (default 0)\n"
     "  --vertical-offsets  each VLP-16 laser at its own height (the manual's +-11 mm): points' elevations drift\n"
@@ -90,6 +93,7 @@ const char kUsage[] =
     "                      on the tool beside the camera (tool_laser), its scan line across the board\n"
     "  --given-reference   (eye-to-hand) rig.yaml gives the fixed camera's true pose in the base frame (the\n"
     "                      reference, held by the calibration)\n"
+    "  --laser-beam M,RAD  (--beside) the 2D laser's beam across, as for still poses above\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
     "  --arm               a 6-joint arm (1.1 m reach) reaches the poses: its readings on /joint_states at 200 Hz\n"
@@ -152,6 +156,20 @@ std::vector<vocal::SimulatedSensorFault> faultsOption(const vocal::CommandLine& 
     begin = end + 1;
   }
   return faults;
+}
+
+// --laser-beam M,RAD: the 2D laser's beam width at its exit and divergence (SimulatedRoomView).
+void laserBeamOption(const vocal::CommandLine& args, double* aperture, double* divergence) {
+  if (!args.has("laser-beam")) return;
+  const std::string text = args.text("laser-beam", "");
+  char* end = nullptr;
+  *aperture = std::strtod(text.c_str(), &end);
+  if (*end != ',') throw vocal::InputError("option --laser-beam: '" + text + "' is not M,RAD (e.g. 0.008,0.015)");
+  const char* second = end + 1;
+  *divergence = std::strtod(second, &end);
+  if (end == second || *end != '\0' || !(*aperture >= 0.0 && *aperture < 0.1) || !(*divergence >= 0.0 && *divergence < 0.1)) {
+    throw vocal::InputError("option --laser-beam: '" + text + "' is not M,RAD with each from 0 to 0.1 (e.g. 0.008,0.015)");
+  }
 }
 
 // A robot arm's hand-eye session (hand_eye_bag.h).
@@ -220,6 +238,8 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   for (const vocal::RigSensorDescription& d : rig.sensors) named.push_back({d.spec, Eigen::Isometry3d::Identity()});
   bag_options.faults = faultsOption(args, named);
   bag_options.compressed_images = args.has("compressed");
+  if (args.has("laser-beam") && !args.has("beside")) throw vocal::InputError("option --laser-beam: with --beside (the arm's 2D laser)");
+  laserBeamOption(args, &bag_options.laser_beam_aperture, &bag_options.laser_beam_divergence);
   bag_options.joint_arm = joint_arm ? &*joint_arm : nullptr;
   vocal::writeSimulatedHandEyeBag(arm, rig, bag_options, dir + "/session.bag");
   std::printf("wrote a %s session of %d arm poses to %s/session.bag; rig.yaml, ground_truth.yaml\n",
@@ -355,6 +375,7 @@ int run(const vocal::CommandLine& args) {
   }
   options.lidar_noise = args.number("lidar-noise", -1.0);
   options.laser_noise = args.number("laser-noise", -1.0);
+  laserBeamOption(args, &options.laser_beam_aperture, &options.laser_beam_divergence);
   options.ring_bias = args.number("ring-bias", 0.0);
   options.lidar_range_offset = args.number("range-offset", 0.0);
   options.lidar_model = lidar_model;
@@ -392,7 +413,7 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets", "link-error", "free-origins",
-                         "seconds", "imu-rate", "time-offset", "motion", "camera-name"},
+                         "seconds", "imu-rate", "time-offset", "motion", "camera-name", "laser-beam"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
                          "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);
 }

@@ -43,6 +43,10 @@ struct SimulatedRoomView {
   // Where a beam's footprint straddles a range edge, half the returns lie between the two surfaces
   // (what lidars and time-of-flight depth cameras do at a board's edges).
   bool mixed_pixels = false;
+  // A 2D laser's beam across: its width at the exit (metres) and its divergence (radians), a SICK LMS1xx's
+  // 8 mm and 15 mrad by its manual. A beam with any of its width on a nearer surface returns that surface
+  // (the board's edge seen beyond it by half the beam's width); zero: a beam as thin as a ray.
+  double beam_aperture = 0.0, beam_divergence = 0.0;
   LidarModel lidar_model = LidarModel::kVlp16;
   double time = 0.0;  // seconds into the session: where a non-repeating pattern has got to
   // Metres each lidar ring's laser sits above the lidar's origin (a VLP-16's lasers are up to 11 mm

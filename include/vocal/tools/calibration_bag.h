@@ -61,6 +61,7 @@ struct SimulatedSessionOptions {
   bool person_holds_target = false;
   double lidar_noise = -1.0;  // metres; < 0: range_noise
   double laser_noise = -1.0;  // a 2D laser's, metres; < 0: range_noise
+  double laser_beam_aperture = 0.0, laser_beam_divergence = 0.0;  // a 2D laser's beam across (SimulatedRoomView)
   double ring_bias = 0.0;     // metres: each lidar ring's bias drawn uniformly from +-this
   double lidar_range_offset = 0.0;  // metres added to every ring's ranges (a range offset the rings share)
   LidarModel lidar_model = LidarModel::kVlp16;

@@ -22,6 +22,7 @@ struct HandEyeBagOptions {
   double lidar_noise = 0.01;    // metres along each ray (a VLP-16's is 1-3 cm)
   double depth_noise = 0.003;   // metres (an RGB-D camera's at a metre)
   double laser_noise = 0.01;    // metres along each beam (a Hokuyo UTM-30LX's is about 1 cm)
+  double laser_beam_aperture = 0.0, laser_beam_divergence = 0.0;  // its beam across (SimulatedRoomView)
   // Images as image_transport's compressed transport records them (JPEG, quality 95) on the rig's image
   // topic, which then ends in "/compressed" (simulatedHandEyeRig).
   bool compressed_images = false;

@@ -25,7 +25,9 @@
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
 #include "vocal/calibration/solver/on_board_plane.h"
+#include "vocal/calibration/solver/beam_radius_prior.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
+#include "vocal/calibration/solver/scan_ends.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
@@ -169,6 +171,31 @@ void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vecto
       {board->rotation.coeffs().data(), board->translation.data()}, static_cast<int>(outline.size()));
 }
 
+// OutlinePointsResidual with the sensor's beam radius as a block (a 2D laser's scan ends).
+struct OutlinePointsWithBeam {
+  OutlinePointsResidual on_outline;
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* board_q, const T* board_t, const T* beam, T* residual) const {
+    return on_outline.withBeam(q, t, board_q, board_t, beam, residual);
+  }
+};
+
+void addBeamRadiusPrior(ceres::Problem* problem, double* beam) {
+  problem->AddResidualBlock(new ceres::AutoDiffCostFunction<BeamRadiusPrior, 2, 2>(new BeamRadiusPrior), nullptr, beam);
+}
+
+// A 2D laser's scan ends at one still pose (the ends of `o`'s scans, two a scan) on the board's outline
+// reached by its beam (`beam`, the laser's radius block), as the arm's graph holds them.
+void addScanEndResiduals(ceres::Problem* problem, const TargetObservation& o, const BoardEdgeOptions& edges, SensorState* sensor,
+                         SensorState* board, double* beam, const ChainAt* chain) {
+  const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scansOfPooledEnds(o.outline), edges.laser_end_sigma);
+  if (ends.points.empty()) return;
+  addSensorResidual<OutlinePointsWithBeam, ceres::DYNAMIC, 4, 3, 2>(
+      problem,
+      OutlinePointsWithBeam{{ends.points, edges.laser_end_sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas, ends.sigmas}},
+      nullptr, sensor, chain, {board->rotation.coeffs().data(), board->translation.data(), beam}, static_cast<int>(ends.points.size()));
+}
+
 // The joints' offsets as Ceres blocks (one per joint of `mounts`), and each still pose's reading
 // corrections (target pose, joint), what a sensor behind joints needs.
 struct JointOffsets {
@@ -198,7 +225,7 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
 // standard deviations on average.
 void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o, SensorType type, const CalibrationOptions& options,
                              SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                             const JointOffsets& joints, double* intrinsics) {
+                             const JointOffsets& joints, double* intrinsics, double* beam) {
   const BoardEdgeOptions& edges = options.board_edges;
   PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
@@ -243,7 +270,11 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
     addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
                                                     new ceres::HuberLoss(threshold), sensor, plane, board, chain);
   }
-  if (board) addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
+  if (board && type == SensorType::kLaser2d && beam) {
+    addScanEndResiduals(problem, o, edges, sensor, board, beam, chain);
+  } else if (board) {
+    addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
+  }
 }
 
 ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
@@ -259,22 +290,25 @@ ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
 
 // One sensor fitted alone to solved boards held constant: its observations at poses with a board, from
 // `sensor`'s current state. The problem, for its covariance; none when no observation has a board.
-// `intrinsics`: a camera's intrinsics correction, refined with it where `free_intrinsics`, else held.
+// `intrinsics`: a camera's intrinsics correction, `beam` a 2D laser's beam radius (with board edges), each
+// refined with it where `free_extras`, else held.
 std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservation*>& its, SensorType type, const CalibrationOptions& options,
                                          SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                                         const JointOffsets& joints, double* intrinsics, bool free_intrinsics) {
+                                         const JointOffsets& joints, double* intrinsics, bool free_extras, double* beam) {
   auto alone = std::make_unique<ceres::Problem>();
   for (const TargetObservation* o : its) {
     if (!planes->count(o->target_pose)) continue;
-    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints, intrinsics);
+    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints, intrinsics, beam);
   }
   if (alone->NumResidualBlocks() == 0) return nullptr;
-  if (intrinsics && free_intrinsics) addIntrinsicsPrior(alone.get(), intrinsics, options.intrinsics);
+  if (intrinsics && free_extras) addIntrinsicsPrior(alone.get(), intrinsics, options.intrinsics);
+  if (beam && free_extras && alone->HasParameterBlock(beam)) addBeamRadiusPrior(alone.get(), beam);
   alone->SetManifold(sensor->rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   std::vector<double*> blocks;
   alone->GetParameterBlocks(&blocks);
   for (double* block : blocks) {
-    const bool own = block == sensor->rotation.coeffs().data() || block == sensor->translation.data() || (free_intrinsics && block == intrinsics);
+    const bool own = block == sensor->rotation.coeffs().data() || block == sensor->translation.data() ||
+                     (free_extras && (block == intrinsics || block == beam));
     if (!own) alone->SetParameterBlockConstant(block);
   }
   ceres::Solver::Options solver_options = solverOptions(options);
@@ -679,16 +713,21 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const PlaneMeasurement& m : o.plane_measurements)
       if (options.intrinsics.enabled && given_intrinsics[o.sensor].isZero()) given_intrinsics[o.sensor] = m.intrinsics;
   const auto intrinsicsOf = [&](int s) { return given_intrinsics[s].isZero() ? nullptr : intrinsics_state[s].data(); };
+  // 2D lasers' beam radii, with board edges.
+  std::vector<Eigen::Vector2d> beam_state(sensor_count, Eigen::Vector2d::Zero());
+  const auto beamOf = [&](int s) { return edges.enabled && sensors[s].type == SensorType::kLaser2d ? beam_state[s].data() : nullptr; };
 
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers (or isolated sensors) saw it: no plane
     if (rejected.count({o.sensor, o.target_pose}) || isolated[o.sensor]) continue;
     addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state,
-                            intrinsicsOf(o.sensor));
+                            intrinsicsOf(o.sensor), beamOf(o.sensor));
   }
-  for (int s = 0; s < sensor_count; ++s)
+  for (int s = 0; s < sensor_count; ++s) {
     if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
+    if (beamOf(s) && problem.HasParameterBlock(beamOf(s))) addBeamRadiusPrior(&problem, beamOf(s));
+  }
   // Joint offsets: each solved where a joint after it in some sensor's chain moved over the session, else
   // held (the mount takes it up).
   std::vector<JointCalibration> joint_results = jointOffsetsSolvable(mounts, observations, isolated);
@@ -733,7 +772,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     // None: it shares no pose the others fixed, and its closed form stays. Too few: it stays unplaced.
     if ((static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) || unplaced[s]) continue;
     isolated_problems[s] =
-        fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state, intrinsicsOf(s), true);
+        fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state, intrinsicsOf(s), true, beamOf(s));
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes
     const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
@@ -773,6 +812,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       out.given_intrinsics = given;
       out.refined_intrinsics = refinedIntrinsics(given, dk);
     }
+    const bool solved_beam = beamOf(s) && (problem.HasParameterBlock(beamOf(s)) || (isolated_problems[s] && isolated_problems[s]->HasParameterBlock(beamOf(s))));
+    if (solved_beam) out.beam_radius = beam_state[s], out.beam_solved = true;
   }
   // Per pose, how many sensors in the graph fixed its plane: an observation is compared with the board
   // the others put there only where another did.
@@ -949,8 +990,11 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   // A refined camera's intrinsics as solved, held.
   const SensorCalibration& as_solved = solved.sensors.at(s);
   Eigen::Vector4d intrinsics = as_solved.intrinsicsCorrection();
+  // A 2D laser's beam as solved (none where it was not), held.
+  Eigen::Vector2d beam = as_solved.beam_radius;
+  const bool laser_ends = options.board_edges.enabled && sensors.at(s).type == SensorType::kLaser2d;
   if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections},
-                as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false)) {
+                as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr)) {
     return std::nullopt;
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

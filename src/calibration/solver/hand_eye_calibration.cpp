@@ -15,6 +15,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "vocal/calibration/plane.h"
+#include "vocal/calibration/solver/beam_radius_prior.h"
 #include "vocal/calibration/solver/beam_range_view_residual.h"
 #include "vocal/calibration/solver/camera_view_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
@@ -23,6 +24,7 @@
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/range_view_residual.h"
 #include "vocal/calibration/solver/reading_corrections_residual.h"
+#include "vocal/calibration/solver/scan_ends.h"
 #include "vocal/calibration/solver/tool_pose_residual.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
@@ -301,6 +303,8 @@ struct ArmGraph {
   std::vector<Vector6d> origins;                 // ... per joint of readJoints(): a free origin's correction (zero otherwise)
   std::vector<std::vector<int>> origin_held;     // ... its parts held at the model's (the session does not fix them)
   std::vector<Eigen::Vector4d> intrinsics;       // per sensor: a refined camera's correction (intrinsics_refinement.h)
+  std::vector<Eigen::Vector2d> beam_radius;      // per sensor: a 2D laser's beam radius (BeamRadiusPrior)
+  std::vector<bool> beam_solved;                 // ... and whether its scan ends hold it
   std::unique_ptr<ceres::Problem> problem;
   double cost = 0.0;  // Ceres's, at the solution
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
@@ -466,6 +470,7 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
   for (const Eigen::Isometry3d& start : sensor_starts) graph->sensors.emplace_back(start);
   const std::vector<Eigen::Vector4d> given = givenIntrinsics(rig, stations, options);
   graph->intrinsics = intrinsics_starts ? *intrinsics_starts : std::vector<Eigen::Vector4d>(rig.sensors.size(), Eigen::Vector4d::Zero());
+  graph->beam_radius.assign(rig.sensors.size(), Eigen::Vector2d::Zero());
   graph->tools.reserve(stations.size());
   for (const HandEyeStation& s : stations) graph->tools.emplace_back(s.base_from_tool);
   for (const HandEyeSensor& sensor : rig.sensors) {
@@ -474,7 +479,10 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     links.reserve(stations.size());
     for (const HandEyeStation& s : stations) links.emplace_back(s.base_from_link.at(sensor.link_chain));
   }
+  graph->beam_solved.assign(rig.sensors.size(), false);
   for (std::size_t k = 0; k < stations.size(); ++k) {
+    std::vector<int> scans(rig.sensors.size(), 0);
+    for (const HandEyeView& view : stations[k].views) ++scans[view.sensor];
     for (const HandEyeView& view : stations[k].views) {
       PoseState& sensor = graph->sensors[view.sensor];
       const FrameMounting mounting = rig.mounting(view.sensor);
@@ -508,12 +516,16 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       problem.AddResidualBlock(cost, nullptr, blocks);
       if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
       if (view.outline.empty()) continue;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, ceres::DYNAMIC, 4, 3, 4, 3, 4, 3, 4, 3>(
-                                   new OutlineViewResidual{{view.outline, options.edge_sigma, 0.5 * options.board_width,
-                                                            0.5 * options.board_height, options.edge_loss_sigmas},
-                                                           mounting},
-                                   static_cast<int>(view.outline.size())),
-                               nullptr, blocks);
+      const LaserScanEnds scan_ends = scanEndsOf(view.outline, view.points, scans[view.sensor], options.edge_sigma);
+      if (scan_ends.points.empty()) continue;
+      OutlinePointsResidual ends{scan_ends.points, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height, options.edge_loss_sigmas,
+                                 scan_ends.sigmas};
+      std::vector<double*> with_beam = blocks;
+      with_beam.push_back(graph->beam_radius[view.sensor].data());
+      graph->beam_solved[view.sensor] = true;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, ceres::DYNAMIC, 4, 3, 4, 3, 4, 3, 4, 3, 2>(
+                                   new OutlineViewResidual{ends, mounting}, static_cast<int>(scan_ends.points.size())),
+                               nullptr, with_beam);
     }
     PoseState& tool = graph->tools[k];
     if (!options.arm_joints) {
@@ -523,6 +535,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     }
     problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   }
+  for (std::size_t s = 0; s < graph->beam_solved.size(); ++s)
+    if (graph->beam_solved[s]) problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BeamRadiusPrior, 2, 2>(new BeamRadiusPrior), nullptr, graph->beam_radius[s].data());
   if (const std::optional<ArmJoints>& arm = options.arm_joints) {
     const std::vector<int>& read = arm->readJoints();
     const std::size_t n = read.size();
@@ -744,6 +758,8 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   result.cost = graph->cost;
   for (const HandEyeSensor& sensor : rig.sensors) result.held.push_back(sensor.given_pose.has_value());
   result.board = graph->board.pose();
+  result.beam_radius = graph->beam_radius;
+  result.beam_solved = graph->beam_solved;
   result.given_intrinsics = givenIntrinsics(rig, stations, options);
   result.refined_intrinsics = result.intrinsics_sigma = std::vector<Eigen::Vector4d>(rig.sensors.size(), Eigen::Vector4d::Zero());
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
@@ -993,6 +1009,10 @@ HandEyeResult solvedWithMovedSensorsApart(const ArmRig& rig, const std::vector<H
   result.given_intrinsics.resize(n);
   result.refined_intrinsics.resize(n);
   result.intrinsics_sigma.resize(n);
+  for (std::size_t s = 0; s < n; ++s)
+    if (doubles[s] >= 0 && !result.beam_solved[s]) result.beam_solved[s] = result.beam_solved[doubles[s]], result.beam_radius[s] = result.beam_radius[doubles[s]];
+  result.beam_radius.resize(n);
+  result.beam_solved.resize(n);
   return result;
 }
 }  // namespace

@@ -42,6 +42,9 @@ struct BoardEdgeOptions {
   // The board along the camera pattern's x and y axes, metres (CalibrationSession sets them from the rig).
   double width = 0.0, height = 0.0;
   double range_sigma = 0.01;   // metres: a range sensor's edge point (its step along the line, the beam's width)
+  // A 2D laser's scan ends: on the outline reached by its beam's footprint (its radius an unknown, as in the
+  // arm's graph: beam_radius_prior.h), each within its beams' step and at least this (scan_ends.h).
+  double laser_end_sigma = 0.001;
   double camera_sigma = 0.002; // metres: a camera view's board outline (PnP, the print's place on the board)
   double loss_sigmas = 2.0;    // Cauchy scale: a hand over an edge ends a line early
 };
@@ -124,6 +127,10 @@ struct SensorCalibration {
   // The refinement as the graph holds it: the relative change (dfx / fx, dfy / fy, dcx / fx, dcy / fy)
   // of PlaneMeasurement::pose_per_intrinsics; zero when not refined.
   Eigen::Vector4d intrinsicsCorrection() const;
+  // A 2D laser with board edges: its beam's radius as its scan ends put it (metres at its exit, radians
+  // times the range; OutlinePointsResidual::withBeam), solved or not.
+  Eigen::Vector2d beam_radius = Eigen::Vector2d::Zero();
+  bool beam_solved = false;
   bool isolated = false;  // kept out of the graph (CalibrationOptions::isolated_sensors)
   std::string distrust;   // why this sensor's result is not trusted, for the user (empty: trusted); sensor_trust.h
 };

@@ -95,10 +95,11 @@ struct HandEyeOptions {
   int max_iterations = 100;
   // The board's plate (pattern centred on it, x along the width), metres; zero: not known. A 2D laser's
   // line on the board's plane leaves it free to slide along the line: its scan ends, held on the plate's
-  // outline within `edge_sigma` (the beam's step and width) under a Cauchy loss of `edge_loss_sigmas`
-  // (a finger over the edge ends a line early), fix it.
+  // outline where the laser's beam reaches it (its radius an unknown per laser, BeamRadiusPrior), within
+  // their beams' step (scan_ends.h) and at least `edge_sigma`, under a Cauchy loss of `edge_loss_sigmas` (a finger over
+  // the edge ends a line early), fix it.
   double board_width = 0.0, board_height = 0.0;
-  double edge_sigma = 0.01;
+  double edge_sigma = 0.001;
   double edge_loss_sigmas = 2.0;
   // The tool's pose from the arm's joints: each still pose's tool is the chain's at its readings plus the
   // joints' zero offsets (unknowns of the graph; the first and last joints' are held, as the board's and
@@ -177,6 +178,11 @@ struct HandEyeResult {
   // Per sensor, with HandEyeOptions::intrinsics: a camera's (fx, fy, cx, cy) in pixels as its camera_info gave
   // them and as solved, and the solved ones' standard deviations; zero for the others.
   std::vector<Eigen::Vector4d> given_intrinsics, refined_intrinsics, intrinsics_sigma;
+  // Per sensor: a 2D laser's beam radius as its scan ends put it (metres at its exit, radians of spread:
+  // radius = [0] + [1] x range; OutlinePointsResidual::withBeam), and whether its ends were held (false for
+  // every other sensor, and a laser without ends or the board's size).
+  std::vector<Eigen::Vector2d> beam_radius;
+  std::vector<bool> beam_solved;
 };
 
 // Why the arm's motion between the stations cannot fix the camera (the classic degeneracy: fewer than 3

@@ -34,9 +34,25 @@ T cauchyResidual(const T& r, double c) {
 struct OutlinePointsResidual {
   std::vector<Eigen::Vector3d> points;
   double sigma, half_width, half_height, loss_sigmas;
+  // Per point, where given: its own sigma instead of `sigma` (a 2D laser's scan end, scan_ends.h).
+  std::vector<double> point_sigmas = {};
 
   template <typename T>
   bool operator()(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, T* residual) const {
+    return withBeam(rotation, translation, board_rotation, board_translation, static_cast<const T*>(nullptr), residual);
+  }
+
+  // ... with the sensor's beam a disc of radius beam[0] metres plus beam[1] radians times the range (a ray
+  // where `beam` is null). A laser's beam is as wide as its exit plus its divergence times the range (a
+  // SICK LMS1xx's 8 mm + 15 mrad across) and one that falls partly on the board returns from it, so a scan
+  // runs on past the board's edge until its beam's footprint on the board's plane (the disc cast along
+  // the ray: wider where the board turns away) no longer touches it: the end's distance to the edge is
+  // that footprint's reach across the edge.
+  template <typename T>
+  bool withBeam(const T* rotation, const T* translation, const T* board_rotation, const T* board_translation, const T* beam,
+                T* residual) const {
+    using std::abs;
+    using std::sqrt;
     const Eigen::Map<const Eigen::Quaternion<T>> q(rotation), q_board(board_rotation);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(translation), t_board(board_translation);
     // The board's x and y rows of board <- sensor, once: per point a 2x3 product.
@@ -46,7 +62,19 @@ struct OutlinePointsResidual {
       const Eigen::Vector3d& p = points[i];
       const T x = turn(0, 0) * p.x() + turn(0, 1) * p.y() + turn(0, 2) * p.z() + offset.x();
       const T y = turn(1, 0) * p.x() + turn(1, 1) * p.y() + turn(1, 2) * p.z() + offset.y();
-      residual[i] = cauchyResidual(distanceToOutline(x, y, half_width, half_height) / T(sigma), loss_sigmas);
+      T distance = distanceToOutline(x, y, half_width, half_height);
+      if (beam) {
+        // The edge's outward normal e (board frame) and the ray d: the disc of radius rho across d, cast
+        // along d onto the board's plane, reaches rho |f - d (f . d)| across the edge, f = e - z (e . d) / d_z.
+        const Eigen::Matrix<T, 3, 1> d = turn * p.normalized().cast<T>();
+        const bool side = abs(x) - half_width > abs(y) - half_height;
+        Eigen::Matrix<T, 3, 1> e(side ? (x < T(0) ? T(-1) : T(1)) : T(0), side ? T(0) : (y < T(0) ? T(-1) : T(1)), T(0));
+        const T dz = abs(d.z()) < T(0.1) ? (d.z() < T(0) ? T(-0.1) : T(0.1)) : d.z();  // at most 10 times the disc
+        const Eigen::Matrix<T, 3, 1> f(e.x(), e.y(), -e.dot(d) / dz);
+        const Eigen::Matrix<T, 3, 1> across = f - d * f.dot(d);
+        distance -= (beam[0] + beam[1] * p.norm()) * sqrt(across.squaredNorm() + T(1e-12));
+      }
+      residual[i] = cauchyResidual(distance / T(point_sigmas.empty() ? sigma : point_sigmas[i]), loss_sigmas);
     }
     return true;
   }
