@@ -158,7 +158,7 @@ TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
     EXPECT_NEAR(vocal::beamStep(points), step, 1e-9);
     const std::vector<Eigen::Vector3d> ends = {points.front(), points.back()};
     for (const int scans : {1, 4}) {
-      const vocal::LaserScanEnds one = vocal::scanEndsOf(ends, points, scans, 0.0);
+      const vocal::LaserScanEnds one = vocal::scanEndsOf(ends, points, 1, scans, 0.0);
       ASSERT_EQ(one.sigmas.size(), 2u);
       for (int e = 0; e < 2; ++e) {
         const Eigen::Vector3d& end = ends[e];
@@ -166,7 +166,7 @@ TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
         const double stretch = 1.0 / std::abs(Eigen::Vector3d(-along.y(), along.x(), 0.0).dot(end.normalized()));
         EXPECT_NEAR(one.sigmas[e], std::sqrt(scans) * step * end.norm() * stretch / std::sqrt(12.0), 1e-9) << turned << " " << e;
       }
-      EXPECT_NEAR(vocal::scanEndsOf(ends, points, scans, 0.01).sigmas[0], std::sqrt(scans) * std::hypot(one.sigmas[0] / std::sqrt(scans), 0.01), 1e-9);
+      EXPECT_NEAR(vocal::scanEndsOf(ends, points, 1, scans, 0.01).sigmas[0], std::sqrt(scans) * std::hypot(one.sigmas[0] / std::sqrt(scans), 0.01), 1e-9);
     }
     // With 1 cm of range noise, one scan's line fit moves an end along the line too, as far as its beam
     // slants to the line's normal: more for the turned board, each scan's own (not times sqrt(scans)).
@@ -174,7 +174,7 @@ TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
     std::normal_distribution<double> noise(0.0, 0.01);
     std::vector<Eigen::Vector3d> noisy;
     for (const Eigen::Vector3d& p : points) noisy.push_back((p.norm() + noise(rng)) * p.normalized());
-    const double exact = vocal::scanEndsOf(ends, points, 1, 0.0).sigmas[1], fitted = vocal::scanEndsOf(ends, noisy, 1, 0.0).sigmas[1];
+    const double exact = vocal::scanEndsOf(ends, points, 1, 1, 0.0).sigmas[1], fitted = vocal::scanEndsOf(ends, noisy, 1, 1, 0.0).sigmas[1];
     if (turned == 0.0) {
       EXPECT_NEAR(fitted, exact, 0.1 * exact);
     } else {

@@ -188,7 +188,8 @@ void addBeamRadiusPrior(ceres::Problem* problem, double* beam) {
 // reached by its beam (`beam`, the laser's radius block), as the arm's graph holds them.
 void addScanEndResiduals(ceres::Problem* problem, const TargetObservation& o, const BoardEdgeOptions& edges, SensorState* sensor,
                          SensorState* board, double* beam, const ChainAt* chain) {
-  const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scansOfPooledEnds(o.outline), edges.laser_end_sigma);
+  const int scans = scansOfPooledEnds(o.outline);
+  const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scans, scans, edges.laser_end_sigma);
   if (ends.points.empty()) return;
   addSensorResidual<OutlinePointsWithBeam, ceres::DYNAMIC, 4, 3, 2>(
       problem,

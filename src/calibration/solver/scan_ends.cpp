@@ -26,10 +26,11 @@ int scansOfPooledEnds(const std::vector<Eigen::Vector3d>& ends) {
   return distinct == 0 ? 1 : std::max(1, static_cast<int>(std::lround(static_cast<double>(ends.size()) / distinct)));
 }
 
-LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int scans, double floor) {
+LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int pooled, int scans,
+                         double floor) {
   LaserScanEnds out;
   if (line_points.size() < 3) return out;
-  scans = std::max(scans, 1);
+  pooled = std::max(pooled, 1), scans = std::max(scans, 1);
   const double step = beamStep(line_points);
   // The scan's line (in its plane) and the points' scatter across it: where one scan's fit puts the line
   // at a distance d along it from the middle is off by sigma sqrt(1 / m + d^2 / S) across it (m points a
@@ -43,13 +44,13 @@ LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::ve
     squares += std::pow(across.dot(p - line.centroid), 2);
     spread_along += std::pow(along.dot(p - line.centroid), 2);
   }
-  const double m = static_cast<double>(line_points.size()) / scans;
+  const double m = static_cast<double>(line_points.size()) / pooled;
   const double scatter = std::sqrt(squares / (line_points.size() - 2));
   for (const Eigen::Vector3d& end : ends) {
     const double cosine = std::max(std::abs(across.dot(end.normalized())), 1.0 / kMaxScanEndStretch);
     const double stretch = 1.0 / cosine, tangent = std::sqrt(stretch * stretch - 1.0);
     const double d = along.dot(end - line.centroid);
-    const double fit = scatter * std::sqrt(1.0 / m + d * d * scans / spread_along) * tangent;
+    const double fit = scatter * std::sqrt(1.0 / m + d * d * pooled / spread_along) * tangent;
     const double quantum = step * end.norm() * stretch / std::sqrt(12.0);
     out.points.push_back(end);
     // The beams' step is the same for every scan of a still board: shared, counted once over the scans;

@@ -28,12 +28,13 @@ double beamStep(const std::vector<Eigen::Vector3d>& points);
 int scansOfPooledEnds(const std::vector<Eigen::Vector3d>& ends);
 
 // `ends` of a scan whose board points are `line_points` (sensor frame, the scan in its x-y plane; with
-// `scans` scans of a still board pooled, all of theirs), each end of one of `scans` scans. Each end's
-// sigma along the board's edge normal, at most its move along the line: where the edge lies within the
-// beams' step at its range (boardOutlinePoints puts it half a step out: a uniform spread of step /
-// sqrt(12), stretched along the line), at least `floor`, the same for every scan of a still board and so
-// counted once over them (times sqrt(scans)); and where the scan's own line fit puts the end (its
-// points' scatter across the line, moved along it by the beam's slant), each scan's own.
-LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int scans, double floor);
+// `pooled` scans of a still board pooled, all of theirs), each end one of `scans` scans' of the same still
+// board. Each end's sigma along the board's edge normal, at most its move along the line: where the
+// edge lies within the beams' step at its range (boardOutlinePoints puts it half a step out: a uniform
+// spread of step / sqrt(12), stretched along the line), at least `floor`, the same for every scan of a
+// still board and so counted once over them (times sqrt(scans)); and where one scan's own line fit puts
+// the end (its points' scatter across the line, moved along it by the beam's slant).
+LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int pooled, int scans,
+                         double floor);
 
 }  // namespace vocal
