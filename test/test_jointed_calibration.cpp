@@ -1089,6 +1089,18 @@ TEST(JointedCalibration, A2dLaserOnTheToolThroughCalibrateRig) {
   }
 }
 
+// The arm before a camera on a post whose pose rig.yaml gives, with a lidar, an RGB-D camera and a 2D laser
+// beside it (simulate_calibration_session --eye-to-hand --arm --beside --given-reference and `options`),
+// in `folder`, calibrated by calibrate_rig with its defaults: calibrate_rig's run.
+namespace {
+vocal_test::RunResult calibratedArmBeforeAGivenCamera(const std::string& folder, const std::string& options) {
+  const vocal_test::RunResult simulated =
+      vocal_test::runTool("simulate_calibration_session " + folder + " --eye-to-hand --arm --beside --given-reference " + options);
+  EXPECT_EQ(simulated.exit_code, 0) << simulated.output;
+  return vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+}
+}  // namespace
+
 // The arm holds the board before a camera on a post whose pose the rig gives (the reference), a lidar, an
 // RGB-D camera and a 2D laser fixed beside it, 24 still poses, the tool from the joint states: the camera
 // stays where the rig put it, the first joint's offset is solved (what fixed it said), the fixed sensors
@@ -1097,10 +1109,7 @@ TEST(JointedCalibration, A2dLaserOnTheToolThroughCalibrateRig) {
 // edges by the beam's radius, which the graph finds (4 mm + 7.5 mrad x range; 11.5 mm at 1 m).
 TEST(JointedCalibration, ArmBeforeAGivenCameraALidarAndA2dLaserThroughCalibrateRig) {
   const std::string folder = vocal_test::makeTempFolder("cli_joint_arm_given");
-  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder +
-                                                " --eye-to-hand --arm --beside --given-reference --poses 24 --laser-beam 0.008,0.015");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  const vocal_test::RunResult r = calibratedArmBeforeAGivenCamera(folder, "--poses 24 --laser-beam 0.008,0.015");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("arm_camera held at the pose the rig gives in arm_base"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("fixed by the pose the rig gives 'arm_camera' and joints that moved after it"), std::string::npos) << r.output;
@@ -1146,10 +1155,7 @@ TEST(JointedCalibration, ArmBeforeAGivenCameraALidarAndA2dLaserThroughCalibrateR
 // its two placements pull on none of the other sensors (the lidar within 2 mm / 3 mrad of the truth).
 TEST(JointedCalibration, ASensorBumpedPartWayThroughAnArmSessionIsNamedAndKeptApart) {
   const std::string folder = vocal_test::makeTempFolder("cli_joint_arm_bumped");
-  vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder +
-                                                " --eye-to-hand --arm --beside --given-reference --poses 16 --faults bumped:arm_rgbd:0.01");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --output-dir " + folder);
+  const vocal_test::RunResult r = calibratedArmBeforeAGivenCamera(folder, "--poses 16 --faults bumped:arm_rgbd:0.01");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("withheld: sensor 'arm_rgbd' is kept out of calibration.urdf and calibration.launch: it moved part-way through "
                           "the session: its placement from the arm poses before pose 9 and from those after differ by"),

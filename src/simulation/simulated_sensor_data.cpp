@@ -24,6 +24,9 @@ struct SensorInRoom {
   Eigen::Isometry3d pose;
 };
 
+// A hit's range, kMaxRange where the ray hit nothing.
+double rangeOf(const RoomHit& hit) { return hit.label == SurfaceLabel::kNone ? kMaxRange : hit.range; }
+
 // A range return along `direction`, with a mixed pixel where the beam's footprint (`direction` +-
 // `footprint`) straddles an edge: half the time a range between the two surfaces, labelled mixed
 // unless it lies near the centre's surface.
@@ -34,11 +37,7 @@ RoomHit rangeReturn(const SensorInRoom& sensor, const SimulatedRoomView& view, c
   RoomHit other = centre;
   for (const double sign : {-1.0, 1.0}) {
     const RoomHit side = sensor.cast(direction.normalized() + sign * footprint, origin);
-    const double gap = std::abs((side.label == SurfaceLabel::kNone ? kMaxRange : side.range) -
-                                (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
-    const double other_gap = std::abs((other.label == SurfaceLabel::kNone ? kMaxRange : other.range) -
-                                      (centre.label == SurfaceLabel::kNone ? kMaxRange : centre.range));
-    if (gap > other_gap) other = side;
+    if (std::abs(rangeOf(side) - rangeOf(centre)) > std::abs(rangeOf(other) - rangeOf(centre))) other = side;
   }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   if (other.label == SurfaceLabel::kNone || centre.label == SurfaceLabel::kNone || std::abs(other.range - centre.range) < 0.1 ||
@@ -111,7 +110,6 @@ std::vector<float> simulateLaserRanges(const SimulatedRoomView& view, std::mt199
         below = std::min(below, elevation), above = std::max(above, elevation);
       }
     const bool reaches = below - widest <= 0.0 && above + widest >= 0.0 && high - low < M_PI;  // a board behind: none
-    const auto rangeOf = [](const RoomHit& h) { return h.label == SurfaceLabel::kNone ? kMaxRange : h.range; };
     for (int beam = 0; beam < kBeams && reaches; ++beam) {
       const double azimuth = -135.0 * M_PI / 180.0 + kStep * beam;
       if (azimuth < low - widest || azimuth > high + widest) continue;

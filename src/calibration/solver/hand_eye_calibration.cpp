@@ -303,8 +303,7 @@ struct ArmGraph {
   std::vector<Vector6d> origins;                 // ... per joint of readJoints(): a free origin's correction (zero otherwise)
   std::vector<std::vector<int>> origin_held;     // ... its parts held at the model's (the session does not fix them)
   std::vector<Eigen::Vector4d> intrinsics;       // per sensor: a refined camera's correction (intrinsics_refinement.h)
-  std::vector<Eigen::Vector2d> beam_radius;      // per sensor: a 2D laser's beam radius (BeamRadiusPrior)
-  std::vector<bool> beam_solved;                 // ... and whether its scan ends hold it
+  std::vector<Eigen::Vector2d> beam_radius;      // per sensor: a 2D laser's beam radius (BeamRadiusPrior), solved where in `problem`
   std::unique_ptr<ceres::Problem> problem;
   double cost = 0.0;  // Ceres's, at the solution
   explicit ArmGraph(const Eigen::Isometry3d& board_start) : board(board_start) {}
@@ -479,7 +478,6 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     links.reserve(stations.size());
     for (const HandEyeStation& s : stations) links.emplace_back(s.base_from_link.at(sensor.link_chain));
   }
-  graph->beam_solved.assign(rig.sensors.size(), false);
   for (std::size_t k = 0; k < stations.size(); ++k) {
     std::vector<int> scans(rig.sensors.size(), 0);
     for (const HandEyeView& view : stations[k].views) ++scans[view.sensor];
@@ -522,7 +520,6 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
                                  scan_ends.sigmas};
       std::vector<double*> with_beam = blocks;
       with_beam.push_back(graph->beam_radius[view.sensor].data());
-      graph->beam_solved[view.sensor] = true;
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, ceres::DYNAMIC, 4, 3, 4, 3, 4, 3, 4, 3, 2>(
                                    new OutlineViewResidual{ends, mounting}, static_cast<int>(scan_ends.points.size())),
                                nullptr, with_beam);
@@ -535,8 +532,8 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
     }
     problem.SetManifold(tool.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   }
-  for (std::size_t s = 0; s < graph->beam_solved.size(); ++s)
-    if (graph->beam_solved[s]) problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BeamRadiusPrior, 2, 2>(new BeamRadiusPrior), nullptr, graph->beam_radius[s].data());
+  for (Eigen::Vector2d& beam : graph->beam_radius)
+    if (problem.HasParameterBlock(beam.data())) problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BeamRadiusPrior, 2, 2>(new BeamRadiusPrior), nullptr, beam.data());
   if (const std::optional<ArmJoints>& arm = options.arm_joints) {
     const std::vector<int>& read = arm->readJoints();
     const std::size_t n = read.size();
@@ -759,7 +756,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   for (const HandEyeSensor& sensor : rig.sensors) result.held.push_back(sensor.given_pose.has_value());
   result.board = graph->board.pose();
   result.beam_radius = graph->beam_radius;
-  result.beam_solved = graph->beam_solved;
+  for (Eigen::Vector2d& beam : graph->beam_radius) result.beam_solved.push_back(graph->problem->HasParameterBlock(beam.data()));
   result.given_intrinsics = givenIntrinsics(rig, stations, options);
   result.refined_intrinsics = result.intrinsics_sigma = std::vector<Eigen::Vector4d>(rig.sensors.size(), Eigen::Vector4d::Zero());
   for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
@@ -994,25 +991,25 @@ HandEyeResult solvedWithMovedSensorsApart(const ArmRig& rig, const std::vector<H
   result.spread_solves = spreadWithoutEachStation(doubled, relabelled, options, result.sensors, &result.sensor_spreads);
   const std::size_t n = rig.sensors.size();
   result.placement_changes = changes;
+  // Each per-sensor figure as its double (after the move) has it, the doubles then dropped.
+  const auto asAfter = [&](auto* per_sensor) {
+    for (std::size_t s = 0; s < n; ++s)
+      if (doubles[s] >= 0) (*per_sensor)[s] = (*per_sensor)[doubles[s]];
+    per_sensor->resize(n);
+  };
   for (std::size_t s = 0; s < n; ++s) {
-    if (doubles[s] < 0) continue;
     // The move as this solve, every move apart, puts it (the search's was with the later ones' unmodelled).
-    result.placement_changes[s] = placementChangeIn(result, static_cast<int>(s), doubles[s], changes[s].station);
-    result.sensors[s] = result.sensors[doubles[s]];
-    result.sensor_sigmas[s] = result.sensor_sigmas[doubles[s]];
-    result.sensor_spreads[s] = result.sensor_spreads[doubles[s]];
+    if (doubles[s] >= 0) result.placement_changes[s] = placementChangeIn(result, static_cast<int>(s), doubles[s], changes[s].station);
   }
-  result.sensors.resize(n);
-  result.sensor_sigmas.resize(n);
-  result.sensor_spreads.resize(n);
+  asAfter(&result.sensors);
+  asAfter(&result.sensor_sigmas);
+  asAfter(&result.sensor_spreads);
+  asAfter(&result.beam_radius);
+  asAfter(&result.beam_solved);
   result.held.resize(n);
   result.given_intrinsics.resize(n);
   result.refined_intrinsics.resize(n);
   result.intrinsics_sigma.resize(n);
-  for (std::size_t s = 0; s < n; ++s)
-    if (doubles[s] >= 0 && !result.beam_solved[s]) result.beam_solved[s] = result.beam_solved[doubles[s]], result.beam_radius[s] = result.beam_radius[doubles[s]];
-  result.beam_radius.resize(n);
-  result.beam_solved.resize(n);
   return result;
 }
 }  // namespace

@@ -7,6 +7,12 @@
 
 namespace vocal {
 
+namespace {
+// How far along its line a step between beams moves an end, at most (1 / cos of the angle between the
+// beam and the line's normal in the scan plane: a board turned away stretches the steps along it).
+constexpr double kMaxScanEndStretch = 5.0;
+}  // namespace
+
 double beamStep(const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> bearings, steps;
   for (const Eigen::Vector3d& p : points) bearings.push_back(std::atan2(p.y(), p.x()));

@@ -10,13 +10,9 @@
 namespace vocal {
 
 struct LaserScanEnds {
-  std::vector<Eigen::Vector3d> points;   // sensor frame, on the scan's line (boardOutlinePoints)
-  std::vector<double> sigmas;  // per end, metres across the board's edge
+  std::vector<Eigen::Vector3d> points;  // sensor frame, on the scan's line (boardOutlinePoints)
+  std::vector<double> sigmas;           // per end, metres across the board's edge
 };
-
-// How far along its line a step between beams moves an end, at most (1 / cos of the angle between the
-// beam and the line's normal in the scan plane: a board turned away stretches the steps along it).
-constexpr double kMaxScanEndStretch = 5.0;
 
 // The angle between a 2D laser's neighbouring beams (radians): the median step between the bearings of a
 // view's points (one scan's or several of the same beams); 0 for fewer than two bearings.
