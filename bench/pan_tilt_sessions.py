@@ -10,9 +10,10 @@ descriptions of each recording, as one markdown table:
 
 Per row: each joint offset's error (mrad) and sigma, the camera's worst error (mm / mrad) in base_link over
 a grid of head positions (pan -0.4..0.4, tilt -0.3..0.3 rad, readings as the encoders give them) against
-the truth, the 2D laser's error, whether the camera was published, and the run time.
+the truth, the 2D laser's error (with --head-laser, the laser on the head's tilt link too: its worst over
+the same grid), whether the camera was published, and the run time.
 
-usage: /usr/bin/python3 bench/pan_tilt_sessions.py [--work DIR] [--seeds N] [--poses N]
+usage: /usr/bin/python3 bench/pan_tilt_sessions.py [--work DIR] [--seeds N] [--poses N] [--head-laser]
 """
 import argparse
 import os
@@ -33,10 +34,10 @@ def head_pose(joints, offsets, readings, mount):
     return chain_pose(joints, [reading + offset for offset, reading in zip(offsets, readings)]) @ mount
 
 
-def simulate(folder, seed, poses):
+def simulate(folder, seed, poses, head_laser):
     if not os.path.exists(os.path.join(folder, "session.bag")):
         subprocess.run([os.path.join(TOOLS, "simulate_calibration_session"), folder, "--pan-tilt", "--pose-known", "--poses", str(poses),
-                        "--seed", str(seed)], check=True, stdout=subprocess.DEVNULL)
+                        "--seed", str(seed)] + (["--head-laser"] if head_laser else []), check=True, stdout=subprocess.DEVNULL)
     rig = open(os.path.join(folder, "rig.yaml")).read()
     free = rig.replace(", pose_known: true", "")
     free = free[:free.rfind(",\n     pose:")] + "}\n"
@@ -63,14 +64,15 @@ def main():
     parser.add_argument("--work", default="/tmp/vocal_pan_tilt_sessions")
     parser.add_argument("--seeds", type=int, default=6)
     parser.add_argument("--poses", type=int, default=16)
+    parser.add_argument("--head-laser", action="store_true", help="the 2D laser on the head's tilt link too")
     args = parser.parse_args()
     grid = [(p, t) for p in (-0.4, 0.0, 0.4) for t in (-0.3, 0.0, 0.3)]
     print("| seed | rig | pan offset error (sigma), mrad | tilt offset error (sigma), mrad | camera worst over the head's range, mm / mrad "
-          "| laser, mm / mrad | camera published | time, s |")
+          "| laser%s, mm / mrad | camera published | time, s |" % (" worst over the head's range" if args.head_laser else ""))
     print("|---|---|---|---|---|---|---|---|")
     for seed in range(1, args.seeds + 1):
         folder = os.path.join(args.work, "seed%d" % seed)
-        simulate(folder, seed, args.poses)
+        simulate(folder, seed, args.poses, args.head_laser)
         truth = yaml.safe_load(open(os.path.join(folder, "ground_truth.yaml")))
         joints = truth["joints"]
         true_offsets = [j["offset"] for j in joints]
@@ -102,7 +104,14 @@ def main():
                 e = error(pose, truth_pose)
                 worst = (max(worst[0], e[0]), max(worst[1], e[1]))
             laser = result["sensors"][1]
-            laser_error = error(matrix(laser["translation"], laser["rotation"]), laser_truth)
+            laser_found = matrix(laser["translation"], laser["rotation"])
+            laser_error = error(laser_found, laser_truth)
+            if args.head_laser:
+                laser_error = (0.0, 0.0)
+                for readings in grid:
+                    pose = laser_found if rig == "rigid.yaml" else head_pose(joints, offsets, readings, laser_found)
+                    e = error(pose, head_pose(joints, true_offsets, readings, laser_truth))
+                    laser_error = (max(laser_error[0], e[0]), max(laser_error[1], e[1]))
             print("| %d | %s | %s | %s | %.2f / %.2f | %.2f / %.2f | %s | %.1f |" % (
                 seed, label, cells[0], cells[1], worst[0], worst[1], laser_error[0], laser_error[1],
                 "yes" if camera.get("published", True) else "no", seconds))

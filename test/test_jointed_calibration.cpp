@@ -40,7 +40,8 @@
 
 namespace {
 // The rig of the simulator with its camera on a pan-tilt head: rgbd0 (the reference) and lidar0 fixed,
-// camera0 on the head's tilt link, every pose's views as each sensor sees the board.
+// camera0 on the head's tilt link, every pose's views as each sensor sees the board; with `head_laser`, a
+// 2D laser (kHeadLaser) on the tilt link too, 5 cm under the camera, scanning across its line of sight.
 struct PanTiltSession {
   std::vector<vocal::SensorSpec> specs;
   std::vector<vocal::SimulatedSensor> fixed;  // the truth of the rigid ones
@@ -50,11 +51,19 @@ struct PanTiltSession {
 };
 
 constexpr int kCamera = 2;
+constexpr int kHeadLaser = 3;
 
 PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, double backlash = 0.001, double encoder_counts = 4096.0,
-                              const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero()) {
+                              const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero(), bool head_laser = false) {
   PanTiltSession session;
   session.fixed = vocal::exampleRig(1, 1, 0, 1);
+  if (head_laser) {
+    vocal::SimulatedSensor laser;
+    laser.spec = {"head_laser", vocal::SensorType::kLaser2d, "head_laser"};
+    laser.reference_from_sensor.linear() = vocal::rotationFromRollPitchYaw(0.12, 0.01, -0.02);  // its mount on the tilt link
+    laser.reference_from_sensor.translation() = Eigen::Vector3d(0.05, 0.0, -0.02);
+    session.fixed.push_back(laser);
+  }
   vocal::RigSimulationOptions simulation;
   simulation.target_poses = 16;
   simulation.range_noise = 0.001;
@@ -76,15 +85,16 @@ PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, doub
   for (const vocal::SimulatedSensor& s : session.fixed) session.specs.push_back(s.spec);
   for (int k = 0; k < simulation.target_poses; ++k) {
     const Eigen::Isometry3d& board = boards.reference_from_target[k];
-    for (int s = 0; s < 3; ++s) {
+    for (int s = 0; s < static_cast<int>(session.fixed.size()); ++s) {
       vocal::SimulatedSensor placed = session.fixed[s];
       const std::vector<double>& angles = session.head.angles[k];
       if (s == kCamera) placed.reference_from_sensor = session.head.baseFromSensor(angles);
+      if (s == kHeadLaser) placed.reference_from_sensor = session.head.baseFromSensor(angles, session.fixed[s].reference_from_sensor);
       vocal::TargetObservation o = vocal::observeTarget(placed, board, 0.45, 0.35, simulation, &rng);
       if (o.points.empty()) continue;
       o.sensor = s;
       o.target_pose = k;
-      if (s == kCamera) o.joint_positions = session.head.reported(angles, {2 * direction(rng) - 1, 2 * direction(rng) - 1});
+      if (s >= kCamera) o.joint_positions = session.head.reported(angles, {2 * direction(rng) - 1, 2 * direction(rng) - 1});
       session.observations.push_back(o);
     }
   }
@@ -93,6 +103,7 @@ PanTiltSession panTiltSession(std::uint32_t seed, double pixel_noise = 0.2, doub
   for (vocal::JointDescription& joint : session.options.mounts.joints) joint.offset = 0.0;  // unknown
   session.options.mounts.joints[1].origin.translation() -= tilt_origin_error;  // the model's
   session.options.mounts.chains = {{}, {}, session.head.chain};
+  if (head_laser) session.options.mounts.chains.push_back(session.head.chain);
   return session;
 }
 
@@ -153,6 +164,58 @@ TEST(JointedCalibration, PanTiltOffsetsAndMountsWithTheRigidSensors) {
     EXPECT_NE(free.joints[1].held.find("no joint after it moved"), std::string::npos) << free.joints[1].held;
     EXPECT_LT(cameraErrorTranslation(session, free, &rotation), 0.003);
     EXPECT_LT(rotation, 0.004);
+  }
+}
+
+// A 2D laser on the head beside its camera (a sensor on any link): its scan lines join the graph through
+// the same joints, seen from its own block per still pose tied to the chain times its mount. With the
+// camera's CAD mount known and the board's edges held, both offsets are solved and the laser's mount lands
+// within 2 mm / 2 mrad; nothing else moves (the camera as without the laser, within 0.1 mm / 0.1 mrad).
+TEST(JointedCalibration, A2dLaserOnTheHeadBesideItsCamera) {
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    PanTiltSession session = panTiltSession(seed, 0.2, 0.001, 4096.0, Eigen::Vector3d::Zero(), true);
+    vocal::CalibrationOptions& options = session.options;
+    options.board_edges.enabled = true;
+    options.board_edges.width = 0.9;
+    options.board_edges.height = 0.7;
+    options.mounts.known_mounts = {std::nullopt, std::nullopt, session.head.mount, std::nullopt};
+    int laser_views = 0;
+    for (const vocal::TargetObservation& o : session.observations) laser_views += o.sensor == kHeadLaser;
+    ASSERT_GE(laser_views, 6);
+    const vocal::CalibrationResult result = vocal::calibrateRig(session.specs, session.observations, options);
+    ASSERT_TRUE(result.trusted) << result.failure;
+    for (int j = 0; j < 2; ++j) EXPECT_NEAR(result.joints[j].offset, session.head.joints[j].offset, 0.001) << session.head.joints[j].name;
+    double worst_t = 0.0, worst_r = 0.0;
+    for (const vocal::TargetObservation& o : session.observations) {
+      if (o.sensor != kHeadLaser) continue;
+      const Eigen::Isometry3d truth = session.head.baseFromSensor(session.head.angles[o.target_pose], session.fixed[kHeadLaser].reference_from_sensor);
+      const Eigen::Isometry3d difference = truth.inverse() * result.rigFromSensorAt(o);
+      worst_t = std::max(worst_t, difference.translation().norm());
+      worst_r = std::max(worst_r, vocal::rotationAngle(difference));
+    }
+    // At each pose the encoders' counts and backlash leave up to 1.4 mrad between the joints' readings and
+    // where they were.
+    EXPECT_LT(worst_t, 0.002);
+    EXPECT_LT(worst_r, 0.003);
+    const Eigen::Isometry3d mount_error = session.fixed[kHeadLaser].reference_from_sensor.inverse() * result.sensors[kHeadLaser].reference_from_sensor;
+    EXPECT_LT(mount_error.translation().norm(), 0.002);
+    EXPECT_LT(vocal::rotationAngle(mount_error), 0.002);
+    EXPECT_GT(result.sensors[kHeadLaser].standard_deviation.head<3>().norm(), 0.0);
+
+    // The same session without the laser: the camera where it was.
+    PanTiltSession without = session;
+    without.specs.pop_back();
+    without.options.mounts.chains.pop_back();
+    without.options.mounts.known_mounts.pop_back();
+    without.observations.erase(std::remove_if(without.observations.begin(), without.observations.end(),
+                                              [](const vocal::TargetObservation& o) { return o.sensor == kHeadLaser; }),
+                               without.observations.end());
+    const vocal::CalibrationResult alone = vocal::calibrateRig(without.specs, without.observations, without.options);
+    ASSERT_TRUE(alone.trusted) << alone.failure;
+    double with_r = 0.0, alone_r = 0.0;
+    EXPECT_NEAR(cameraErrorTranslation(session, result, &with_r), cameraErrorTranslation(without, alone, &alone_r), 1e-4);
+    EXPECT_NEAR(with_r, alone_r, 1e-4);
   }
 }
 

@@ -610,6 +610,17 @@ TEST(ToolsCli, CalibrateRigNamesASensorThatMovesAndPublishesOnlyTheRest) {
   }
   r = runTool("simulate_calibration_session " + folder + " --eye-to-hand --laser-beam 0.008,0.015");
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --laser-beam: with --beside (the arm's 2D laser)\n");
+  // Board depths given wrong, or where no arm holds the board before a camera; a laser on a head without one.
+  for (const char* depths : {"0.45", "1.2,0.45", "0.1,0.9", "0.45,2"}) {
+    r = runTool("simulate_calibration_session " + folder + " --eye-to-hand --board-depths " + depths);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.output, std::string("simulate_calibration_session: error: option --board-depths: '") + depths +
+                            "' is not NEAR,FAR in metres with 0.3 <= NEAR <= FAR <= 1.5 (e.g. 0.45,1.2)\n");
+  }
+  r = runTool("simulate_calibration_session " + folder + " --eye-in-hand --board-depths 0.45,1.2");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --board-depths: with --eye-to-hand (the board in the gripper before the camera)\n");
+  r = runTool("simulate_calibration_session " + folder + " --head-laser");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --head-laser: with --pan-tilt\n");
 }
 
 // A folder with an IMU (simulate_imu): tum_odometry says what it uses and takes the gyro for every frame;

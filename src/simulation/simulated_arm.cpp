@@ -77,8 +77,13 @@ SimulatedArm simulateArm(const SimulatedArmOptions& options) {
       const Eigen::Vector3d centre = arm.board.translation() + Eigen::Vector3d(0.03 * unit(rng), 0.03 * unit(rng), 0.0);
       tool = lookingAt(centre + from, centre, options.roll * unit(rng)) * tool_from_camera.inverse();
     } else {
-      // The board 0.6-0.9 m from the camera, facing it (its z away from the camera), tilted.
-      const Eigen::Vector3d centre = arm.camera * Eigen::Vector3d(0.1 * unit(rng), 0.1 * unit(rng), 0.75 + 0.15 * unit(rng));
+      // The board near_depth-far_depth from the camera, facing it (its z away from the camera), tilted.
+      // (Drawn in the order the sessions before near_depth drew them.)
+      const double depth = 0.5 * (options.near_depth + options.far_depth) + 0.5 * (options.far_depth - options.near_depth) * unit(rng);
+      const double up = 0.1 * unit(rng);
+      const double across = 0.1 * unit(rng);
+      Eigen::Vector3d centre = arm.camera * Eigen::Vector3d(across, up, depth);
+      if (options.across_laser) centre.z() = arm.laser.translation().z() + up;
       Eigen::Isometry3d board = lookingAt(centre, centre + (centre - arm.camera.translation()), options.roll * unit(rng));
       board.linear() = board.linear() * (Eigen::AngleAxisd(options.tilt * unit(rng), Eigen::Vector3d::UnitX()) *
                                          Eigen::AngleAxisd(options.tilt * unit(rng), Eigen::Vector3d::UnitY()))

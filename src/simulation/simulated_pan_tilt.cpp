@@ -22,8 +22,10 @@ std::vector<double> SimulatedPanTilt::reported(const std::vector<double>& true_a
   return readings;
 }
 
-Eigen::Isometry3d SimulatedPanTilt::baseFromSensor(const std::vector<double>& true_angles) const {
-  return chainPose(joints, chain, true_angles, std::vector<double>(joints.size(), 0.0)) * mount;
+Eigen::Isometry3d SimulatedPanTilt::baseFromSensor(const std::vector<double>& true_angles) const { return baseFromSensor(true_angles, mount); }
+
+Eigen::Isometry3d SimulatedPanTilt::baseFromSensor(const std::vector<double>& true_angles, const Eigen::Isometry3d& on_tilt) const {
+  return chainPose(joints, chain, true_angles, std::vector<double>(joints.size(), 0.0)) * on_tilt;
 }
 
 SimulatedPanTilt simulatePanTilt(const std::vector<Eigen::Isometry3d>& boards, const Eigen::Isometry3d& mount,

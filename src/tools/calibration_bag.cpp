@@ -128,8 +128,16 @@ double faultAmount(const std::vector<SimulatedSensorFault>& faults, int sensor_i
 }
 }  // namespace
 
-std::vector<SimulatedSensor> panTiltRig() {
+std::vector<SimulatedSensor> panTiltRig(bool head_laser) {
   std::vector<SimulatedSensor> sensors = exampleRig(0, 1, 1, 0);
+  if (head_laser) {
+    // Its x along the link's (the camera's line of sight), 5 cm under the camera, rolled 0.12 rad: its line
+    // crosses the board at a slant wherever the head aims.
+    SimulatedSensor& laser = sensors[1];
+    laser.spec = {"head_laser", SensorType::kLaser2d, "head_laser"};
+    laser.reference_from_sensor.linear() = rotationFromRollPitchYaw(0.12, 0.01, -0.02);
+    laser.reference_from_sensor.translation() = Eigen::Vector3d(0.05, 0.0, -0.02);
+  }
   SimulatedSensor camera;
   camera.spec = {"head_camera", SensorType::kRgbd, "head_camera_depth_optical_frame"};
   camera.reference_from_sensor.linear() = rotationFromRollPitchYaw(0.01, -0.02, 0.015) * bodyFromOpticalRotation();
@@ -139,19 +147,22 @@ std::vector<SimulatedSensor> panTiltRig() {
 }
 
 void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
-                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error) {
+                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error, bool head_laser) {
   const int camera = static_cast<int>(sensors.size()) - 1;
   SimulatedPanTiltOptions head_options;
   head_options.seed = options->seed;
   head_options.wander = 0.3;  // both joints sweep: the offsets before the camera's mount are told from it
   head_options.tilt_origin_error = tilt_origin_error;
   options->head = simulatePanTilt(simulatedStillPoses(*options, rig->target), sensors[camera].reference_from_sensor, head_options);
-  options->head_sensor = camera;
+  options->head_sensors = {camera};
+  if (head_laser) options->head_sensors.push_back(1);  // panTiltRig's
   rig->joints = truth->joints = options->head->joints;
   for (JointDescription& joint : rig->joints) joint.offset = 0.0;  // the unknowns
   rig->joints.back().origin.translation() -= tilt_origin_error;  // the model's
-  rig->sensors[camera].parent = truth->sensors[camera].parent = options->head->joints.back().child;
-  truth->sensors[camera].pose = sensors[camera].reference_from_sensor;
+  for (const int s : options->head_sensors) {
+    rig->sensors[s].parent = truth->sensors[s].parent = options->head->joints.back().child;
+    truth->sensors[s].pose = sensors[s].reference_from_sensor;
+  }
   if (pose_known) rig->sensors[camera].pose = sensors[camera].reference_from_sensor, rig->sensors[camera].pose_known = true;
 }
 
@@ -185,8 +196,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
   openBag(&bag, bag_path, rosbag::bagmode::Write);
   SimulatedSessionSummary summary;
   summary.reference_from_target = simulatedStillPoses(options, rig.target);
-  if (options.head && (options.head_sensor < 0 || options.head_sensor >= static_cast<int>(sensors.size()) ||
-                       options.head->angles.size() != summary.reference_from_target.size())) {
+  bool on_rig = !options.head_sensors.empty();
+  for (const int s : options.head_sensors) on_rig = on_rig && s >= 0 && s < static_cast<int>(sensors.size());
+  if (options.head && (!on_rig || options.head->angles.size() != summary.reference_from_target.size())) {
     throw InputError("simulated session: the pan-tilt head names no sensor of the rig, or not one aim per still pose");
   }
 
@@ -262,8 +274,9 @@ SimulatedSessionSummary writeSimulatedCalibrationBag(const std::vector<Simulated
       view.time = time;
       SimulatedSensor placed = sensors[s];
       placed.reference_from_sensor = faultyPlacement(sensors[s].reference_from_sensor, options.faults, static_cast<int>(s), k, options.target_poses, options.seed);
-      if (options.head && static_cast<int>(s) == options.head_sensor) {
-        placed.reference_from_sensor = options.head->baseFromSensor(options.head->anglesAt(time, options.still_seconds, options.moving_seconds));
+      if (options.head && std::count(options.head_sensors.begin(), options.head_sensors.end(), static_cast<int>(s))) {
+        placed.reference_from_sensor = options.head->baseFromSensor(options.head->anglesAt(time, options.still_seconds, options.moving_seconds),
+                                                                    sensors[s].reference_from_sensor);
       }
       view.sensor = &placed;
       const RigSensorDescription& d = rig.sensors[s];

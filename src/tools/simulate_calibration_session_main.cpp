@@ -76,6 +76,8 @@ const char kUsage[] =
     "                      joints (offsets unknown), ground_truth.yaml their true offsets and the camera's\n"
     "                      mount on the tilt link\n"
     "  --pose-known        (with --pan-tilt) rig.yaml gives the camera's mount as known (pose_known: true)\n"
+    "  --head-laser        (with --pan-tilt) the 2D laser on the head's tilt link too (head_laser, 5 cm under the\n"
+    "                      camera, scanning across its line of sight), its mount unknown\n"
     "writes OUT_DIR/session.bag, OUT_DIR/rig.yaml (the reference's pose only) and\n"
     "OUT_DIR/ground_truth.yaml (every sensor's true pose, same format)\n"
     "\n"
@@ -94,6 +96,9 @@ const char kUsage[] =
     "  --given-reference   (eye-to-hand) rig.yaml gives the fixed camera's true pose in the base frame (the\n"
     "                      reference, held by the calibration)\n"
     "  --laser-beam M,RAD  (--beside) the 2D laser's beam across, as for still poses above\n"
+    "  --board-depths NEAR,FAR   (--eye-to-hand) the board NEAR to FAR metres from the camera (default 0.6,0.9);\n"
+    "                      with --beside its centre at the 2D laser's height, so that the laser's scan crosses\n"
+    "                      it at every pose: a session for the laser, at ranges that tell its height from its pitch\n"
     "  --pattern-cols N --pattern-rows N --square M --board-width M --board-height M   the board (default\n"
     "                      10 x 7 inner corners of 0.03 m on 0.36 x 0.27 m)\n"
     "  --arm               a 6-joint arm (1.1 m reach) reaches the poses: its readings on /joint_states at 200 Hz\n"
@@ -180,7 +185,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
   for (const char* still_only : {"rgbd", "lidar", "laser", "camera", "noise", "rate", "lens", "room", "lidar-noise", "laser-noise",
                                  "ring-bias", "turn", "range-offset", "lidar-model", "dark-range-offset", "camera-rate", "rgbd-rate",
                                  "lidar-rate", "laser-rate", "still", "moving", "crop-lidar", "person", "mixed-pixels", "vertical-offsets",
-                                 "dark-absorbs", "stand", "pan-tilt", "pose-known"}) {
+                                 "dark-absorbs", "stand", "pan-tilt", "pose-known", "head-laser"}) {
     if (args.has(still_only)) {
       throw vocal::InputError(std::string("option --") + still_only + ": not for an arm's session (--eye-in-hand, --eye-to-hand); " +
                               "its sensors are the camera and, with --beside, those fixed beside it");
@@ -197,6 +202,21 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
     throw vocal::InputError("option --poor-pose: a still pose from 1 to " + std::to_string(arm_options.poses));
   }
   arm_options.seed = static_cast<std::uint32_t>(args.integer("seed", 1));
+  if (args.has("board-depths")) {
+    if (arm_options.setup != vocal::HandEyeSetup::kEyeToHand) {
+      throw vocal::InputError("option --board-depths: with --eye-to-hand (the board in the gripper before the camera)");
+    }
+    const std::string text = args.text("board-depths", "");
+    char* end = nullptr;
+    arm_options.near_depth = std::strtod(text.c_str(), &end);
+    const char* second = *end == ',' ? end + 1 : end;
+    arm_options.far_depth = std::strtod(second, &end);
+    if (second == text.c_str() || end == second || *end != '\0' || !(arm_options.near_depth >= 0.3) ||
+        !(arm_options.far_depth >= arm_options.near_depth) || !(arm_options.far_depth <= 1.5)) {
+      throw vocal::InputError("option --board-depths: '" + text + "' is not NEAR,FAR in metres with 0.3 <= NEAR <= FAR <= 1.5 (e.g. 0.45,1.2)");
+    }
+    arm_options.across_laser = args.has("beside");
+  }
   vocal::TargetDescription target;
   target.pattern = {args.integer("pattern-rows", 7), args.integer("pattern-cols", 10), args.number("square", 0.03)};
   target.width = args.number("board-width", 0.36);
@@ -320,11 +340,12 @@ int run(const vocal::CommandLine& args) {
   if (args.has("arm")) throw vocal::InputError("option --arm: with --eye-in-hand or --eye-to-hand");
   const bool pan_tilt = args.has("pan-tilt");
   if (args.has("pose-known") && !pan_tilt) throw vocal::InputError("option --pose-known: with --pan-tilt");
+  if (args.has("head-laser") && !pan_tilt) throw vocal::InputError("option --head-laser: with --pan-tilt");
   checkJointModelOptions(args, "pan-tilt");
   const int rgbd = args.integer("rgbd", 1);
   if (rgbd < 1) throw vocal::InputError("option --rgbd: the reference is an RGB-D sensor, at least 1 is needed");
   std::vector<vocal::SimulatedSensor> sensors =
-      pan_tilt ? vocal::panTiltRig() : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
+      pan_tilt ? vocal::panTiltRig(args.has("head-laser")) : vocal::exampleRig(rgbd, args.integer("lidar", 1), args.integer("laser", 1), args.integer("camera", 1));
   const vocal::LidarModel lidar_model = vocal::parseLidarModel(args.text("lidar-model", "vlp16"), "option --lidar-model");
   // They see ahead, not all round.
   if (lidar_model == vocal::LidarModel::kLivox || lidar_model == vocal::LidarModel::kScanner) vocal::pointLidarsAhead(&sensors);
@@ -391,7 +412,10 @@ int run(const vocal::CommandLine& args) {
   if (options.target_poses < 3) throw vocal::InputError("option --poses: at least 3 poses are needed");
   vocal::RigDescription rig = vocal::describeSimulatedRig(sensors, target, false);
   vocal::RigDescription truth = vocal::describeSimulatedRig(sensors, target, true);
-  if (pan_tilt) vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, args.has("pose-known"), Eigen::Vector3d(0.0, 0.0, args.number("link-error", 0.0)));
+  if (pan_tilt) {
+    vocal::putOnPanTiltHead(sensors, &options, &rig, &truth, args.has("pose-known"), Eigen::Vector3d(0.0, 0.0, args.number("link-error", 0.0)),
+                            args.has("head-laser"));
+  }
   rig.free_joint_origins = freeOriginsOption(args);
   vocal::writeRigDescription(dir + "/rig.yaml", rig);
   vocal::writeRigDescription(dir + "/ground_truth.yaml", truth);
@@ -413,7 +437,7 @@ int main(int argc, char** argv) {
                          "range-offset", "lidar-model", "dark-range-offset",
                          "camera-rate", "rgbd-rate", "lidar-rate", "laser-rate", "still", "moving", "board-width",
                          "board-height", "pattern-cols", "pattern-rows", "square", "faults", "crop-lidar", "arm-noise", "poor-pose", "joint-noise", "joint-offsets", "link-error", "free-origins",
-                         "seconds", "imu-rate", "time-offset", "motion", "camera-name", "laser-beam"},
+                         "seconds", "imu-rate", "time-offset", "motion", "camera-name", "laser-beam", "board-depths"},
                         {"person", "mixed-pixels", "vertical-offsets", "dark-absorbs", "stand", "eye-in-hand", "eye-to-hand", "compressed", "beside",
-                         "pan-tilt", "pose-known", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);
+                         "pan-tilt", "pose-known", "head-laser", "arm", "given-reference", "forearm", "head", "waved-imu"}, 1);
 }

@@ -21,6 +21,11 @@ struct SimulatedArmOptions {
   int poses = 12;
   double tilt = 0.5;  // radians the view turns away from straight at most, about each axis across it
   double roll = 0.8;  // ... and about the viewing axis
+  // Eye-to-hand: the board's centre this far from the camera (metres), and, where `across_laser`, at the
+  // 2D laser's height (within a tenth of a metre) so that its scan line crosses the board at every pose.
+  double near_depth = 0.6;
+  double far_depth = 0.9;
+  bool across_laser = false;
   double tool_translation_noise = 1e-4;  // metres: the arm's repeatability
   double tool_rotation_noise = 1e-4;     // radians
   int poor_pose = -1;              // this pose's reported tool is `poor_pose_offset` off (-1: none)

@@ -41,8 +41,9 @@ struct SimulatedPanTilt {
   // What the encoders report for those angles, moving in `direction` (+1 / -1 per joint, the sign of the
   // last motion; 0: at rest after none): angle - offset, late by half the backlash, quantised.
   std::vector<double> reported(const std::vector<double>& angles, const std::vector<int>& direction) const;
-  // base <- sensor at the joints' true angles.
+  // base <- sensor at the joints' true angles: the aimed sensor, or another mounted `on_tilt` on the tilt link.
   Eigen::Isometry3d baseFromSensor(const std::vector<double>& angles) const;
+  Eigen::Isometry3d baseFromSensor(const std::vector<double>& angles, const Eigen::Isometry3d& on_tilt) const;
 };
 
 // A head that aims a sensor mounted `mount` on its tilt link at each board centre of `boards` (base frame).

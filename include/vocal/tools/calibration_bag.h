@@ -78,10 +78,10 @@ struct SimulatedSessionOptions {
   // Metres: each lidar cloud cropped to the returns within this of a still pose's board centre (a driver
   // or filter that keeps only the region where the board was; 0: the whole scan).
   double lidar_crop = 0.0;
-  // A sensor on a pan-tilt head (simulated_pan_tilt.h): sensors[head_sensor] sits at the head's pose (its
-  // reference_from_sensor unused), the head's joints on joint_states_topic at joint_state_rate.
+  // Sensors on a pan-tilt head (simulated_pan_tilt.h): each of head_sensors sits on its tilt link at its
+  // reference_from_sensor (its mount there), the head's joints on joint_states_topic at joint_state_rate.
   std::optional<SimulatedPanTilt> head;
-  int head_sensor = -1;
+  std::vector<int> head_sensors;
   std::string joint_states_topic = "/joint_states";
   double joint_state_rate = 200.0;
   int depth_width = 320;     // RGB-D depth images (camera images are 640x480)
@@ -96,14 +96,17 @@ struct SimulatedSessionSummary {
 
 // A pan-tilt session's rig (simulate_calibration_session --pan-tilt): the example rig's lidar (the
 // reference) and 2D laser, and an RGB-D camera (head_camera, the last) whose pose is its mount on the
-// head's tilt link (looking along the link's x, 6 cm ahead of the tilt axis).
-std::vector<SimulatedSensor> panTiltRig();
-// Puts the last of `sensors` (panTiltRig) on a pan-tilt head aimed at each still pose of `options` (sets its
-// head and head_sensor), and names the head's joints in `rig` (offsets unknown: 0; the camera's mount given
-// as known when `pose_known`) and in `truth` (their true offsets, the camera's mount); the tilt joint's true
-// origin `tilt_origin_error` (metres, in the pan link) from the one `rig` gives (a head built off its model).
+// head's tilt link (looking along the link's x, 6 cm ahead of the tilt axis). `head_laser`: the 2D laser
+// (head_laser) on the tilt link too, 5 cm under the camera, scanning across its line of sight.
+std::vector<SimulatedSensor> panTiltRig(bool head_laser = false);
+// Puts the last of `sensors` (panTiltRig), and the 2D laser where `head_laser`, on a pan-tilt head aimed
+// (the camera) at each still pose of `options` (sets its head and head_sensors), and names the head's joints
+// in `rig` (offsets unknown: 0; the camera's mount given as known when `pose_known`) and in `truth` (their
+// true offsets, the mounts); the tilt joint's true origin `tilt_origin_error` (metres, in the pan link) from
+// the one `rig` gives (a head built off its model).
 void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSessionOptions* options, RigDescription* rig,
-                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero());
+                      RigDescription* truth, bool pose_known, const Eigen::Vector3d& tilt_origin_error = Eigen::Vector3d::Zero(),
+                      bool head_laser = false);
 
 // The board's still poses of a session (rig frame): the rig simulator's spread tilts facing the rig.
 std::vector<Eigen::Isometry3d> simulatedStillPoses(const SimulatedSessionOptions& options, const TargetDescription& target);

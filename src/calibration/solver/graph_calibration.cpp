@@ -24,6 +24,7 @@
 #include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
+#include "vocal/calibration/solver/link_from_joints_cost.h"
 #include "vocal/calibration/solver/on_board_plane.h"
 #include "vocal/calibration/solver/beam_radius_prior.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
@@ -32,9 +33,9 @@
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
 #include "vocal/calibration/solver/reading_corrections_residual.h"
-#include "vocal/calibration/solver/through_joints_residual.h"
 #include "vocal/calibration/solver/weak_board_prior.h"
 #include "vocal/core/errors.h"
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
@@ -98,41 +99,18 @@ struct PlaneState {
   double offset;
 };
 
-// A sensor behind joints at one still pose: its chain and that pose's joint positions, and the joints'
-// offset blocks (one per chain joint).
-struct ChainAt {
-  const std::vector<JointDescription>* joints = nullptr;
-  std::vector<int> chain;
-  std::vector<double> positions;
-  std::vector<double*> offsets;
-  std::vector<double*> corrections;  // the pose's reading corrections, one per chain joint
-  std::vector<double*> origins;      // the free origins' corrections (JointDescription::free_origin), in chain order
-};
-
-// A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes), through the
-// sensor's joints when `chain` is set; kSize residuals, or `residuals` where kSize is ceres::DYNAMIC.
+// A residual on (sensor rotation, sensor translation, the blocks `blocks` of sizes kSizes); kSize residuals,
+// or `residuals` where kSize is ceres::DYNAMIC.
 template <typename Residual, int kSize, int... kSizes>
 void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                       const ChainAt* chain, std::array<double*, sizeof...(kSizes)> blocks, int residuals = kSize) {
+                       std::array<double*, sizeof...(kSizes)> blocks, int residuals = kSize) {
   std::vector<double*> all = {sensor->rotation.coeffs().data(), sensor->translation.data()};
   all.insert(all.end(), blocks.begin(), blocks.end());
-  if (!chain) {
-    if constexpr (kSize == ceres::DYNAMIC) {
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual), residuals), loss, all);
-    } else {
-      problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual)), loss, all);
-    }
-    return;
+  if constexpr (kSize == ceres::DYNAMIC) {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual), residuals), loss, all);
+  } else {
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, kSize, 4, 3, kSizes...>(new Residual(residual)), loss, all);
   }
-  constexpr int kBlocks = sizeof...(kSizes);
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<ThroughJoints<Residual, kBlocks>, 4>(
-      new ThroughJoints<Residual, kBlocks>{residual, chain->joints, chain->chain, chain->positions});
-  for (const int size : {4, 3, kSizes...}) cost->AddParameterBlock(size);
-  for (double* offset : chain->offsets) cost->AddParameterBlock(1), all.push_back(offset);
-  for (double* correction : chain->corrections) cost->AddParameterBlock(1), all.push_back(correction);
-  for (double* origin : chain->origins) cost->AddParameterBlock(6), all.push_back(origin);
-  cost->SetNumResiduals(residuals);
-  problem->AddResidualBlock(cost, loss, all);
 }
 
 // A plane residual on the target pose's plane, or (with board edges) on its board's pose; a camera's
@@ -140,34 +118,34 @@ void addSensorResidual(ceres::Problem* problem, const Residual& residual, ceres:
 // `residuals` where kSize is ceres::DYNAMIC.
 template <typename Residual, int kSize>
 void addPlaneResidual(ceres::Problem* problem, const Residual& residual, ceres::LossFunction* loss, SensorState* sensor,
-                      PlaneState* plane, SensorState* board, const ChainAt* chain, double* intrinsics = nullptr, int residuals = kSize) {
+                      PlaneState* plane, SensorState* board, double* intrinsics = nullptr, int residuals = kSize) {
   if constexpr (std::is_same_v<Residual, PlaneMeasurementResidual>) {
     if (intrinsics) {
       const PlaneMeasurementWithIntrinsics with{residual};
       if (plane) {
-        addSensorResidual<PlaneMeasurementWithIntrinsics, kSize, 3, 1, 4>(problem, with, loss, sensor, chain,
+        addSensorResidual<PlaneMeasurementWithIntrinsics, kSize, 3, 1, 4>(problem, with, loss, sensor,
                                                                           {plane->normal.data(), &plane->offset, intrinsics});
       } else {
         addSensorResidual<OnBoardPlane<PlaneMeasurementWithIntrinsics>, kSize, 4, 3, 4>(
-            problem, OnBoardPlane<PlaneMeasurementWithIntrinsics>{with}, loss, sensor, chain,
+            problem, OnBoardPlane<PlaneMeasurementWithIntrinsics>{with}, loss, sensor,
             {board->rotation.coeffs().data(), board->translation.data(), intrinsics});
       }
       return;
     }
   }
   if (plane) {
-    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, chain, {plane->normal.data(), &plane->offset}, residuals);
+    addSensorResidual<Residual, kSize, 3, 1>(problem, residual, loss, sensor, {plane->normal.data(), &plane->offset}, residuals);
     return;
   }
-  addSensorResidual<OnBoardPlane<Residual>, kSize, 4, 3>(problem, OnBoardPlane<Residual>{residual}, loss, sensor, chain,
+  addSensorResidual<OnBoardPlane<Residual>, kSize, 4, 3>(problem, OnBoardPlane<Residual>{residual}, loss, sensor,
                                                          {board->rotation.coeffs().data(), board->translation.data()}, residuals);
 }
 
 void addOutlineResiduals(ceres::Problem* problem, const std::vector<Eigen::Vector3d>& outline, double sigma,
-                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board, const ChainAt* chain) {
+                         const BoardEdgeOptions& edges, SensorState* sensor, SensorState* board) {
   if (outline.empty()) return;
   addSensorResidual<OutlinePointsResidual, ceres::DYNAMIC, 4, 3>(
-      problem, OutlinePointsResidual{outline, sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas}, nullptr, sensor, chain,
+      problem, OutlinePointsResidual{outline, sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas}, nullptr, sensor,
       {board->rotation.coeffs().data(), board->translation.data()}, static_cast<int>(outline.size()));
 }
 
@@ -187,29 +165,31 @@ void addBeamRadiusPrior(ceres::Problem* problem, double* beam) {
 // A 2D laser's scan ends at one still pose (the ends of `o`'s scans, two a scan) on the board's outline
 // reached by its beam (`beam`, the laser's radius block), as the arm's graph holds them.
 void addScanEndResiduals(ceres::Problem* problem, const TargetObservation& o, const BoardEdgeOptions& edges, SensorState* sensor,
-                         SensorState* board, double* beam, const ChainAt* chain) {
+                         SensorState* board, double* beam) {
   const int scans = scansOfPooledEnds(o.outline);
   const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scans, scans, edges.laser_end_sigma);
   if (ends.points.empty()) return;
   addSensorResidual<OutlinePointsWithBeam, ceres::DYNAMIC, 4, 3, 2>(
       problem,
       OutlinePointsWithBeam{{ends.points, edges.laser_end_sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas, ends.sigmas}},
-      nullptr, sensor, chain, {board->rotation.coeffs().data(), board->translation.data(), beam}, static_cast<int>(ends.points.size()));
+      nullptr, sensor, {board->rotation.coeffs().data(), board->translation.data(), beam}, static_cast<int>(ends.points.size()));
 }
 
-// The joints' offsets as Ceres blocks (one per joint of `mounts`), and each still pose's reading
-// corrections (target pose, joint), what a sensor behind joints needs.
+// The joints' offsets as Ceres blocks (one per joint of `mounts`), each still pose's reading corrections
+// (target pose, joint), and where each sensor behind joints was at each (sensor, target pose): what a sensor
+// behind joints needs.
 struct JointOffsets {
   const JointedMounts* mounts = nullptr;
   std::vector<double>* offsets = nullptr;
   std::map<std::pair<int, int>, double>* corrections = nullptr;
   std::vector<Vector6d>* origins = nullptr;  // per joint: a free origin's correction
+  std::map<std::pair<int, int>, SensorState>* placed = nullptr;
 };
 
 // The correction of joint j's reading at still pose k, with its prior the first time.
 double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, int k, int j) {
   const auto [entry, added] = joints.corrections->emplace(std::make_pair(k, j), 0.0);
-  if (added) {
+  if (added || !problem->HasParameterBlock(&entry->second)) {
     const JointDescription& joint = joints.mounts->joints[j];
     const double sigma = joints.mounts->tolerances.readingSigma(joint);
     auto* prior = new ceres::DynamicAutoDiffCostFunction<ReadingCorrectionsResidual>(new ReadingCorrectionsResidual{{sigma}});
@@ -221,6 +201,32 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
   return &entry->second;
 }
 
+// Where a sensor behind joints was (rig frame) when it made `o`: a block of its own (started where the
+// joints' readings put its mount `sensor`), tied to its chain at o's readings times its mount, as the arm's
+// graph ties its links to theirs; the views' residuals see it as a rigid sensor's pose. Null for a rigid sensor.
+SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const JointOffsets& joints, SensorState* sensor) {
+  if (!joints.mounts || !joints.mounts->jointed(o.sensor)) return nullptr;
+  const std::vector<JointDescription>& described = joints.mounts->joints;
+  const std::vector<int>& chain = joints.mounts->chains[o.sensor];
+  const auto [entry, added] = joints.placed->try_emplace({o.sensor, o.target_pose});
+  SensorState& placed = entry->second;
+  if (added) {
+    const Eigen::Isometry3d mount = poseFromTranslationQuaternion(sensor->translation, sensor->rotation.normalized());
+    const Eigen::Isometry3d start = chainPose(described, chain, o.joint_positions, *joints.offsets) * mount;
+    placed = {Eigen::Quaterniond(start.rotation()), start.translation()};
+  }
+  if (problem->HasParameterBlock(placed.translation.data())) return &placed;
+  std::vector<double*> blocks = {placed.rotation.coeffs().data(), placed.translation.data(), sensor->rotation.coeffs().data(),
+                                 sensor->translation.data()};
+  for (const int j : chain) blocks.push_back(&(*joints.offsets)[j]);
+  for (const int j : chain) blocks.push_back(readingCorrection(problem, joints, o.target_pose, j));
+  for (const int j : chain)
+    if (described[j].free_origin) blocks.push_back((*joints.origins)[j].data());
+  problem->AddResidualBlock(linkFromJointsCost(&described, chain, o.joint_positions, true), nullptr, blocks);
+  problem->SetManifold(placed.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+  return &placed;
+}
+
 // An observation's residuals on its pose's plane (or, with board edges, its board), for a sensor whose
 // state is `sensor`. Huber on each whitened block: down-weighted once its residuals pass huber_sigmas
 // standard deviations on average.
@@ -230,20 +236,11 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
   const BoardEdgeOptions& edges = options.board_edges;
   PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
-  std::optional<ChainAt> at;
-  if (joints.mounts && joints.mounts->jointed(o.sensor)) {
-    at = ChainAt{&joints.mounts->joints, joints.mounts->chains[o.sensor], o.joint_positions, {}, {}, {}};
-    for (const int j : at->chain) {
-      at->offsets.push_back(&(*joints.offsets)[j]);
-      at->corrections.push_back(readingCorrection(problem, joints, o.target_pose, j));
-      if (joints.mounts->joints[j].free_origin) at->origins.push_back((*joints.origins)[j].data());
-    }
-  }
-  const ChainAt* chain = at ? &*at : nullptr;
+  if (SensorState* placed = placedOf(problem, o, joints, sensor)) sensor = placed;
   if (!o.plane_measurements.empty()) {
     for (const PlaneMeasurement& measurement : o.plane_measurements) {
       addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
-                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board, chain,
+                                                    new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board,
                                                     intrinsics);
       if (intrinsics) addIntrinsicsEvidence(problem, measurement, intrinsics);
       if (board && intrinsics) {
@@ -252,10 +249,10 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
               problem,
               CameraOutlineWithIntrinsics{q, measurement.sensor_from_pattern, measurement.pose_per_intrinsics, edges.camera_sigma,
                                           0.5 * edges.width, 0.5 * edges.height},
-              new ceres::CauchyLoss(edges.loss_sigmas), sensor, chain, {board->rotation.coeffs().data(), board->translation.data(), intrinsics});
+              new ceres::CauchyLoss(edges.loss_sigmas), sensor, {board->rotation.coeffs().data(), board->translation.data(), intrinsics});
         }
       } else if (board) {
-        addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board, chain);
+        addOutlineResiduals(problem, cameraOutline(measurement, edges), edges.camera_sigma, edges, sensor, board);
       }
     }
     return;
@@ -265,16 +262,16 @@ void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o
     // Range errors along its beams, as in the arm's graph (beam_range_residual.h): a line's distances to
     // the board would bias the laser's height and pitch towards grazing beams.
     addPlaneResidual<BeamRangePlaneResidual, ceres::DYNAMIC>(problem, BeamRangePlaneResidual{o.points, estimatedPointSigma(o.points, type)},
-                                                             new ceres::HuberLoss(threshold), sensor, plane, board, chain, nullptr,
+                                                             new ceres::HuberLoss(threshold), sensor, plane, board, nullptr,
                                                              static_cast<int>(o.points.size()));
   } else {
     addPlaneResidual<ObservationOnPlaneResidual, 4>(problem, ObservationOnPlaneResidual(o.points, estimatedPointSigma(o.points, type)),
-                                                    new ceres::HuberLoss(threshold), sensor, plane, board, chain);
+                                                    new ceres::HuberLoss(threshold), sensor, plane, board);
   }
   if (board && type == SensorType::kLaser2d && beam) {
-    addScanEndResiduals(problem, o, edges, sensor, board, beam, chain);
+    addScanEndResiduals(problem, o, edges, sensor, board, beam);
   } else if (board) {
-    addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board, chain);
+    addOutlineResiduals(problem, o.outline, edges.range_sigma, edges, sensor, board);
   }
 }
 
@@ -307,9 +304,15 @@ std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservati
   alone->SetManifold(sensor->rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   std::vector<double*> blocks;
   alone->GetParameterBlocks(&blocks);
+  // Its own: its pose (and, behind joints, where it was at each still pose), and its extras where freed.
+  std::set<const double*> own_blocks = {sensor->rotation.coeffs().data(), sensor->translation.data()};
+  if (free_extras) own_blocks.insert({intrinsics, beam});
+  for (const TargetObservation* o : its) {
+    const auto placed = joints.placed->find({o->sensor, o->target_pose});
+    if (placed != joints.placed->end()) own_blocks.insert({placed->second.rotation.coeffs().data(), placed->second.translation.data()});
+  }
   for (double* block : blocks) {
-    const bool own = block == sensor->rotation.coeffs().data() || block == sensor->translation.data() ||
-                     (free_extras && (block == intrinsics || block == beam));
+    const bool own = own_blocks.count(block) > 0;
     if (!own) alone->SetParameterBlockConstant(block);
   }
   ceres::Solver::Options solver_options = solverOptions(options);
@@ -495,9 +498,6 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (s == options.reference_sensor) {
       throw InputError("calibration: the reference sensor '" + sensors[s].name + "' is behind joints; give the pose of a sensor mounted rigidly");
     }
-    if (sensors[s].type == SensorType::kLaser2d) {
-      throw InputError("calibration: the 2D laser '" + sensors[s].name + "' is behind joints, which is not supported yet; mount it rigidly");
-    }
     for (const int j : mounts.chains[s]) {
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: sensor '" + sensors[s].name + "''s chain names no joint");
     }
@@ -506,7 +506,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;  // a std::map: its values stay where they are (Ceres blocks)
   std::vector<Vector6d> origin_corrections(mounts.joints.size(), Vector6d::Zero());
-  const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections, &origin_corrections};
+  std::map<std::pair<int, int>, SensorState> placed_at_poses;  // a std::map too
+  const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections, &origin_corrections, &placed_at_poses};
   // The chain's pose (rig frame) when o was made, the offsets at their initial values: the identity for a rigid mount.
   const auto chainAt = [&](const TargetObservation& o) {
     return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) : Eigen::Isometry3d::Identity();
@@ -668,7 +669,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                                               edges.width >= edges.height);
     }
   }
-  // 2D lasers: their scan points on those planes.
+  // 2D lasers: their scan points on those planes (behind joints: carried into its chain's last link at
+  // each pose, where its mount is fixed).
   for (int s = 0; s < sensor_count; ++s) {
     if (!isLaser(s) || absent(s)) continue;
     std::vector<Plane> seen_planes;
@@ -678,10 +680,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     scan_ends.board_height = edges.height;
     for (const TargetObservation& o : observations) {
       if (o.sensor != s || !rig_planes.count(o.target_pose)) continue;
-      seen_planes.push_back(rig_planes[o.target_pose]);
+      const Eigen::Isometry3d link_from_rig = chainAt(o).inverse();
+      seen_planes.push_back(transformPlane(link_from_rig, rig_planes[o.target_pose]));
       scans.push_back(o.points);
       if (edges.enabled) {
-        scan_ends.rig_from_board.push_back(rig_boards.at(o.target_pose));
+        scan_ends.rig_from_board.push_back(link_from_rig * rig_boards.at(o.target_pose));
         scan_ends.ends.push_back(lineEnds(o.outline));
       }
     }
@@ -988,13 +991,15 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   std::vector<double> joint_offsets;
   for (const JointDescription& joint : solved.mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;
+  std::vector<Vector6d> origins(joint_offsets.size(), Vector6d::Zero());  // as solved: none free
+  std::map<std::pair<int, int>, SensorState> placed_at_poses;
   // A refined camera's intrinsics as solved, held.
   const SensorCalibration& as_solved = solved.sensors.at(s);
   Eigen::Vector4d intrinsics = as_solved.intrinsicsCorrection();
   // A 2D laser's beam as solved (none where it was not), held.
   Eigen::Vector2d beam = as_solved.beam_radius;
   const bool laser_ends = options.board_edges.enabled && sensors.at(s).type == SensorType::kLaser2d;
-  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections},
+  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections, &origins, &placed_at_poses},
                 as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr)) {
     return std::nullopt;
   }

@@ -19,7 +19,7 @@
 #include "vocal/calibration/solver/beam_range_view_residual.h"
 #include "vocal/calibration/solver/camera_view_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
-#include "vocal/calibration/solver/link_from_joints_residual.h"
+#include "vocal/calibration/solver/link_from_joints_cost.h"
 #include "vocal/calibration/solver/outline_view_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/range_view_residual.h"
@@ -549,16 +549,12 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       const auto tie = [&](PoseState& frame, const std::vector<int>& chain) {
         std::vector<double> readings;
         for (const int j : chain) readings.push_back(stations[k].joint_positions[readIndex(*arm, j)]);
-        auto* cost = new ceres::DynamicAutoDiffCostFunction<LinkFromJointsResidual, 4>(new LinkFromJointsResidual{&arm->joints, chain, readings});
         std::vector<double*> blocks = {frame.rotation.coeffs().data(), frame.translation.data()};
-        cost->AddParameterBlock(4);
-        cost->AddParameterBlock(3);
-        for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->offsets[readIndex(*arm, j)]);
-        for (const int j : chain) cost->AddParameterBlock(1), blocks.push_back(&graph->corrections[k][readIndex(*arm, j)]);
+        for (const int j : chain) blocks.push_back(&graph->offsets[readIndex(*arm, j)]);
+        for (const int j : chain) blocks.push_back(&graph->corrections[k][readIndex(*arm, j)]);
         for (const int j : chain)
-          if (arm->joints[j].free_origin) cost->AddParameterBlock(6), blocks.push_back(graph->origins[readIndex(*arm, j)].data());
-        cost->SetNumResiduals(6);
-        problem.AddResidualBlock(cost, nullptr, blocks);
+          if (arm->joints[j].free_origin) blocks.push_back(graph->origins[readIndex(*arm, j)].data());
+        problem.AddResidualBlock(linkFromJointsCost(&arm->joints, chain, readings), nullptr, blocks);
       };
       tie(graph->tools[k], arm->chain);
       for (auto& [chain, links] : graph->links) {
