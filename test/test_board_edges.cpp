@@ -144,7 +144,7 @@ TEST(BoardOutline, AWideBeamSeesTheBoardPastItsEdgesByItsRadius) {
 }
 
 // A scan end's sigma: where its edge lies within the beams' step at its range (uniform: step / sqrt(12)),
-// stretched along a board turned away, at least the floor, and shared by the scans of one still station;
+// stretched along a board turned away, with the floor (kLeastScanEndSigma), and shared by the scans of one still station;
 // and where a noisy scan's line fit puts it.
 TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
   const double step = 0.25 * M_PI / 180.0;
@@ -158,15 +158,15 @@ TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
     EXPECT_NEAR(vocal::beamStep(points), step, 1e-9);
     const std::vector<Eigen::Vector3d> ends = {points.front(), points.back()};
     for (const int scans : {1, 4}) {
-      const vocal::LaserScanEnds one = vocal::scanEndsOf(ends, points, 1, scans, 0.0);
+      const vocal::LaserScanEnds one = vocal::scanEndsOf(ends, points, 1, scans);
       ASSERT_EQ(one.sigmas.size(), 2u);
       for (int e = 0; e < 2; ++e) {
         const Eigen::Vector3d& end = ends[e];
         const Eigen::Vector3d along = (ends[1] - ends[0]).normalized();
         const double stretch = 1.0 / std::abs(Eigen::Vector3d(-along.y(), along.x(), 0.0).dot(end.normalized()));
-        EXPECT_NEAR(one.sigmas[e], std::sqrt(scans) * step * end.norm() * stretch / std::sqrt(12.0), 1e-9) << turned << " " << e;
+        EXPECT_NEAR(one.sigmas[e], std::sqrt(scans) * std::hypot(step * end.norm() * stretch / std::sqrt(12.0), vocal::kLeastScanEndSigma), 1e-9)
+            << turned << " " << e;
       }
-      EXPECT_NEAR(vocal::scanEndsOf(ends, points, 1, scans, 0.01).sigmas[0], std::sqrt(scans) * std::hypot(one.sigmas[0] / std::sqrt(scans), 0.01), 1e-9);
     }
     // With 1 cm of range noise, one scan's line fit moves an end along the line too, as far as its beam
     // slants to the line's normal: more for the turned board, each scan's own (not times sqrt(scans)).
@@ -174,7 +174,7 @@ TEST(BoardOutline, AScanEndsSigmaIsItsStepAtItsRangeSharedByTheStationsScans) {
     std::normal_distribution<double> noise(0.0, 0.01);
     std::vector<Eigen::Vector3d> noisy;
     for (const Eigen::Vector3d& p : points) noisy.push_back((p.norm() + noise(rng)) * p.normalized());
-    const double exact = vocal::scanEndsOf(ends, points, 1, 1, 0.0).sigmas[1], fitted = vocal::scanEndsOf(ends, noisy, 1, 1, 0.0).sigmas[1];
+    const double exact = vocal::scanEndsOf(ends, points, 1, 1).sigmas[1], fitted = vocal::scanEndsOf(ends, noisy, 1, 1).sigmas[1];
     if (turned == 0.0) {
       EXPECT_NEAR(fitted, exact, 0.1 * exact);
     } else {

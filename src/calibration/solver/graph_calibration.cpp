@@ -167,11 +167,11 @@ void addBeamRadiusPrior(ceres::Problem* problem, double* beam) {
 void addScanEndResiduals(ceres::Problem* problem, const TargetObservation& o, const BoardEdgeOptions& edges, SensorState* sensor,
                          SensorState* board, double* beam) {
   const int scans = scansOfPooledEnds(o.outline);
-  const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scans, scans, edges.laser_end_sigma);
+  const LaserScanEnds ends = scanEndsOf(o.outline, o.points, scans, scans);
   if (ends.points.empty()) return;
   addSensorResidual<OutlinePointsWithBeam, ceres::DYNAMIC, 4, 3, 2>(
       problem,
-      OutlinePointsWithBeam{{ends.points, edges.laser_end_sigma, 0.5 * edges.width, 0.5 * edges.height, edges.loss_sigmas, ends.sigmas}},
+      OutlinePointsWithBeam{scanEndsOnOutline(ends, edges.width, edges.height, edges.loss_sigmas)},
       nullptr, sensor, {board->rotation.coeffs().data(), board->translation.data(), beam}, static_cast<int>(ends.points.size()));
 }
 

@@ -514,10 +514,9 @@ std::unique_ptr<ArmGraph> solveGraph(const ArmRig& rig, const std::vector<HandEy
       problem.AddResidualBlock(cost, nullptr, blocks);
       if (!laser || !(options.board_width > 0.0 && options.board_height > 0.0)) continue;
       if (view.outline.empty()) continue;
-      const LaserScanEnds scan_ends = scanEndsOf(view.outline, view.points, 1, scans[view.sensor], options.edge_sigma);
+      const LaserScanEnds scan_ends = scanEndsOf(view.outline, view.points, 1, scans[view.sensor]);
       if (scan_ends.points.empty()) continue;
-      OutlinePointsResidual ends{scan_ends.points, options.edge_sigma, 0.5 * options.board_width, 0.5 * options.board_height, options.edge_loss_sigmas,
-                                 scan_ends.sigmas};
+      const OutlinePointsResidual ends = scanEndsOnOutline(scan_ends, options.board_width, options.board_height, options.edge_loss_sigmas);
       std::vector<double*> with_beam = blocks;
       with_beam.push_back(graph->beam_radius[view.sensor].data());
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OutlineViewResidual, ceres::DYNAMIC, 4, 3, 4, 3, 4, 3, 4, 3, 2>(

@@ -32,8 +32,8 @@ int scansOfPooledEnds(const std::vector<Eigen::Vector3d>& ends) {
   return distinct == 0 ? 1 : std::max(1, static_cast<int>(std::lround(static_cast<double>(ends.size()) / distinct)));
 }
 
-LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int pooled, int scans,
-                         double floor) {
+LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::vector<Eigen::Vector3d>& line_points, int pooled, int scans) {
+  constexpr double floor = kLeastScanEndSigma;
   LaserScanEnds out;
   if (line_points.size() < 3) return out;
   pooled = std::max(pooled, 1), scans = std::max(scans, 1);
@@ -64,6 +64,10 @@ LaserScanEnds scanEndsOf(const std::vector<Eigen::Vector3d>& ends, const std::ve
     out.sigmas.push_back(std::sqrt(scans * (quantum * quantum + floor * floor) + fit * fit));
   }
   return out;
+}
+
+OutlinePointsResidual scanEndsOnOutline(const LaserScanEnds& ends, double width, double height, double loss_sigmas) {
+  return {ends.points, kLeastScanEndSigma, 0.5 * width, 0.5 * height, loss_sigmas, ends.sigmas};
 }
 
 }  // namespace vocal

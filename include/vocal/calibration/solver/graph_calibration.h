@@ -43,8 +43,7 @@ struct BoardEdgeOptions {
   double width = 0.0, height = 0.0;
   double range_sigma = 0.01;   // metres: a range sensor's edge point (its step along the line, the beam's width)
   // A 2D laser's scan ends: on the outline reached by its beam's footprint (its radius an unknown, as in the
-  // arm's graph: beam_radius_prior.h), each within its beams' step and at least this (scan_ends.h).
-  double laser_end_sigma = 0.001;
+  // arm's graph: beam_radius_prior.h), each within its beams' step and at least a millimetre (scan_ends.h).
   double camera_sigma = 0.002; // metres: a camera view's board outline (PnP, the print's place on the board)
   double loss_sigmas = 2.0;    // Cauchy scale: a hand over an edge ends a line early
 };

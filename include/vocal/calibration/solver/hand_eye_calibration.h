@@ -96,10 +96,9 @@ struct HandEyeOptions {
   // The board's plate (pattern centred on it, x along the width), metres; zero: not known. A 2D laser's
   // line on the board's plane leaves it free to slide along the line: its scan ends, held on the plate's
   // outline where the laser's beam reaches it (its radius an unknown per laser, BeamRadiusPrior), within
-  // their beams' step (scan_ends.h) and at least `edge_sigma`, under a Cauchy loss of `edge_loss_sigmas` (a finger over
-  // the edge ends a line early), fix it.
+  // their beams' step and at least a millimetre (scan_ends.h), under a Cauchy loss of `edge_loss_sigmas` (a
+  // finger over the edge ends a line early), fix it.
   double board_width = 0.0, board_height = 0.0;
-  double edge_sigma = 0.001;
   double edge_loss_sigmas = 2.0;
   // The tool's pose from the arm's joints: each still pose's tool is the chain's at its readings plus the
   // joints' zero offsets (unknowns of the graph; the first and last joints' are held, as the board's and
