@@ -619,6 +619,8 @@ TEST(ToolsCli, CalibrateRigNamesASensorThatMovesAndPublishesOnlyTheRest) {
   }
   r = runTool("simulate_calibration_session " + folder + " --eye-in-hand --board-depths 0.45,1.2");
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --board-depths: with --eye-to-hand (the board in the gripper before the camera)\n");
+  r = runTool("simulate_calibration_session " + folder + " --board-depths 0.45,1.2");
+  EXPECT_EQ(r.output, "simulate_calibration_session: error: option --board-depths: with --eye-in-hand or --eye-to-hand (a robot arm's session)\n");
   r = runTool("simulate_calibration_session " + folder + " --head-laser");
   EXPECT_EQ(r.output, "simulate_calibration_session: error: option --head-laser: with --pan-tilt\n");
 }

@@ -338,6 +338,10 @@ int run(const vocal::CommandLine& args) {
   if (args.has("waved-imu")) return simulateWavedImu(args, dir);
   if (args.has("eye-in-hand") || args.has("eye-to-hand")) return simulateHandEye(args, dir);
   if (args.has("arm")) throw vocal::InputError("option --arm: with --eye-in-hand or --eye-to-hand");
+  // An arm's options, refused rather than left unused.
+  for (const char* arm_only : {"arm-noise", "poor-pose", "beside", "given-reference", "board-depths", "forearm", "head", "joint-noise", "joint-offsets"}) {
+    if (args.has(arm_only)) throw vocal::InputError(std::string("option --") + arm_only + ": with --eye-in-hand or --eye-to-hand (a robot arm's session)");
+  }
   const bool pan_tilt = args.has("pan-tilt");
   if (args.has("pose-known") && !pan_tilt) throw vocal::InputError("option --pose-known: with --pan-tilt");
   if (args.has("head-laser") && !pan_tilt) throw vocal::InputError("option --head-laser: with --pan-tilt");

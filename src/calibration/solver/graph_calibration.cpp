@@ -999,7 +999,8 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   // A 2D laser's beam as solved (none where it was not), held.
   Eigen::Vector2d beam = as_solved.beam_radius;
   const bool laser_ends = options.board_edges.enabled && sensors.at(s).type == SensorType::kLaser2d;
-  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, JointOffsets{&solved.mounts, &joint_offsets, &reading_corrections, &origins, &placed_at_poses},
+  const JointOffsets joint_state{&solved.mounts, &joint_offsets, &reading_corrections, &origins, &placed_at_poses};
+  if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, joint_state,
                 as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr)) {
     return std::nullopt;
   }

@@ -41,9 +41,10 @@ struct BoardEdgeOptions {
   bool enabled = false;
   // The board along the camera pattern's x and y axes, metres (CalibrationSession sets them from the rig).
   double width = 0.0, height = 0.0;
-  double range_sigma = 0.01;   // metres: a range sensor's edge point (its step along the line, the beam's width)
-  // A 2D laser's scan ends: on the outline reached by its beam's footprint (its radius an unknown, as in the
-  // arm's graph: beam_radius_prior.h), each within its beams' step and at least a millimetre (scan_ends.h).
+  // Metres: a range sensor's edge point (its step along the line, the beam's width); a 2D laser's scan ends
+  // are held instead on the outline reached by its beam's footprint (its radius an unknown, as in the arm's
+  // graph: beam_radius_prior.h), each within its beams' step and at least a millimetre (scan_ends.h).
+  double range_sigma = 0.01;
   double camera_sigma = 0.002; // metres: a camera view's board outline (PnP, the print's place on the board)
   double loss_sigmas = 2.0;    // Cauchy scale: a hand over an edge ends a line early
 };
