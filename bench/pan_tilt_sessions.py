@@ -34,6 +34,17 @@ def head_pose(joints, offsets, readings, mount):
     return chain_pose(joints, [reading + offset for offset, reading in zip(offsets, readings)]) @ mount
 
 
+def worst_over_grid(grid, joints, offsets, true_offsets, found, true_mount, rigid):
+    """A head sensor's worst error (mm, mrad) over the head positions of `grid`: where the result puts it
+    (fixed where `rigid`) against the truth."""
+    worst = (0.0, 0.0)
+    for readings in grid:
+        pose = found if rigid else head_pose(joints, offsets, readings, found)
+        e = error(pose, head_pose(joints, true_offsets, readings, true_mount))
+        worst = (max(worst[0], e[0]), max(worst[1], e[1]))
+    return worst
+
+
 def simulate(folder, seed, poses, head_laser):
     if not os.path.exists(os.path.join(folder, "session.bag")):
         subprocess.run([os.path.join(TOOLS, "simulate_calibration_session"), folder, "--pan-tilt", "--pose-known", "--poses", str(poses),
@@ -97,21 +108,12 @@ def main():
                     continue
                 offsets.append(j["offset"])
                 cells.append(("%+.2f (%.2f)" % (1000 * (j["offset"] - true_offset), 1000 * j["offset_stddev"])) if j["solved"] else "held")
-            worst = (0.0, 0.0)
-            for readings in grid:
-                truth_pose = head_pose(joints, true_offsets, readings, true_mount)
-                pose = found if rig == "rigid.yaml" else head_pose(joints, offsets, readings, found)
-                e = error(pose, truth_pose)
-                worst = (max(worst[0], e[0]), max(worst[1], e[1]))
+            rigid = rig == "rigid.yaml"
+            worst = worst_over_grid(grid, joints, offsets, true_offsets, found, true_mount, rigid)
             laser = result["sensors"][1]
             laser_found = matrix(laser["translation"], laser["rotation"])
-            laser_error = error(laser_found, laser_truth)
-            if args.head_laser:
-                laser_error = (0.0, 0.0)
-                for readings in grid:
-                    pose = laser_found if rig == "rigid.yaml" else head_pose(joints, offsets, readings, laser_found)
-                    e = error(pose, head_pose(joints, true_offsets, readings, laser_truth))
-                    laser_error = (max(laser_error[0], e[0]), max(laser_error[1], e[1]))
+            laser_error = (worst_over_grid(grid, joints, offsets, true_offsets, laser_found, laser_truth, rigid) if args.head_laser
+                           else error(laser_found, laser_truth))
             print("| %d | %s | %s | %s | %.2f / %.2f | %.2f / %.2f | %s | %.1f |" % (
                 seed, label, cells[0], cells[1], worst[0], worst[1], laser_error[0], laser_error[1],
                 "yes" if camera.get("published", True) else "no", seconds))

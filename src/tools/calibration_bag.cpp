@@ -155,7 +155,8 @@ void putOnPanTiltHead(const std::vector<SimulatedSensor>& sensors, SimulatedSess
   head_options.tilt_origin_error = tilt_origin_error;
   options->head = simulatePanTilt(simulatedStillPoses(*options, rig->target), sensors[camera].reference_from_sensor, head_options);
   options->head_sensors = {camera};
-  if (head_laser) options->head_sensors.push_back(1);  // panTiltRig's
+  for (std::size_t s = 0; head_laser && s < sensors.size(); ++s)
+    if (sensors[s].spec.type == SensorType::kLaser2d) options->head_sensors.push_back(static_cast<int>(s));
   rig->joints = truth->joints = options->head->joints;
   for (JointDescription& joint : rig->joints) joint.offset = 0.0;  // the unknowns
   rig->joints.back().origin.translation() -= tilt_origin_error;  // the model's

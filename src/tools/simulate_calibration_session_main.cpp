@@ -163,16 +163,22 @@ std::vector<vocal::SimulatedSensorFault> faultsOption(const vocal::CommandLine& 
   return faults;
 }
 
+// "A,B" as two numbers; false where it is not that.
+bool numberPair(const std::string& text, double* a, double* b) {
+  char* end = nullptr;
+  *a = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != ',') return false;
+  const char* second = end + 1;
+  *b = std::strtod(second, &end);
+  return end != second && *end == '\0';
+}
+
 // --laser-beam M,RAD: the 2D laser's beam width at its exit and divergence (SimulatedRoomView).
 void laserBeamOption(const vocal::CommandLine& args, double* aperture, double* divergence) {
   if (!args.has("laser-beam")) return;
   const std::string text = args.text("laser-beam", "");
-  char* end = nullptr;
-  *aperture = std::strtod(text.c_str(), &end);
-  if (*end != ',') throw vocal::InputError("option --laser-beam: '" + text + "' is not M,RAD (e.g. 0.008,0.015)");
-  const char* second = end + 1;
-  *divergence = std::strtod(second, &end);
-  if (end == second || *end != '\0' || !(*aperture >= 0.0 && *aperture < 0.1) || !(*divergence >= 0.0 && *divergence < 0.1)) {
+  if (!numberPair(text, aperture, divergence)) throw vocal::InputError("option --laser-beam: '" + text + "' is not M,RAD (e.g. 0.008,0.015)");
+  if (!(*aperture >= 0.0 && *aperture < 0.1) || !(*divergence >= 0.0 && *divergence < 0.1)) {
     throw vocal::InputError("option --laser-beam: '" + text + "' is not M,RAD with each from 0 to 0.1 (e.g. 0.008,0.015)");
   }
 }
@@ -207,11 +213,7 @@ int simulateHandEye(const vocal::CommandLine& args, const std::string& dir) {
       throw vocal::InputError("option --board-depths: with --eye-to-hand (the board in the gripper before the camera)");
     }
     const std::string text = args.text("board-depths", "");
-    char* end = nullptr;
-    arm_options.near_depth = std::strtod(text.c_str(), &end);
-    const char* second = *end == ',' ? end + 1 : end;
-    arm_options.far_depth = std::strtod(second, &end);
-    if (second == text.c_str() || end == second || *end != '\0' || !(arm_options.near_depth >= 0.3) ||
+    if (!numberPair(text, &arm_options.near_depth, &arm_options.far_depth) || !(arm_options.near_depth >= 0.3) ||
         !(arm_options.far_depth >= arm_options.near_depth) || !(arm_options.far_depth <= 1.5)) {
       throw vocal::InputError("option --board-depths: '" + text + "' is not NEAR,FAR in metres with 0.3 <= NEAR <= FAR <= 1.5 (e.g. 0.45,1.2)");
     }

@@ -306,7 +306,8 @@ std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservati
   alone->GetParameterBlocks(&blocks);
   // Its own: its pose (and, behind joints, where it was at each still pose), and its extras where freed.
   std::set<const double*> own_blocks = {sensor->rotation.coeffs().data(), sensor->translation.data()};
-  if (free_extras) own_blocks.insert({intrinsics, beam});
+  for (const double* extra : {intrinsics, beam})
+    if (free_extras && extra) own_blocks.insert(extra);
   for (const TargetObservation* o : its) {
     const auto placed = joints.placed->find({o->sensor, o->target_pose});
     if (placed != joints.placed->end()) own_blocks.insert({placed->second.rotation.coeffs().data(), placed->second.translation.data()});
