@@ -908,6 +908,119 @@ std::pair<double, double> errorAtUnvisitedConfigurations(const JointArmSession& 
 }
 }  // namespace
 
+namespace {
+// An arm's stations as the still-pose graph takes them: per (sensor, station) one observation pooling its
+// camera views, the pattern's corners placed by each view's PnP pose as its points.
+std::vector<vocal::TargetObservation> stillPoseObservations(const std::vector<vocal::HandEyeStation>& stations) {
+  const std::vector<Eigen::Vector3d> corners = vocal::TargetPattern{7, 10, 0.03}.corners();
+  std::map<std::pair<int, int>, vocal::TargetObservation> pooled;
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    for (const vocal::HandEyeView& view : stations[k].views) {
+      vocal::TargetObservation& o = pooled[{view.sensor, static_cast<int>(k)}];
+      o.sensor = view.sensor;
+      o.target_pose = static_cast<int>(k);
+      o.plane_measurements.push_back(view.pattern);
+      for (const Eigen::Vector3d& c : corners) o.points.push_back(view.pattern.sensor_from_pattern * c);
+    }
+  }
+  std::vector<vocal::TargetObservation> observations;
+  for (auto& entry : pooled) observations.push_back(std::move(entry.second));
+  return observations;
+}
+}  // namespace
+
+// The board in an arm's gripper as a frame of the still-pose graph (issue 44's one graph): each still
+// pose's board tied to the arm's chain at its readings times the board's mount on the tool, as a sensor
+// behind joints is tied to its chain. A post camera whose pose the rig gives (the reference) and a second
+// fixed camera before it: the first joint's offset solved within 0.5 mrad of the truth, the second camera
+// within 2 mm / 2 mrad of the truth in the base frame, and the board at configurations the session never
+// visited within 2 mm / 2 mrad - as the arm's own graph gives them on the same stations.
+TEST(JointedCalibration, TheArmsBoardIsAFrameOfTheStillPoseGraph) {
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeToHand, seed, 0.0002);
+    const Eigen::Isometry3d post = session.arm.arm.camera;  // base <- camera, true
+    const Eigen::Isometry3d side = post * Eigen::Translation3d(0.25, 0.05, 0.0) * Eigen::AngleAxisd(-0.25, Eigen::Vector3d::UnitY());
+    const int seen = addCameraViews(&session, 1, [&](std::size_t) { return side; }, seed + 100);
+    ASSERT_GE(seen, 8);
+
+    const std::vector<vocal::TargetObservation> observations = stillPoseObservations(session.stations);
+    vocal::CalibrationOptions options;
+    options.reference_pose = post;
+    options.board_edges.enabled = true;
+    options.board_edges.width = 0.36, options.board_edges.height = 0.27;
+    options.mounts.joints = session.arm.model_joints;
+    options.mounts.board_chain = session.arm.chain;
+    for (std::size_t k = 0; k < session.stations.size(); ++k) options.mounts.board_readings[static_cast<int>(k)] = session.arm.readings[k];
+    const std::vector<vocal::SensorSpec> sensors = {{"post_camera", vocal::SensorType::kCamera, "post"},
+                                                    {"side_camera", vocal::SensorType::kCamera, "side"}};
+    const vocal::CalibrationResult result = vocal::calibrateRig(sensors, observations, options);
+    ASSERT_TRUE(result.trusted) << result.failure;
+    ASSERT_TRUE(result.board_mount.has_value());
+    EXPECT_LT((result.sensors[0].reference_from_sensor.translation() - post.translation()).norm(), 1e-12);
+    EXPECT_LT(vocal::rotationAngle(post.inverse() * result.sensors[0].reference_from_sensor), 1e-12);
+
+    const std::vector<int>& chain = session.arm.chain;
+    const vocal::JointCalibration& first = result.joints[chain.front()];
+    EXPECT_TRUE(first.held.empty()) << first.held;
+    EXPECT_EQ(first.fixed_by, "the reference's given pose (the rig frame) and joints that moved after it");
+    const double first_truth = session.arm.joints[chain.front()].offset;
+    EXPECT_NEAR(first.offset, first_truth, 0.0005);
+    EXPECT_NE(result.joints[chain.back()].held.find("so the board's mount takes up its offset"), std::string::npos)
+        << result.joints[chain.back()].held;
+    const double side_translation = (result.sensors[1].reference_from_sensor.translation() - side.translation()).norm();
+    const double side_rotation = vocal::rotationAngle(side.inverse() * result.sensors[1].reference_from_sensor);
+    EXPECT_LT(side_translation, 0.002);
+    EXPECT_LT(side_rotation, 0.002);
+
+    // The board at configurations the session never visited, from both graphs' offsets and mounts.
+    vocal::HandEyeResult as_arm;
+    as_arm.board = *result.board_mount;
+    for (const int j : chain) as_arm.joints.push_back(result.joints[j]);
+    const auto [board_translation, board_rotation] =
+        errorAtUnvisitedConfigurations(session, chain, as_arm, chain, *result.board_mount, session.arm.arm.board);
+    EXPECT_LT(board_translation, 0.002);
+    EXPECT_LT(board_rotation, 0.002);
+
+    const vocal::HandEyeResult arm = vocal::calibrateArmRig(
+        {{vocal::SensorType::kCamera, false, post, "post_camera"}, {vocal::SensorType::kCamera, false, std::nullopt, "side_camera"}}, true,
+        session.stations, session.options);
+    const auto [arm_board_translation, arm_board_rotation] =
+        errorAtUnvisitedConfigurations(session, chain, arm, chain, arm.board, session.arm.arm.board);
+    std::printf("the arm's board in the still-pose graph, seed %u (%d of %zu poses seen by the side camera): first joint %.2f mrad (truth "
+                "%.2f; the arm's graph %.2f), side camera %.2f mm / %.2f mrad (the arm's graph %.2f / %.2f), the board at unvisited "
+                "configurations %.2f / %.2f (the arm's graph %.2f / %.2f)\n",
+                seed, seen, session.stations.size(), 1000 * first.offset, 1000 * first_truth, 1000 * arm.joints.front().offset,
+                1000 * side_translation, 1000 * side_rotation, 1000 * (arm.sensors[1].translation() - side.translation()).norm(),
+                1000 * vocal::rotationAngle(side.inverse() * arm.sensors[1]), 1000 * board_translation, 1000 * board_rotation,
+                1000 * arm_board_translation, 1000 * arm_board_rotation);
+  }
+
+  // Without the board's outline the graph has its plane alone per pose, not a pose to tie: refused.
+  JointArmSession session = jointArmSession(vocal::HandEyeSetup::kEyeToHand, 1, 0.0002);
+  vocal::CalibrationOptions options;
+  options.reference_pose = session.arm.arm.camera;
+  options.mounts.joints = session.arm.model_joints;
+  options.mounts.board_chain = session.arm.chain;
+  try {
+    vocal::calibrateRig({{"post_camera", vocal::SensorType::kCamera, "post"}}, stillPoseObservations(session.stations), options);
+    ADD_FAILURE() << "a board behind joints was calibrated by its planes alone";
+  } catch (const vocal::InputError& e) {
+    EXPECT_STREQ(e.what(), "calibration: the board is behind joints, which needs its full pose at each still pose: give the board's size "
+                           "and keep its edges (board_edges)");
+  }
+  // A still pose without the arm's readings: named.
+  options.board_edges.enabled = true;
+  options.board_edges.width = 0.36, options.board_edges.height = 0.27;
+  for (std::size_t k = 1; k < session.stations.size(); ++k) options.mounts.board_readings[static_cast<int>(k)] = session.arm.readings[k];
+  try {
+    vocal::calibrateRig({{"post_camera", vocal::SensorType::kCamera, "post"}}, stillPoseObservations(session.stations), options);
+    ADD_FAILURE() << "a still pose without the arm's readings was calibrated";
+  } catch (const vocal::InputError& e) {
+    EXPECT_STREQ(e.what(), "calibration: the board is behind 6 joints, but still pose 0 has 0 readings of them, or one not finite");
+  }
+}
+
 // A second camera on the arm's forearm (behind its first three joints) beside the main camera - on the
 // tool over the fixed board, or fixed before the board in the gripper - the tool and the forearm from the
 // joints: the forearm camera's mount in its link within 2 mm / 2 mrad of the truth and the main camera's as

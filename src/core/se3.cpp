@@ -64,6 +64,23 @@ Eigen::Isometry3d poseFromTranslationQuaternion(const Eigen::Vector3d& t, const 
   return pose;
 }
 
+Eigen::Isometry3d chordalMean(const std::vector<Eigen::Isometry3d>& poses) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  for (const Eigen::Isometry3d& p : poses) {
+    sum += p.linear();
+    translation += p.translation();
+  }
+  Eigen::Isometry3d mean = Eigen::Isometry3d::Identity();
+  if (poses.empty()) return mean;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
+  if (rotation.determinant() < 0) rotation = svd.matrixU() * Eigen::Vector3d(1, 1, -1).asDiagonal() * svd.matrixV().transpose();
+  mean.linear() = rotation;
+  mean.translation() = translation / static_cast<double>(poses.size());
+  return mean;
+}
+
 double rotationAngle(const Eigen::Isometry3d& pose) {
   const double c = 0.5 * (pose.linear().trace() - 1.0);
   // acos loses precision near 0; atan2 of |sin| and cos does not.

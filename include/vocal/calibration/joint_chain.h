@@ -5,6 +5,7 @@
 // free of ROS (the rig YAML's `joints:` list and a URDF, urdf_joints.h, both give these); the forward
 // kinematics is templated so that Ceres differentiates the calibration graph through it.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -197,8 +198,16 @@ struct JointedMounts {
   // all solvable. Unset: the mount is an unknown.
   std::vector<std::optional<Eigen::Isometry3d>> known_mounts;
   JointTolerances tolerances;
+  // The board on a link the joints move (an arm's tool holding it before fixed sensors): at each still pose
+  // it sits at board_chain's pose for that pose's readings (board_readings, per target pose) times its mount
+  // in the chain's last link, an unknown unless known_board_mount gives it. Empty: the board is free at each
+  // still pose (held by hand, on a stand). Needs the board's full pose (board edges).
+  std::vector<int> board_chain;
+  std::map<int, std::vector<double>> board_readings;
+  std::optional<Eigen::Isometry3d> known_board_mount;
 
   bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
+  bool boardMoves() const { return !board_chain.empty(); }
   const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
 };
 

@@ -1,6 +1,8 @@
 #pragma once
 // SE(3) helpers on Eigen. Twists are ordered [translation; rotation] (v, w).
 
+#include <vector>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -29,6 +31,10 @@ Eigen::Isometry3d poseFromTranslationQuaternion(const Eigen::Vector3d& t, const 
 
 // Rotation angle of a pose's rotation in radians, in [0, pi].
 double rotationAngle(const Eigen::Isometry3d& pose);
+
+// The chordal mean of poses: the rotation nearest the sum of their rotation matrices (SVD), the mean
+// translation; the identity for none.
+Eigen::Isometry3d chordalMean(const std::vector<Eigen::Isometry3d>& poses);
 
 // Interpolates between poses: linear in translation, slerp in rotation; alpha in [0, 1].
 Eigen::Isometry3d interpolatePose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double alpha);

@@ -201,6 +201,21 @@ double* readingCorrection(ceres::Problem* problem, const JointOffsets& joints, i
   return &entry->second;
 }
 
+// A frame's block at still pose k (`frame`: where a sensor behind joints was, or the board an arm holds)
+// tied to `chain` at that pose's `readings` times `mount` in the chain's last link, as the arm's graph ties
+// its links to theirs.
+void tieToChain(ceres::Problem* problem, const JointOffsets& joints, const std::vector<int>& chain, const std::vector<double>& readings, int k,
+                SensorState* frame, SensorState* mount) {
+  const std::vector<JointDescription>& described = joints.mounts->joints;
+  std::vector<double*> blocks = {frame->rotation.coeffs().data(), frame->translation.data(), mount->rotation.coeffs().data(),
+                                 mount->translation.data()};
+  for (const int j : chain) blocks.push_back(&(*joints.offsets)[j]);
+  for (const int j : chain) blocks.push_back(readingCorrection(problem, joints, k, j));
+  for (const int j : chain)
+    if (described[j].free_origin) blocks.push_back((*joints.origins)[j].data());
+  problem->AddResidualBlock(linkFromJointsCost(&described, chain, readings, true), nullptr, blocks);
+}
+
 // Where a sensor behind joints was (rig frame) when it made `o`: a block of its own (started where the
 // joints' readings put its mount `sensor`), tied to its chain at o's readings times its mount, as the arm's
 // graph ties its links to theirs; the views' residuals see it as a rigid sensor's pose. Null for a rigid sensor.
@@ -216,13 +231,7 @@ SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const
     placed = {Eigen::Quaterniond(start.rotation()), start.translation()};
   }
   if (problem->HasParameterBlock(placed.translation.data())) return &placed;
-  std::vector<double*> blocks = {placed.rotation.coeffs().data(), placed.translation.data(), sensor->rotation.coeffs().data(),
-                                 sensor->translation.data()};
-  for (const int j : chain) blocks.push_back(&(*joints.offsets)[j]);
-  for (const int j : chain) blocks.push_back(readingCorrection(problem, joints, o.target_pose, j));
-  for (const int j : chain)
-    if (described[j].free_origin) blocks.push_back((*joints.origins)[j].data());
-  problem->AddResidualBlock(linkFromJointsCost(&described, chain, o.joint_positions, true), nullptr, blocks);
+  tieToChain(problem, joints, chain, o.joint_positions, o.target_pose, &placed, sensor);
   problem->SetManifold(placed.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   return &placed;
 }
@@ -326,25 +335,32 @@ std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservati
 
 // Each listed sensor's standard deviations from `problem`'s covariance; left at zero when it cannot be
 // computed (a rank-deficient problem).
+// ... and the board's mount on the joints that move it where `board_mount` is given (and solved).
 void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& listed, std::vector<SensorState>& sensor_state,
-                           CalibrationResult* result) {
+                           CalibrationResult* result, SensorState* board_mount = nullptr) {
+  std::vector<SensorState*> states;
+  for (const int s : listed) states.push_back(&sensor_state[s]);
+  const bool with_board = board_mount && problem->HasParameterBlock(board_mount->translation.data()) &&
+                          !problem->IsParameterBlockConstant(board_mount->translation.data());
+  if (with_board) states.push_back(board_mount);
   ceres::Covariance::Options covariance_options;
   ceres::Covariance covariance(covariance_options);
   std::vector<std::pair<const double*, const double*>> blocks;
-  for (const int s : listed) {
-    blocks.emplace_back(sensor_state[s].rotation.coeffs().data(), sensor_state[s].rotation.coeffs().data());
-    blocks.emplace_back(sensor_state[s].translation.data(), sensor_state[s].translation.data());
+  for (SensorState* state : states) {
+    blocks.emplace_back(state->rotation.coeffs().data(), state->rotation.coeffs().data());
+    blocks.emplace_back(state->translation.data(), state->translation.data());
   }
   if (blocks.empty() || !covariance.Compute(blocks, problem)) return;
-  for (const int s : listed) {
+  for (std::size_t i = 0; i < states.size(); ++i) {
     Eigen::Matrix3d rotation_covariance, translation_covariance;
     // The joint covariance of the listed blocks: one block, its 3x3 tangent-space covariance.
-    covariance.GetCovarianceMatrixInTangentSpace({sensor_state[s].rotation.coeffs().data()}, rotation_covariance.data());
-    covariance.GetCovarianceBlock(sensor_state[s].translation.data(), sensor_state[s].translation.data(), translation_covariance.data());
-    result->sensors[s].standard_deviation.head<3>() = translation_covariance.diagonal().cwiseSqrt();
+    covariance.GetCovarianceMatrixInTangentSpace({states[i]->rotation.coeffs().data()}, rotation_covariance.data());
+    covariance.GetCovarianceBlock(states[i]->translation.data(), states[i]->translation.data(), translation_covariance.data());
+    Vector6d& sigma = i < listed.size() ? result->sensors[listed[i]].standard_deviation : result->board_mount_sigma;
+    sigma.head<3>() = translation_covariance.diagonal().cwiseSqrt();
     // Ceres's quaternion tangent is half the rotation vector (q = [cos|d|, sin|d| d/|d|] q0), so
     // rotation sigmas in radians of angle are twice the tangent's.
-    result->sensors[s].standard_deviation.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
+    sigma.tail<3>() = 2.0 * rotation_covariance.diagonal().cwiseSqrt();
   }
 }
 
@@ -355,13 +371,16 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
                                                    const std::vector<bool>& isolated) {
   const std::size_t joint_count = mounts.joints.size();
   std::vector<double> low(joint_count, std::numeric_limits<double>::infinity()), high(joint_count, -std::numeric_limits<double>::infinity());
-  for (const TargetObservation& o : observations) {
-    if (!mounts.jointed(o.sensor) || isolated[o.sensor]) continue;
-    const std::vector<int>& chain = mounts.chains[o.sensor];
-    for (std::size_t i = 0; i < chain.size() && i < o.joint_positions.size(); ++i) {
-      low[chain[i]] = std::min(low[chain[i]], o.joint_positions[i]);
-      high[chain[i]] = std::max(high[chain[i]], o.joint_positions[i]);
+  const auto cover = [&](const std::vector<int>& chain, const std::vector<double>& positions) {
+    for (std::size_t i = 0; i < chain.size() && i < positions.size(); ++i) {
+      low[chain[i]] = std::min(low[chain[i]], positions[i]);
+      high[chain[i]] = std::max(high[chain[i]], positions[i]);
     }
+  };
+  for (const TargetObservation& o : observations) {
+    if (mounts.jointed(o.sensor) && !isolated[o.sensor]) cover(mounts.chains[o.sensor], o.joint_positions);
+    const auto board = mounts.board_readings.find(o.target_pose);
+    if (mounts.boardMoves() && !isolated[o.sensor] && board != mounts.board_readings.end()) cover(mounts.board_chain, board->second);
   }
   std::vector<JointCalibration> joints(joint_count);
   const auto moved = [&](int j) {
@@ -369,21 +388,25 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     if (joint.type == JointType::kFixed || !(high[j] >= low[j])) return false;
     return high[j] - low[j] >= mounts.tolerances.minMotion(joint);
   };
-  std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false);
-  std::vector<std::string> fixed_after(joint_count);  // what ties a solvable joint down on the sensor's side
-  for (std::size_t s = 0; s < mounts.chains.size(); ++s) {
-    if (!mounts.jointed(static_cast<int>(s)) || isolated[s]) continue;
-    const std::vector<int>& chain = mounts.chains[s];
-    const bool known = mounts.knownMount(static_cast<int>(s)).has_value();  // nothing to take the offsets up
+  std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false), before_board(joint_count, false);
+  std::vector<std::string> fixed_after(joint_count);  // what ties a solvable joint down on the far side
+  // A chain in the graph: a sensor's, or the board's; `known`: what ends it has a known mount.
+  const auto judge = [&](const std::vector<int>& chain, bool known, const std::string& known_mount) {
     bool later_moved = false;
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       in_a_chain[*it] = true;
-      if (fixed_after[*it].empty() && (later_moved || known)) {
-        fixed_after[*it] = later_moved ? "joints that moved after it" : "the known mount of the sensor behind it";
-      }
+      if (fixed_after[*it].empty() && (later_moved || known)) fixed_after[*it] = later_moved ? "joints that moved after it" : known_mount;
       solvable[*it] = solvable[*it] || later_moved || known;
       later_moved = later_moved || moved(*it);
     }
+  };
+  for (std::size_t s = 0; s < mounts.chains.size(); ++s) {
+    if (!mounts.jointed(static_cast<int>(s)) || isolated[s]) continue;
+    judge(mounts.chains[s], mounts.knownMount(static_cast<int>(s)).has_value(), "the known mount of the sensor behind it");
+  }
+  if (mounts.boardMoves()) {
+    judge(mounts.board_chain, mounts.known_board_mount.has_value(), "the board's known mount");
+    for (const int j : mounts.board_chain) before_board[j] = true;
   }
   for (std::size_t j = 0; j < joint_count; ++j) {
     const JointDescription& joint = mounts.joints[j];
@@ -394,6 +417,9 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       joints[j].held = "a fixed joint";
     } else if (!in_a_chain[j]) {
       joints[j].held = "no calibrated sensor is behind it";
+    } else if (!solvable[j] && before_board[j]) {
+      joints[j].held = "no joint after it moved over the session, so the board's mount takes up its offset: move the joints after it "
+                       "between still poses, or give the board's mount";
     } else if (!solvable[j]) {
       joints[j].held = "no joint after it moved over the session, so the mount of the sensor behind it takes up its offset: move the "
                        "joints after it between still poses, or give the sensor's mount";
@@ -426,7 +452,9 @@ void setJointStandardDeviations(ceres::Problem* problem, std::vector<double>& of
     std::string after;
     double motion = 0.0;
     const char* motion_unit = "rad";
-    for (const std::vector<int>& chain : mounts.chains) {
+    std::vector<std::vector<int>> chains = mounts.chains;
+    chains.push_back(mounts.board_chain);
+    for (const std::vector<int>& chain : chains) {
       const auto at = std::find(chain.begin(), chain.end(), static_cast<int>(j));
       for (auto it = at == chain.end() ? chain.end() : at + 1; it != chain.end(); ++it) {
         if (mounts.joints[*it].type == JointType::kFixed || after.find("'" + mounts.joints[*it].name + "'") != std::string::npos) continue;
@@ -437,11 +465,12 @@ void setJointStandardDeviations(ceres::Problem* problem, std::vector<double>& of
         }
       }
     }
+    const bool before_board = std::find(mounts.board_chain.begin(), mounts.board_chain.end(), static_cast<int>(j)) != mounts.board_chain.end();
     char line[400];
     std::snprintf(line, sizeof(line), "weakly fixed (standard deviation %.1f %s): move %s over more than its %.2f %s between still poses, or "
-                  "give the mount of the sensor behind it",
+                  "give %s",
                   1000.0 * joint.standard_deviation, JointTolerances::prismatic(mounts.joints[j]) ? "mm" : "mrad", after.c_str(), motion,
-                  motion_unit);
+                  motion_unit, before_board ? "the board's mount" : "the mount of the sensor behind it");
     joint.weak = line;
   }
 }
@@ -503,6 +532,15 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: sensor '" + sensors[s].name + "''s chain names no joint");
     }
   }
+  if (mounts.boardMoves()) {
+    if (!edges.enabled) {
+      throw InputError("calibration: the board is behind joints, which needs its full pose at each still pose: give the board's size "
+                       "and keep its edges (board_edges)");
+    }
+    for (const int j : mounts.board_chain) {
+      if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: the board's chain names no joint");
+    }
+  }
   std::vector<double> joint_offsets;
   for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
   std::map<std::pair<int, int>, double> reading_corrections;  // a std::map: its values stay where they are (Ceres blocks)
@@ -535,6 +573,16 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
         throw InputError("calibration: sensor '" + sensors[o.sensor].name + "' is behind " + std::to_string(mounts.chains[o.sensor].size()) +
                          " joints, but its view at still pose " + std::to_string(o.target_pose) + " has " +
                          std::to_string(o.joint_positions.size()) + " finite joint positions");
+      }
+    }
+    if (mounts.boardMoves()) {
+      const auto readings = mounts.board_readings.find(o.target_pose);
+      bool finite = readings != mounts.board_readings.end() && readings->second.size() == mounts.board_chain.size();
+      for (std::size_t i = 0; finite && i < readings->second.size(); ++i) finite = std::isfinite(readings->second[i]);
+      if (!finite) {
+        throw InputError("calibration: the board is behind " + std::to_string(mounts.board_chain.size()) + " joints, but still pose " +
+                         std::to_string(o.target_pose) + " has " +
+                         std::to_string(readings == mounts.board_readings.end() ? 0 : readings->second.size()) + " readings of them, or one not finite");
       }
     }
   }
@@ -670,6 +718,23 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                                               edges.width >= edges.height);
     }
   }
+  // The board behind joints: its mount in the chain's last link, the mean of where each pose's board puts
+  // it. A board seen by range sensors alone is placed in its plane only up to a half turn: each pose's turned
+  // to agree with the first (the outline is the same either way).
+  std::optional<Eigen::Isometry3d> board_mount_start;
+  if (mounts.boardMoves() && !rig_boards.empty()) {
+    const auto boardChainAt = [&](int k) { return chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k)); };
+    std::vector<Eigen::Isometry3d> mounted;
+    for (auto& [k, board] : rig_boards) {
+      Eigen::Isometry3d mount = boardChainAt(k).inverse() * board;
+      if (!mounted.empty() && rotationAngle(mounted.front().inverse() * mount) > 0.5 * M_PI) {
+        board = board * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
+        mount = boardChainAt(k).inverse() * board;
+      }
+      mounted.push_back(mount);
+    }
+    board_mount_start = mounts.known_board_mount ? *mounts.known_board_mount : chordalMean(mounted);
+  }
   // 2D lasers: their scan points on those planes (behind joints: carried into its chain's last link at
   // each pose, where its mount is fixed).
   for (int s = 0; s < sensor_count; ++s) {
@@ -732,6 +797,23 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   for (int s = 0; s < sensor_count; ++s) {
     if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
     if (beamOf(s) && problem.HasParameterBlock(beamOf(s))) addBeamRadiusPrior(&problem, beamOf(s));
+  }
+  // The board behind joints: each pose's board tied to its chain times its mount (the frame's tie of a
+  // sensor behind joints).
+  SensorState board_mount{Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()};
+  if (board_mount_start) {
+    board_mount = {Eigen::Quaterniond(board_mount_start->rotation()), board_mount_start->translation()};
+    for (auto& [k, board] : board_state) {
+      if (problem.HasParameterBlock(board.rotation.coeffs().data()))
+        tieToChain(&problem, joint_state, mounts.board_chain, mounts.board_readings.at(k), k, &board, &board_mount);
+    }
+    if (problem.HasParameterBlock(board_mount.rotation.coeffs().data())) {
+      problem.SetManifold(board_mount.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
+      if (mounts.known_board_mount) {
+        problem.SetParameterBlockConstant(board_mount.rotation.coeffs().data());
+        problem.SetParameterBlockConstant(board_mount.translation.data());
+      }
+    }
   }
   // Joint offsets: each solved where a joint after it in some sensor's chain moved over the session, else
   // held (the mount takes it up).
@@ -796,6 +878,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     joint.free_origin = false;
   }
   result.joints = joint_results;
+  if (board_mount_start) result.board_mount = poseFromTranslationQuaternion(board_mount.translation, board_mount.rotation.normalized());
   for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
   for (const auto& entry : board_state) {
     Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
@@ -903,7 +986,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::vector<int> in_graph;
   for (int s = 0; s < sensor_count; ++s)
     if (s != options.reference_sensor && !isolated[s] && !mounts.knownMount(s)) in_graph.push_back(s);
-  setStandardDeviations(&problem, in_graph, sensor_state, &result);
+  setStandardDeviations(&problem, in_graph, sensor_state, &result, board_mount_start ? &board_mount : nullptr);
   for (int s = 0; s < sensor_count; ++s) {
     ceres::Problem* own = isolated[s] ? isolated_problems[s].get() : &problem;
     if (intrinsicsOf(s) && own) result.sensors[s].intrinsics_sigma = intrinsicsSigma(own, intrinsicsOf(s), given_intrinsics[s]);

@@ -98,22 +98,6 @@ struct PoseState {
   }
 };
 
-Eigen::Isometry3d chordalMean(const std::vector<Eigen::Isometry3d>& poses) {
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  for (const Eigen::Isometry3d& p : poses) {
-    sum += p.linear();
-    translation += p.translation();
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
-  if (rotation.determinant() < 0) rotation = svd.matrixU() * Eigen::Vector3d(1, 1, -1).asDiagonal() * svd.matrixV().transpose();
-  Eigen::Isometry3d mean = Eigen::Isometry3d::Identity();
-  mean.linear() = rotation;
-  mean.translation() = translation / static_cast<double>(std::max<std::size_t>(poses.size(), 1));
-  return mean;
-}
-
 // The main camera's first view at a station, or null.
 const PlaneMeasurement* firstView(const HandEyeStation& station, int camera) {
   for (const HandEyeView& v : station.views)

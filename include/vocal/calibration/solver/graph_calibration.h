@@ -160,6 +160,10 @@ struct CalibrationResult {
   // The target as solved, rig frame, per target pose: its plane, and with board edges its full pose.
   std::map<int, Plane> board_planes;
   std::map<int, Eigen::Isometry3d> boards;
+  // The board behind joints (JointedMounts::board_chain): its mount in the chain's last link, and its standard
+  // deviations (translation along and rotation about the link's axes; zero where the mount is known).
+  std::optional<Eigen::Isometry3d> board_mount;
+  Vector6d board_mount_sigma = Vector6d::Zero();
   bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
 
