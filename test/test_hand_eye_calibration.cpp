@@ -12,6 +12,7 @@
 #include "test_support.h"
 #include "vocal/calibration/association/hand_eye_association.h"
 #include "vocal/calibration/rig_description.h"
+#include "vocal/calibration/solver/graph_calibration.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/core/se3.h"
 #include "vocal/simulation/simulated_arm.h"
@@ -163,6 +164,56 @@ TEST(HandEyeCalibration, EyeToHandWithALidarAndAnRgbdCameraBeside) {
             "hand-eye calibration: sensor 1 (a lidar3d) is fixed like the board: it sees the board in one place only, which fixes no range sensor");
   EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateArmRig({{vocal::SensorType::kCamera, true}}, true, stations); }),
             "hand-eye calibration: no camera fixed in the base frame watches the board on the tool");
+}
+
+// The same rig in the still-pose graph (issue 44's one graph): the board on the tool a frame of it, each
+// still pose's board the tool the arm reported (within its repeatability) times the board's mount; the
+// camera on its post given (the reference). The lidar, the RGB-D camera and the board's mount within the
+// bounds the arm's graph meets above, and beside the arm's graph with the camera given alike.
+TEST(HandEyeCalibration, TheBoardOnAToolFromTfIsAFrameOfTheStillPoseGraph) {
+  vocal::SimulatedArmOptions options;
+  options.setup = HandEyeSetup::kEyeToHand;
+  const vocal::SimulatedArm arm = vocal::simulateArm(options);
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 13);
+  std::mt19937 rng(17);
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    stations[k].views.push_back({1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.lidar, 0.36, 0.27, 0.02, 0.01, &rng), {}});
+    stations[k].views.push_back({2, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.rgbd, 0.36, 0.27, 0.01, 0.003, &rng), {}});
+  }
+  vocal::CalibrationOptions graph;
+  graph.reference_pose = arm.camera;
+  graph.board_edges.enabled = true;
+  graph.board_edges.width = 0.36, graph.board_edges.height = 0.27;
+  for (std::size_t k = 0; k < stations.size(); ++k) graph.mounts.board_tool_poses[static_cast<int>(k)] = stations[k].base_from_tool;
+  const std::vector<vocal::SensorSpec> specs = {
+      {"camera", vocal::SensorType::kCamera, "camera"}, {"lidar", vocal::SensorType::kLidar3d, "lidar"}, {"rgbd", vocal::SensorType::kRgbd, "rgbd"}};
+  const vocal::CalibrationResult result = vocal::calibrateRig(specs, vocal::stillPoseObservations(stations, kPattern), graph);
+  ASSERT_TRUE(result.trusted) << result.failure;
+  ASSERT_TRUE(result.board_mount.has_value());
+  const PoseError lidar = errorOf(result.sensors[1].reference_from_sensor, arm.lidar);
+  const PoseError rgbd = errorOf(result.sensors[2].reference_from_sensor, arm.rgbd);
+  const PoseError board = errorOf(*result.board_mount, arm.board);
+  expectWithin(lidar, 0.01, 0.02, "lidar");
+  expectWithin(rgbd, 0.002, 0.002, "rgbd");
+  expectWithin(board, 0.001, 0.001, "board");
+  // The board's mount honest: within 3 of its stated standard deviations.
+  EXPECT_LT(board.metres, 3 * result.board_mount_sigma.head<3>().norm());
+  EXPECT_LT(board.radians, 3 * result.board_mount_sigma.tail<3>().norm());
+
+  const vocal::HandEyeResult arms = vocal::calibrateArmRig(
+      {{vocal::SensorType::kCamera, false, arm.camera}, {vocal::SensorType::kLidar3d, false}, {vocal::SensorType::kRgbd, false}}, true, stations);
+  const PoseError arm_lidar = errorOf(arms.sensors[1], arm.lidar), arm_rgbd = errorOf(arms.sensors[2], arm.rgbd);
+  const PoseError arm_board = errorOf(arms.board, arm.board);
+  std::printf("the board on a tool from tf in the still-pose graph (mm / mrad from the truth; the arm's graph): lidar %.2f / %.2f (%.2f / "
+              "%.2f), rgbd %.2f / %.2f (%.2f / %.2f), board %.2f / %.2f (%.2f / %.2f)\n",
+              1000 * lidar.metres, 1000 * lidar.radians, 1000 * arm_lidar.metres, 1000 * arm_lidar.radians, 1000 * rgbd.metres,
+              1000 * rgbd.radians, 1000 * arm_rgbd.metres, 1000 * arm_rgbd.radians, 1000 * board.metres, 1000 * board.radians,
+              1000 * arm_board.metres, 1000 * arm_board.radians);
+
+  // A still pose the arm reported no tool for: named.
+  graph.mounts.board_tool_poses.erase(3);
+  EXPECT_EQ(vocal_test::inputErrorOf([&] { vocal::calibrateRig(specs, vocal::stillPoseObservations(stations, kPattern), graph); }),
+            "calibration: the board is on the arm's tool, but still pose 3 has no tool pose the arm reported");
 }
 
 // Eye-in-hand with an RGB-D camera on the wrist beside the camera: its board points against the fixed

@@ -22,6 +22,7 @@
 
 #include "test_support.h"
 
+#include "vocal/calibration/association/hand_eye_association.h"
 #include "vocal/calibration/association/joint_positions.h"
 #include "vocal/calibration/extraction/board_outline.h"
 #include "vocal/calibration/extraction/pattern_observation.h"
@@ -909,23 +910,8 @@ std::pair<double, double> errorAtUnvisitedConfigurations(const JointArmSession& 
 }  // namespace
 
 namespace {
-// An arm's stations as the still-pose graph takes them: per (sensor, station) one observation pooling its
-// camera views, the pattern's corners placed by each view's PnP pose as its points.
 std::vector<vocal::TargetObservation> stillPoseObservations(const std::vector<vocal::HandEyeStation>& stations) {
-  const std::vector<Eigen::Vector3d> corners = vocal::TargetPattern{7, 10, 0.03}.corners();
-  std::map<std::pair<int, int>, vocal::TargetObservation> pooled;
-  for (std::size_t k = 0; k < stations.size(); ++k) {
-    for (const vocal::HandEyeView& view : stations[k].views) {
-      vocal::TargetObservation& o = pooled[{view.sensor, static_cast<int>(k)}];
-      o.sensor = view.sensor;
-      o.target_pose = static_cast<int>(k);
-      o.plane_measurements.push_back(view.pattern);
-      for (const Eigen::Vector3d& c : corners) o.points.push_back(view.pattern.sensor_from_pattern * c);
-    }
-  }
-  std::vector<vocal::TargetObservation> observations;
-  for (auto& entry : pooled) observations.push_back(std::move(entry.second));
-  return observations;
+  return vocal::stillPoseObservations(stations, vocal::TargetPattern{7, 10, 0.03});
 }
 }  // namespace
 

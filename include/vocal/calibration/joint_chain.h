@@ -200,14 +200,20 @@ struct JointedMounts {
   JointTolerances tolerances;
   // The board on a link the joints move (an arm's tool holding it before fixed sensors): at each still pose
   // it sits at board_chain's pose for that pose's readings (board_readings, per target pose) times its mount
-  // in the chain's last link, an unknown unless known_board_mount gives it. Empty: the board is free at each
-  // still pose (held by hand, on a stand). Needs the board's full pose (board edges).
+  // in the chain's last link, an unknown unless known_board_mount gives it. Neither this nor tool poses
+  // below: the board is free at each still pose (held by hand, on a stand). Needs the board's full pose
+  // (board edges).
   std::vector<int> board_chain;
   std::map<int, std::vector<double>> board_readings;
+  // ... or on an arm's tool whose pose the arm reports (tf): per target pose, base <- tool as reported, held
+  // within the arm's repeatability (metres, radians; HandEyeOptions' alike) under a Cauchy loss of
+  // `tool_loss_sigmas` (a pose millimetres off moves itself, not the result).
+  std::map<int, Eigen::Isometry3d> board_tool_poses;
+  double tool_translation_sigma = 1e-4, tool_rotation_sigma = 1e-4, tool_loss_sigmas = 5.0;
   std::optional<Eigen::Isometry3d> known_board_mount;
 
   bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
-  bool boardMoves() const { return !board_chain.empty(); }
+  bool boardMoves() const { return !board_chain.empty() || !board_tool_poses.empty(); }
   const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
 };
 

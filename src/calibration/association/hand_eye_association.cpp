@@ -1,6 +1,8 @@
 #include "vocal/calibration/association/hand_eye_association.h"
 
 #include <algorithm>
+#include <map>
+#include <utility>
 
 #include "vocal/core/se3.h"
 
@@ -86,6 +88,27 @@ HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, 
     }
   }
   return association;
+}
+
+std::vector<TargetObservation> stillPoseObservations(const std::vector<HandEyeStation>& stations, const TargetPattern& pattern) {
+  const std::vector<Eigen::Vector3d> corners = pattern.corners();
+  std::map<std::pair<int, int>, TargetObservation> pooled;  // (sensor, station)
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    for (const HandEyeView& view : stations[k].views) {
+      TargetObservation& o = pooled[{view.sensor, static_cast<int>(k)}];
+      o.sensor = view.sensor;
+      o.target_pose = static_cast<int>(k);
+      o.first_stamp = stations[k].first_stamp, o.last_stamp = stations[k].last_stamp;
+      o.points.insert(o.points.end(), view.points.begin(), view.points.end());
+      o.outline.insert(o.outline.end(), view.outline.begin(), view.outline.end());
+      if (!view.points.empty()) continue;
+      o.plane_measurements.push_back(view.pattern);
+      for (const Eigen::Vector3d& c : corners) o.points.push_back(view.pattern.sensor_from_pattern * c);
+    }
+  }
+  std::vector<TargetObservation> observations;
+  for (auto& entry : pooled) observations.push_back(std::move(entry.second));
+  return observations;
 }
 
 }  // namespace vocal

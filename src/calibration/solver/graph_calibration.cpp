@@ -29,6 +29,7 @@
 #include "vocal/calibration/solver/beam_radius_prior.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/scan_ends.h"
+#include "vocal/calibration/solver/tool_pose_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
@@ -380,7 +381,7 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
   for (const TargetObservation& o : observations) {
     if (mounts.jointed(o.sensor) && !isolated[o.sensor]) cover(mounts.chains[o.sensor], o.joint_positions);
     const auto board = mounts.board_readings.find(o.target_pose);
-    if (mounts.boardMoves() && !isolated[o.sensor] && board != mounts.board_readings.end()) cover(mounts.board_chain, board->second);
+    if (!isolated[o.sensor] && board != mounts.board_readings.end()) cover(mounts.board_chain, board->second);
   }
   std::vector<JointCalibration> joints(joint_count);
   const auto moved = [&](int j) {
@@ -404,7 +405,7 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     if (!mounts.jointed(static_cast<int>(s)) || isolated[s]) continue;
     judge(mounts.chains[s], mounts.knownMount(static_cast<int>(s)).has_value(), "the known mount of the sensor behind it");
   }
-  if (mounts.boardMoves()) {
+  if (!mounts.board_chain.empty()) {
     judge(mounts.board_chain, mounts.known_board_mount.has_value(), "the board's known mount");
     for (const int j : mounts.board_chain) before_board[j] = true;
   }
@@ -540,6 +541,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const int j : mounts.board_chain) {
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: the board's chain names no joint");
     }
+    if (!mounts.board_chain.empty() && !mounts.board_tool_poses.empty()) {
+      throw InputError("calibration: the board's frame comes from the arm's joints or from its reported tool poses, not both");
+    }
   }
   std::vector<double> joint_offsets;
   for (const JointDescription& joint : mounts.joints) joint_offsets.push_back(joint.offset);
@@ -575,7 +579,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                          std::to_string(o.joint_positions.size()) + " finite joint positions");
       }
     }
-    if (mounts.boardMoves()) {
+    if (mounts.boardMoves() && mounts.board_chain.empty() && !mounts.board_tool_poses.count(o.target_pose)) {
+      throw InputError("calibration: the board is on the arm's tool, but still pose " + std::to_string(o.target_pose) +
+                       " has no tool pose the arm reported");
+    }
+    if (!mounts.board_chain.empty()) {
       const auto readings = mounts.board_readings.find(o.target_pose);
       bool finite = readings != mounts.board_readings.end() && readings->second.size() == mounts.board_chain.size();
       for (std::size_t i = 0; finite && i < readings->second.size(); ++i) finite = std::isfinite(readings->second[i]);
@@ -718,12 +726,14 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                                               edges.width >= edges.height);
     }
   }
-  // The board behind joints: its mount in the chain's last link, the mean of where each pose's board puts
-  // it. A board seen by range sensors alone is placed in its plane only up to a half turn: each pose's turned
-  // to agree with the first (the outline is the same either way).
+  // The board on a moving frame: its mount there, the mean of where each pose's board puts it. A board seen
+  // by range sensors alone is placed in its plane only up to a half turn: each pose's turned to agree with
+  // the first (the outline is the same either way).
   std::optional<Eigen::Isometry3d> board_mount_start;
   if (mounts.boardMoves() && !rig_boards.empty()) {
-    const auto boardChainAt = [&](int k) { return chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k)); };
+    const auto boardChainAt = [&](int k) {  // the frame: the arm's chain at the pose's readings, or its reported tool
+      return mounts.board_chain.empty() ? mounts.board_tool_poses.at(k) : chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k));
+    };
     std::vector<Eigen::Isometry3d> mounted;
     for (auto& [k, board] : rig_boards) {
       Eigen::Isometry3d mount = boardChainAt(k).inverse() * board;
@@ -798,14 +808,21 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
     if (beamOf(s) && problem.HasParameterBlock(beamOf(s))) addBeamRadiusPrior(&problem, beamOf(s));
   }
-  // The board behind joints: each pose's board tied to its chain times its mount (the frame's tie of a
-  // sensor behind joints).
+  // The board on a moving frame: behind joints each pose's board tied to its chain times its mount (the
+  // tie of a sensor behind joints); on a tool from tf, the board less its mount where the arm reported the tool.
   SensorState board_mount{Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()};
   if (board_mount_start) {
     board_mount = {Eigen::Quaterniond(board_mount_start->rotation()), board_mount_start->translation()};
     for (auto& [k, board] : board_state) {
-      if (problem.HasParameterBlock(board.rotation.coeffs().data()))
+      if (!problem.HasParameterBlock(board.rotation.coeffs().data())) continue;
+      if (!mounts.board_chain.empty()) {
         tieToChain(&problem, joint_state, mounts.board_chain, mounts.board_readings.at(k), k, &board, &board_mount);
+        continue;
+      }
+      const ToolPoseResidual reported(mounts.board_tool_poses.at(k), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
+                               new ceres::CauchyLoss(mounts.tool_loss_sigmas), board.rotation.coeffs().data(), board.translation.data(),
+                               board_mount.rotation.coeffs().data(), board_mount.translation.data());
     }
     if (problem.HasParameterBlock(board_mount.rotation.coeffs().data())) {
       problem.SetManifold(board_mount.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "vocal/calibration/association/still_target_association.h"
+#include "vocal/calibration/extraction/pattern_observation.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 
 namespace vocal {
@@ -41,5 +42,10 @@ struct HandEyeAssociation {
 // sensor's points), any order.
 HandEyeAssociation associateToolStillness(std::vector<FramePoseSample> samples, const std::vector<TimedObservation>& views,
                                           const ToolStillnessOptions& options = {});
+
+// An arm's stations as the still-pose graph (graph_calibration.h) takes them: per (sensor, station) one
+// observation, its target pose the station's index, pooling that sensor's views there - a camera's plane
+// measurements with `pattern`'s corners placed by each as its points, a range sensor's points and outline.
+std::vector<TargetObservation> stillPoseObservations(const std::vector<HandEyeStation>& stations, const TargetPattern& pattern);
 
 }  // namespace vocal

@@ -1,6 +1,7 @@
 #pragma once
 // The arm's reported tool pose (tf) in the arm's graph (hand_eye_calibration.h): the tool's block held
-// near it within the arm's repeatability.
+// near it within the arm's repeatability; in the still-pose graph (graph_calibration.h), the board it holds
+// less the board's mount.
 
 #include <Eigen/Geometry>
 
@@ -27,6 +28,21 @@ struct ToolPoseResidual {
   Eigen::Matrix3d rotation;
   Eigen::Vector3d translation;
   double rotation_sigma, translation_sigma;
+};
+
+// The same where the graph holds what the tool carries instead of the tool (the still-pose graph's board
+// on an arm's tool from tf): the tool is that frame's block (blocks 0, 1) less its mount on the tool (2, 3).
+struct MountedToolPoseResidual {
+  ToolPoseResidual reported;
+
+  template <typename T>
+  bool operator()(const T* frame_q, const T* frame_t, const T* mount_q, const T* mount_t, T* residual) const {
+    const Eigen::Quaternion<T> frame(Eigen::Map<const Eigen::Quaternion<T>>{frame_q});
+    const Eigen::Quaternion<T> mount(Eigen::Map<const Eigen::Quaternion<T>>{mount_q});
+    const Eigen::Quaternion<T> tool_q = frame * mount.conjugate();
+    const Eigen::Matrix<T, 3, 1> tool_t = Eigen::Map<const Eigen::Matrix<T, 3, 1>>(frame_t) - tool_q * Eigen::Map<const Eigen::Matrix<T, 3, 1>>(mount_t);
+    return reported(tool_q.coeffs().data(), tool_t.data(), residual);
+  }
 };
 
 }  // namespace vocal
