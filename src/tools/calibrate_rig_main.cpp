@@ -22,6 +22,7 @@
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
+#include "vocal/calibration/solver/sensor_trust.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/folders.h"
 #include "vocal/core/se3.h"
@@ -61,6 +62,9 @@ const char kUsage[] =
     "                      driver's calibration)\n"
     "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
     "                      graph and the others solved without it, so that it moves none of them)\n"
+    "  --one-graph         an arm holding the board before fixed sensors, one of them given: solved by the still-\n"
+    "                      pose graph with the board a frame on the tool (trust and the jackknife as for any rig;\n"
+    "                      in progress, the arm's own graph is the default)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
@@ -379,6 +383,106 @@ bool finishImus(const vocal::CommandLine& args, const vocal::RigDescription& rig
   return withheld;
 }
 
+// --one-graph (issue 44, in progress): an arm holding the board before fixed sensors, one of them given (the
+// reference), solved by the still-pose graph with the board a frame on the tool (from the joints or tf):
+// trust, the jackknife and the still-pose outputs as for any rig.
+int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm,
+                     const vocal::HandEyeFrames& frames, const vocal::HandEyeAssociation& association, const vocal::HandEyeOptions& arm_options,
+                     const std::string& bag, const vocal::SpreadTolerance& tolerance) {
+  int reference = -1;
+  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+    if (frames.on_tool[s] || !frames.link_chains[s].empty()) {
+      throw vocal::InputError("option --one-graph: sensor '" + frames.sensors[s].name + "' moves with the arm; for now the one graph takes an "
+                              "arm holding the board before fixed sensors only");
+    }
+    if (reference < 0 && frames.given_poses[s]) reference = static_cast<int>(s);
+  }
+  if (arm.eye_in_hand || reference < 0 || !(rig.target.width > 0.0 && rig.target.height > 0.0)) {
+    throw vocal::InputError("option --one-graph: for now the one graph takes an arm holding the board (its size given) before fixed sensors, "
+                            "one of them with its pose given (the reference)");
+  }
+  const std::vector<vocal::SensorSpec> specs = frames.sensors;
+  vocal::CalibrationOptions options;
+  options.reference_sensor = reference;
+  options.reference_pose = *frames.given_poses[reference];
+  options.board_edges.enabled = true;
+  options.board_edges.width = rig.target.width, options.board_edges.height = rig.target.height;
+  options.intrinsics = arm_options.intrinsics;
+  options.trust.isolate = !args.has("no-isolation");
+  vocal::JointedMounts& mounts = options.mounts;
+  mounts.tool_translation_sigma = arm_options.tool_translation_sigma, mounts.tool_rotation_sigma = arm_options.tool_rotation_sigma;
+  mounts.tool_loss_sigmas = arm_options.loss_sigmas;
+  if (arm_options.arm_joints) {
+    mounts.joints = arm_options.arm_joints->joints;
+    mounts.tolerances = arm_options.arm_joints->tolerances;
+    mounts.board_chain = arm_options.arm_joints->chain;
+  }
+  for (std::size_t k = 0; k < association.stations.size(); ++k) {
+    const vocal::HandEyeStation& station = association.stations[k];
+    if (arm_options.arm_joints) {  // readJoints() begins with the tool's chain
+      mounts.board_readings[static_cast<int>(k)].assign(station.joint_positions.begin(), station.joint_positions.begin() + mounts.board_chain.size());
+    } else {
+      mounts.board_tool_poses[static_cast<int>(k)] = station.base_from_tool;
+    }
+  }
+  const std::vector<vocal::TargetObservation> observations = vocal::stillPoseObservations(association.stations, rig.target.pattern);
+  const vocal::CalibrationResult result = vocal::calibrateRigWithTrust(specs, observations, options);
+  std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
+              arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
+  if (arm_options.arm_joints) {
+    std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
+    for (std::size_t j = 0; j < result.joints.size(); ++j) {
+      if (!result.joints[j].reported) continue;
+      std::printf("  %-20s %s\n", result.mounts.joints[j].name.c_str(), vocal::jointOffsetText(result.mounts.joints[j], result.joints[j], 8).c_str());
+    }
+  }
+  std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw", "sigma t (mm) / r (mrad)");
+  const auto printPoseRow = [](const std::string& name, const Eigen::Isometry3d& pose, const vocal::Vector6d& sigma, const char* note) {
+    const Eigen::Vector3d t = pose.translation();
+    const Eigen::Quaterniond q(pose.rotation());
+    std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f%s\n", name.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(),
+                q.z(), q.w(), 1000 * sigma.head<3>().norm(), 1000 * sigma.tail<3>().norm(), note);
+  };
+  for (std::size_t s = 0; s < specs.size(); ++s)
+    printPoseRow(specs[s].name, result.sensors[s].reference_from_sensor, result.sensors[s].standard_deviation,
+                 static_cast<int>(s) == reference ? " (held at the pose the rig gives)" : result.sensors[s].isolated ? " (isolated)" : "");
+  if (result.board_mount) printPoseRow("board", *result.board_mount, result.board_mount_sigma, (" (in " + arm.tool_frame + ")").c_str());
+  std::optional<vocal::PoseJackknife> spread;
+  try {
+    spread = vocal::jackknifeOverPoses(specs, observations, vocal::withIsolatedSensors(options, result), result);
+    vocal::RigDescription described = rig;
+    described.reference_sensor = reference;
+    printJackknife(described, *spread, result);
+    for (const std::string& line : vocal::spreadOverTolerance(*spread, specs, tolerance)) std::printf("uncertain: %s\n", line.c_str());
+  } catch (const vocal::InputError& e) {
+    std::printf("spread across still poses: not computed (%s)\n", e.what());
+  }
+  if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
+  for (std::size_t s = 0; s < specs.size(); ++s)
+    if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", specs[s].name.c_str(), result.sensors[s].distrust.c_str());
+  const std::vector<std::string> withheld =
+      vocal::withheldSensors(specs, reference, result, spread ? &*spread : nullptr, tolerance, args.has("publish-uncertain"));
+  bool any_withheld = false;
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (withheld[s].empty()) continue;
+    std::printf("withheld: sensor '%s': %s\n", specs[s].name.c_str(), withheld[s].c_str());
+    any_withheld = true;
+  }
+  if (args.has("output-dir")) {
+    const std::string dir = args.text("output-dir", "");
+    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, nullptr, &withheld);
+    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
+    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
+    std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+    std::map<std::string, double> offsets;
+    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
+      if (result.joints[j].held.empty() && result.joints[j].reported) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
+    writeRobotUrdf(rig, offsets, dir, {});
+  }
+  (void)bag;
+  return any_withheld ? 1 : 0;
+}
+
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
                const std::string& bag, const vocal::SpreadTolerance& tolerance) {
   vocal::HandEyeOptions options = session.handEyeOptions();
@@ -402,6 +506,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
   const vocal::HandEyeFrames frames = vocal::handEyeFrames(rig, arm);
+  if (args.has("one-graph")) return runArmInOneGraph(args, rig, arm, frames, association, options, bag, tolerance);
   const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations, options);
   if (options.arm_joints) {
     std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
@@ -723,5 +828,5 @@ int run(const vocal::CommandLine& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads", "imu-bag"}, {"no-filter", "quiet", "report", "edges", "no-edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation"}, 2);
+  return vocal::runTool("calibrate_rig", kUsage, run, argc, argv, {"output-dir", "tolerance-mm", "tolerance-mrad", "max-held-mb", "threads", "imu-bag"}, {"no-filter", "quiet", "report", "edges", "no-edges", "refine-intrinsics", "overlays", "no-ring-offsets", "publish-uncertain", "no-isolation", "one-graph"}, 2);
 }
