@@ -1333,6 +1333,23 @@ TEST(JointedCalibration, ArmSessionThroughTheOneGraph) {
   EXPECT_NE(r.output.find("fixed by the reference's given pose (the rig frame) and joints that moved after it", first), std::string::npos);
   const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
   ASSERT_EQ(result["sensors"].size(), 4u);
+  EXPECT_EQ(result["joints"][0]["name"].as<std::string>(), "shoulder_pan_joint");
+  EXPECT_NEAR(result["joints"][0]["offset"].as<double>(), truth["joints"][0]["offset"].as<double>(), 0.0005);
+  EXPECT_EQ(result["board"]["parent"].as<std::string>(), "arm_tool");
+  // The board's mount on the tool, turned by the last joint's true offset (held: no joint after it moves
+  // the board, so the mount takes it up).
+  EXPECT_FALSE(result["joints"][5]["solved"].as<bool>());
+  const vocal::RigDescription described = vocal::readRigDescription(folder + "/rig.yaml");
+  const auto last = std::find_if(described.joints.begin(), described.joints.end(),
+                                 [&](const vocal::JointDescription& j) { return j.name == result["joints"][5]["name"].as<std::string>(); });
+  ASSERT_NE(last, described.joints.end());
+  const Eigen::Isometry3d expected =
+      Eigen::Isometry3d(Eigen::AngleAxisd(truth["joints"][5]["offset"].as<double>(), last->axis)) * yamlPose(truth["board"]["pose"]);
+  const Eigen::Isometry3d board_error = expected.inverse() * yamlPose(result["board"]);
+  std::printf("one graph: the board on arm_tool %.2f mm / %.2f mrad from the truth (the last joint's offset in it)\n",
+              1000 * board_error.translation().norm(), 1000 * vocal::rotationAngle(board_error));
+  EXPECT_LT(board_error.translation().norm(), 0.002);
+  EXPECT_LT(vocal::rotationAngle(board_error), 0.002);
   for (std::size_t s = 1; s < result["sensors"].size(); ++s) {
     const YAML::Node sensor = result["sensors"][s];
     const std::string name = sensor["name"].as<std::string>();

@@ -155,8 +155,21 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     file << "    rms_m: " << c.rms << "\n"
          << "    observations: " << c.observations << "\n";
   }
-  if (!result.mounts.chains.empty()) {
-    // Each joint a sensor is behind: its zero offset (added to the encoder's reading), and robot_calibration's block of them.
+  if (result.board_mount) {
+    // The board on a frame that moves (an arm's tool): its mount there, the solver's sigma.
+    const Eigen::Vector3d t = result.board_mount->translation();
+    const Eigen::Quaterniond q(result.board_mount->rotation());
+    const Vector6d& sd = result.board_mount_sigma;
+    const std::vector<int>& chain = result.mounts.board_chain;
+    file << "board:  # the board's mount on the frame that holds it (with the tool from tf: that tool frame)\n";
+    if (!chain.empty()) file << "  parent: " << result.mounts.joints.at(chain.back()).child << "\n";
+    file << "  translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
+         << "  rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
+         << "  translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]  # m, the solver's\n"
+         << "  rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n";
+  }
+  if (!result.mounts.chains.empty() || !result.mounts.board_chain.empty()) {
+    // Each joint a sensor or the board is behind: its zero offset (added to the encoder's reading), and robot_calibration's block of them.
     file << "joints:  # offsets added to each joint's reading (radians; metres for a prismatic joint)\n";
     for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
       const JointCalibration& joint = result.joints[j];
