@@ -50,6 +50,24 @@ void expectWithin(const PoseError& e, double metres, double radians, const std::
   EXPECT_LT(e.metres, metres) << what << ": " << 1000 * e.metres << " mm";
   EXPECT_LT(e.radians, radians) << what << ": " << 1000 * e.radians << " mrad";
 }
+
+// An eye-to-hand arm (the camera on its post), and its stations with a lidar (sensor 1) and an RGB-D
+// camera (sensor 2) fixed beside the camera: lidar-like, 1 cm noise, 2 cm apart (a VLP-16's 2-degree rings
+// at a metre are 3.5 cm apart, its returns along them 3.5 mm); RGB-D-like, 3 mm noise, 1 cm apart.
+vocal::SimulatedArm eyeToHandArm() {
+  vocal::SimulatedArmOptions options;
+  options.setup = HandEyeSetup::kEyeToHand;
+  return vocal::simulateArm(options);
+}
+std::vector<vocal::HandEyeStation> stationsWithALidarAndAnRgbdCamera(const vocal::SimulatedArm& arm) {
+  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 13);
+  std::mt19937 rng(17);
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    stations[k].views.push_back({1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.lidar, 0.36, 0.27, 0.02, 0.01, &rng), {}});
+    stations[k].views.push_back({2, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.rgbd, 0.36, 0.27, 0.01, 0.003, &rng), {}});
+  }
+  return stations;
+}
 }  // namespace
 
 // A camera on the wrist (eye-in-hand) and a camera on a post watching the gripper's board (eye-to-hand):
@@ -133,17 +151,8 @@ TEST(HandEyeCalibration, APoorArmPoseIsNamedAndDoesNotPullTheResult) {
 // range sensors as their noise allows and within 3 of their stated standard deviations; a range sensor
 // on the board's side, or no camera across from the board, is refused.
 TEST(HandEyeCalibration, EyeToHandWithALidarAndAnRgbdCameraBeside) {
-  vocal::SimulatedArmOptions options;
-  options.setup = HandEyeSetup::kEyeToHand;
-  const vocal::SimulatedArm arm = vocal::simulateArm(options);
-  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 13);
-  std::mt19937 rng(17);
-  for (std::size_t k = 0; k < stations.size(); ++k) {
-    // Lidar-like: 1 cm noise, 2 cm apart (a VLP-16's 2-degree rings at a metre are 3.5 cm apart, its
-    // returns along them 3.5 mm); RGB-D-like: 3 mm noise, 1 cm apart.
-    stations[k].views.push_back({1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.lidar, 0.36, 0.27, 0.02, 0.01, &rng), {}});
-    stations[k].views.push_back({2, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.rgbd, 0.36, 0.27, 0.01, 0.003, &rng), {}});
-  }
+  const vocal::SimulatedArm arm = eyeToHandArm();
+  const std::vector<vocal::HandEyeStation> stations = stationsWithALidarAndAnRgbdCamera(arm);
   const std::vector<vocal::HandEyeSensor> sensors = {
       {vocal::SensorType::kCamera, false}, {vocal::SensorType::kLidar3d, false}, {vocal::SensorType::kRgbd, false}};
   const vocal::HandEyeResult result = vocal::calibrateArmRig(sensors, true, stations);
@@ -173,15 +182,8 @@ TEST(HandEyeCalibration, EyeToHandWithALidarAndAnRgbdCameraBeside) {
 // camera on its post given (the reference). The lidar, the RGB-D camera and the board's mount within the
 // bounds the arm's graph meets above, and beside the arm's graph with the camera given alike.
 TEST(HandEyeCalibration, TheBoardOnAToolFromTfIsAFrameOfTheStillPoseGraph) {
-  vocal::SimulatedArmOptions options;
-  options.setup = HandEyeSetup::kEyeToHand;
-  const vocal::SimulatedArm arm = vocal::simulateArm(options);
-  std::vector<vocal::HandEyeStation> stations = stationsOf(arm, 13);
-  std::mt19937 rng(17);
-  for (std::size_t k = 0; k < stations.size(); ++k) {
-    stations[k].views.push_back({1, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.lidar, 0.36, 0.27, 0.02, 0.01, &rng), {}});
-    stations[k].views.push_back({2, {}, vocal::simulateRangeView(arm, static_cast<int>(k), arm.rgbd, 0.36, 0.27, 0.01, 0.003, &rng), {}});
-  }
+  const vocal::SimulatedArm arm = eyeToHandArm();
+  const std::vector<vocal::HandEyeStation> stations = stationsWithALidarAndAnRgbdCamera(arm);
   vocal::CalibrationOptions graph;
   graph.reference_pose = arm.camera;
   graph.board_edges.enabled = true;

@@ -388,7 +388,7 @@ bool finishImus(const vocal::CommandLine& args, const vocal::RigDescription& rig
 // trust, the jackknife and the still-pose outputs as for any rig.
 int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm,
                      const vocal::HandEyeFrames& frames, const vocal::HandEyeAssociation& association, const vocal::HandEyeOptions& arm_options,
-                     const std::string& bag, const vocal::SpreadTolerance& tolerance) {
+                     const vocal::SpreadTolerance& tolerance) {
   int reference = -1;
   for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
     if (frames.on_tool[s] || !frames.link_chains[s].empty()) {
@@ -479,7 +479,6 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
       if (result.joints[j].held.empty() && result.joints[j].reported) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
     writeRobotUrdf(rig, offsets, dir, {});
   }
-  (void)bag;
   return any_withheld ? 1 : 0;
 }
 
@@ -506,7 +505,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
   const vocal::HandEyeFrames frames = vocal::handEyeFrames(rig, arm);
-  if (args.has("one-graph")) return runArmInOneGraph(args, rig, arm, frames, association, options, bag, tolerance);
+  if (args.has("one-graph")) return runArmInOneGraph(args, rig, arm, frames, association, options, tolerance);
   const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations, options);
   if (options.arm_joints) {
     std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");

@@ -535,8 +535,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   if (mounts.boardMoves()) {
     if (!edges.enabled) {
-      throw InputError("calibration: the board is behind joints, which needs its full pose at each still pose: give the board's size "
-                       "and keep its edges (board_edges)");
+      throw InputError("calibration: the board is on a frame that moves (an arm's tool), which needs its full pose at each still pose: "
+                       "give the board's size and keep its edges (board_edges)");
     }
     for (const int j : mounts.board_chain) {
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: the board's chain names no joint");
