@@ -242,7 +242,12 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
         if (other != s && other != options.reference_sensor && !trial.sensors[other].isolated)
           rest = std::max(rest, disagreementRatio(trial.sensors[other], trust));
       }
-      if (pick < 0 || rest < pick_rest || (rest == pick_rest && own > pick_own)) {
+      // Where taking out either leaves the rest agreeing and both moved part-way, the one whose split fits
+      // far better moved: the other's change can be the boards the moved one drags (a board tied to an arm's
+      // tool follows a sensor with many points).
+      const bool both_moved = pick >= 0 && rest <= 1.0 && pick_rest <= 1.0 && change.pose >= 0 && pick_change.pose >= 0;
+      const bool better = both_moved ? change.improvement > pick_change.improvement : rest < pick_rest || (rest == pick_rest && own > pick_own);
+      if (pick < 0 || better) {
         pick = s, pick_rest = rest, pick_own = own, pick_result = std::move(trial), pick_change = change;
       }
     }
