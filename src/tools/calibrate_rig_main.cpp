@@ -174,12 +174,8 @@ void printOverlaySummary(const vocal::RigDescription& rig, const vocal::OverlayR
 }
 
 // The joints' offsets as solved, or held and why, and what their readings gave the still poses.
-void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSession& session, const vocal::CalibrationResult& result) {
-  const vocal::JointPositionCounts counts = session.jointPositionCounts();
-  std::printf("joints: %zu readings on %s; views of the sensors behind them: %d kept, %d dropped while the joints moved, %d without a "
-              "reading%s%s\n",
-              session.jointReadings(), rig.joint_states_topic.c_str(), counts.kept, counts.moving, counts.unread,
-              counts.first.empty() ? "" : " (first: ", counts.first.empty() ? "" : (counts.first + ")").c_str());
+// A still-pose graph's joints as solved: each offset (or why held) and a free origin.
+void printJointOffsets(const vocal::CalibrationResult& result) {
   std::printf("joint offsets (added to each reading), sigma, and the range the still poses covered:\n");
   for (std::size_t j = 0; j < result.joints.size(); ++j) {
     if (!result.joints[j].reported) continue;
@@ -189,17 +185,27 @@ void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSessi
   }
 }
 
+void printJoints(const vocal::RigDescription& rig, const vocal::CalibrationSession& session, const vocal::CalibrationResult& result) {
+  const vocal::JointPositionCounts counts = session.jointPositionCounts();
+  std::printf("joints: %zu readings on %s; views of the sensors behind them: %d kept, %d dropped while the joints moved, %d without a "
+              "reading%s%s\n",
+              session.jointReadings(), rig.joint_states_topic.c_str(), counts.kept, counts.moving, counts.unread,
+              counts.first.empty() ? "" : " (first: ", counts.first.empty() ? "" : (counts.first + ")").c_str());
+  printJointOffsets(result);
+}
+
 // The spread between still poses (the jackknife) beside the solver's sigma, and where it is far larger:
 // the solver takes every point's error as independent, the spread sees errors a pose's points share.
-void printJackknife(const vocal::RigDescription& rig, const vocal::PoseJackknife& jackknife, const vocal::CalibrationResult& result) {
+void printJackknife(const std::vector<vocal::SensorSpec>& specs, int reference, const vocal::PoseJackknife& jackknife,
+                    const vocal::CalibrationResult& result) {
   std::printf("spread across still poses (jackknife: %d of %d re-solves, each without one pose), beside the solver's sigma:\n",
               jackknife.solved, jackknife.poses);
-  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-    if (static_cast<int>(s) == rig.reference_sensor) continue;
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (static_cast<int>(s) == reference) continue;
     const double t = jackknife.standard_deviation[s].head<3>().norm(), r = jackknife.standard_deviation[s].tail<3>().norm();
     const double solver_t = result.sensors[s].standard_deviation.head<3>().norm();
     const double solver_r = result.sensors[s].standard_deviation.tail<3>().norm();
-    std::printf("  %-12s %6.2f mm (solver %.2f), %6.2f mrad (solver %.2f)", rig.sensors[s].spec.name.c_str(), 1000 * t,
+    std::printf("  %-12s %6.2f mm (solver %.2f), %6.2f mrad (solver %.2f)", specs[s].name.c_str(), 1000 * t,
                 1000 * solver_t, 1000 * r, 1000 * solver_r);
     const double ratio = std::max(t / std::max(solver_t, 1e-9), r / std::max(solver_r, 1e-9));
     if (ratio > 3.0) std::printf("  %.0fx the solver's: errors its points share within a pose (ring biases, hands, lens model)", ratio);
@@ -383,6 +389,63 @@ bool finishImus(const vocal::CommandLine& args, const vocal::RigDescription& rig
   return withheld;
 }
 
+// After a still-pose graph's solve: the spread across still poses (the jackknife re-solving `observations`
+// with `options`) beside the solver's sigma and the sensors over `tolerance`, the observability warnings,
+// and what is not trusted. The spread, or none where too few re-solves succeeded.
+std::optional<vocal::PoseJackknife> printSpreadAndVerdicts(const std::vector<vocal::SensorSpec>& specs, int reference,
+                                                           const std::vector<vocal::TargetObservation>& observations,
+                                                           const vocal::CalibrationOptions& options, const vocal::CalibrationResult& result,
+                                                           const vocal::SpreadTolerance& tolerance) {
+  std::optional<vocal::PoseJackknife> spread;
+  try {
+    spread = vocal::jackknifeOverPoses(specs, observations, options, result);
+    printJackknife(specs, reference, *spread, result);
+    for (const std::string& line : vocal::spreadOverTolerance(*spread, specs, tolerance)) std::printf("uncertain: %s\n", line.c_str());
+  } catch (const vocal::InputError& e) {
+    std::printf("spread across still poses: not computed (%s)\n", e.what());
+  }
+  for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
+  if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", specs[s].name.c_str(), result.sensors[s].distrust.c_str());
+  }
+  return spread;
+}
+
+// The sensors withheld from the URDF and launch file (printed with why; per sensor in the result, "" for
+// those published) and, with --output-dir, the result YAML, URDF snippet, launch file and the robot's URDF
+// with the joints as solved.
+std::vector<std::string> withholdAndWrite(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::vector<vocal::SensorSpec>& specs,
+                                          int reference, const vocal::CalibrationResult& result, const std::optional<vocal::PoseJackknife>& spread,
+                                          const std::vector<std::optional<vocal::RingOffsets>>* ring_offsets, const vocal::SpreadTolerance& tolerance) {
+  const std::vector<std::string> withheld =
+      vocal::withheldSensors(specs, reference, result, spread ? &*spread : nullptr, tolerance, args.has("publish-uncertain"));
+  bool any_withheld = false;
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    if (withheld[s].empty()) continue;
+    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", specs[s].name.c_str(), withheld[s].c_str());
+    any_withheld = true;
+  }
+  if (any_withheld && result.trusted) {
+    std::printf("  its values are in calibration.yaml; calibrate again as the NOT TRUSTED or uncertain line says, or pass --publish-uncertain to "
+                "publish them anyway\n");
+  }
+  if (!args.has("output-dir")) return withheld;
+  const std::string dir = args.text("output-dir", "");
+  vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, ring_offsets, &withheld);
+  vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
+  vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
+  std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
+  std::map<std::string, double> offsets;
+  std::map<std::string, Eigen::Isometry3d> origins;
+  for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
+    if (result.joints[j].held.empty()) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
+    if (result.joints[j].origin_free) origins[result.mounts.joints[j].name] = result.joints[j].origin;
+  }
+  writeRobotUrdf(rig, offsets, dir, origins);
+  return withheld;
+}
+
 // --one-graph (issue 44, in progress): an arm holding the board before fixed sensors, one of them given (the
 // reference), solved by the still-pose graph with the board a frame on the tool (from the joints or tf):
 // trust, the jackknife and the still-pose outputs as for any rig.
@@ -429,13 +492,7 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
   const vocal::CalibrationResult result = vocal::calibrateRigWithTrust(specs, observations, options);
   std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
               arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
-  if (arm_options.arm_joints) {
-    std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");
-    for (std::size_t j = 0; j < result.joints.size(); ++j) {
-      if (!result.joints[j].reported) continue;
-      std::printf("  %-20s %s\n", result.mounts.joints[j].name.c_str(), vocal::jointOffsetText(result.mounts.joints[j], result.joints[j], 8).c_str());
-    }
-  }
+  if (arm_options.arm_joints) printJointOffsets(result);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw", "sigma t (mm) / r (mrad)");
   const auto printPoseRow = [](const std::string& name, const Eigen::Isometry3d& pose, const vocal::Vector6d& sigma, const char* note) {
     const Eigen::Vector3d t = pose.translation();
@@ -447,38 +504,10 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
     printPoseRow(specs[s].name, result.sensors[s].reference_from_sensor, result.sensors[s].standard_deviation,
                  static_cast<int>(s) == reference ? " (held at the pose the rig gives)" : result.sensors[s].isolated ? " (isolated)" : "");
   if (result.board_mount) printPoseRow("board", *result.board_mount, result.board_mount_sigma, (" (in " + arm.tool_frame + ")").c_str());
-  std::optional<vocal::PoseJackknife> spread;
-  try {
-    spread = vocal::jackknifeOverPoses(specs, observations, vocal::withIsolatedSensors(options, result), result);
-    vocal::RigDescription described = rig;
-    described.reference_sensor = reference;
-    printJackknife(described, *spread, result);
-    for (const std::string& line : vocal::spreadOverTolerance(*spread, specs, tolerance)) std::printf("uncertain: %s\n", line.c_str());
-  } catch (const vocal::InputError& e) {
-    std::printf("spread across still poses: not computed (%s)\n", e.what());
-  }
-  if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
-  for (std::size_t s = 0; s < specs.size(); ++s)
-    if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", specs[s].name.c_str(), result.sensors[s].distrust.c_str());
-  const std::vector<std::string> withheld =
-      vocal::withheldSensors(specs, reference, result, spread ? &*spread : nullptr, tolerance, args.has("publish-uncertain"));
-  bool any_withheld = false;
-  for (std::size_t s = 0; s < specs.size(); ++s) {
-    if (withheld[s].empty()) continue;
-    std::printf("withheld: sensor '%s': %s\n", specs[s].name.c_str(), withheld[s].c_str());
-    any_withheld = true;
-  }
-  if (args.has("output-dir")) {
-    const std::string dir = args.text("output-dir", "");
-    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, nullptr, &withheld);
-    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
-    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
-    std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
-    std::map<std::string, double> offsets;
-    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j)
-      if (result.joints[j].held.empty() && result.joints[j].reported) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
-    writeRobotUrdf(rig, offsets, dir, {});
-  }
+  const std::optional<vocal::PoseJackknife> spread =
+      printSpreadAndVerdicts(specs, reference, observations, vocal::withIsolatedSensors(options, result), result, tolerance);
+  const std::vector<std::string> withheld = withholdAndWrite(args, rig, specs, reference, result, spread, nullptr, tolerance);
+  const bool any_withheld = std::any_of(withheld.begin(), withheld.end(), [](const std::string& why) { return !why.empty(); });
   return any_withheld ? 1 : 0;
 }
 
@@ -770,49 +799,14 @@ int run(const vocal::CommandLine& args) {
     if (c.beam_solved) printBeamRadius(rig.sensors[s].spec.name, c.beam_radius);
   }
   // The result re-solved once without each still pose: how far each sensor moves (one solve per pose).
-  std::optional<vocal::PoseJackknife> spread;
-  try {
-    spread = vocal::jackknifeOverPoses(rig.specs(), associated, session.calibrationOptions(options), result);
-    printJackknife(rig, *spread, result);
-    for (const std::string& line : vocal::spreadOverTolerance(*spread, rig.specs(), tolerance)) std::printf("uncertain: %s\n", line.c_str());
-  } catch (const vocal::InputError& e) {
-    std::printf("spread across still poses: not computed (%s)\n", e.what());
-  }
-  for (const vocal::ObservabilityWarning& w : result.warnings) std::printf("warning: %s\n", w.message.c_str());
-  if (!result.trusted) std::printf("NOT TRUSTED: %s\n", result.failure.c_str());
-  for (std::size_t s = 0; s < rig.sensors.size(); ++s) {
-    if (!result.sensors[s].distrust.empty()) std::printf("NOT TRUSTED: sensor '%s': %s\n", rig.sensors[s].spec.name.c_str(), result.sensors[s].distrust.c_str());
-  }
-  if (args.has("report")) printReport(rig, refused, associated, result, poses);
   const std::vector<vocal::SensorSpec> specs = rig.specs();
-  const std::vector<std::string> withheld = vocal::withheldSensors(specs, rig.reference_sensor, result, spread ? &*spread : nullptr,
-                                                                   tolerance, args.has("publish-uncertain"));
-  bool any_withheld = false;
-  for (std::size_t s = 0; s < specs.size(); ++s) {
-    if (withheld[s].empty()) continue;
-    std::printf("withheld: sensor '%s' is kept out of calibration.urdf and calibration.launch: %s\n", specs[s].name.c_str(), withheld[s].c_str());
-    any_withheld = true;
-  }
-  if (any_withheld && result.trusted) {
-    std::printf("  its values are in calibration.yaml; calibrate again as the NOT TRUSTED or uncertain line says, or pass --publish-uncertain to "
-                "publish them anyway\n");
-  }
-  if (args.has("output-dir")) {
-    const std::string dir = args.text("output-dir", "");
-    vocal::writeCalibrationYaml(dir + "/calibration.yaml", rig.reference_frame, specs, result, spread ? &*spread : nullptr, &ring_offsets,
-                                &withheld);
-    vocal::writeUrdfSnippet(dir + "/calibration.urdf", rig.reference_frame, specs, result, &withheld);
-    vocal::writeStaticTransformLaunch(dir + "/calibration.launch", rig.reference_frame, specs, result, &withheld);
-    std::printf("wrote %s/calibration.yaml, calibration.urdf, calibration.launch\n", dir.c_str());
-    std::map<std::string, double> offsets;
-    std::map<std::string, Eigen::Isometry3d> origins;
-    for (std::size_t j = 0; j < result.joints.size() && j < result.mounts.joints.size(); ++j) {
-      if (result.joints[j].held.empty()) offsets[result.mounts.joints[j].name] = result.joints[j].offset;
-      if (result.joints[j].origin_free) origins[result.mounts.joints[j].name] = result.joints[j].origin;
-    }
-    writeRobotUrdf(rig, offsets, dir, origins);
-    if (args.has("overlays")) printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, dir));
-  }
+  const std::optional<vocal::PoseJackknife> spread =
+      printSpreadAndVerdicts(specs, rig.reference_sensor, associated, session.calibrationOptions(options), result, tolerance);
+  if (args.has("report")) printReport(rig, refused, associated, result, poses);
+  const std::vector<std::string> withheld = withholdAndWrite(args, rig, specs, rig.reference_sensor, result, spread, &ring_offsets, tolerance);
+  const bool any_withheld = std::any_of(withheld.begin(), withheld.end(), [](const std::string& why) { return !why.empty(); });
+  if (args.has("output-dir") && args.has("overlays"))
+    printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, associated, result, args.text("output-dir", "")));
   const bool imu_withheld = finishImus(
       args, rig, bag,
       [&](int s, std::string* why, std::string* parent) {

@@ -378,10 +378,15 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       high[chain[i]] = std::max(high[chain[i]], positions[i]);
     }
   };
+  std::set<int> board_poses;  // the still poses a sensor in the graph saw the board at
   for (const TargetObservation& o : observations) {
-    if (mounts.jointed(o.sensor) && !isolated[o.sensor]) cover(mounts.chains[o.sensor], o.joint_positions);
-    const auto board = mounts.board_readings.find(o.target_pose);
-    if (!isolated[o.sensor] && board != mounts.board_readings.end()) cover(mounts.board_chain, board->second);
+    if (isolated[o.sensor]) continue;
+    if (mounts.jointed(o.sensor)) cover(mounts.chains[o.sensor], o.joint_positions);
+    board_poses.insert(o.target_pose);
+  }
+  for (const int k : board_poses) {
+    const auto board = mounts.board_readings.find(k);
+    if (board != mounts.board_readings.end()) cover(mounts.board_chain, board->second);
   }
   std::vector<JointCalibration> joints(joint_count);
   const auto moved = [&](int j) {
