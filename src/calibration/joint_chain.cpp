@@ -119,6 +119,18 @@ std::vector<int> jointsOfChains(const std::vector<int>& chain, const std::vector
   return all;
 }
 
+std::vector<double> chainReadings(const std::vector<int>& read, const std::vector<double>& readings, const std::vector<int>& chain) {
+  std::vector<double> out;
+  for (const int j : chain) {
+    const auto at = std::find(read.begin(), read.end(), j);
+    if (at == read.end() || static_cast<std::size_t>(at - read.begin()) >= readings.size()) {
+      throw InputError("joint readings: joint " + std::to_string(j) + " of a chain is not among the joints read");
+    }
+    out.push_back(readings[at - read.begin()]);
+  }
+  return out;
+}
+
 const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {
   static const std::optional<Eigen::Isometry3d> none;
   return jointed(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;

@@ -63,8 +63,9 @@ const char kUsage[] =
     "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
     "                      graph and the others solved without it, so that it moves none of them)\n"
     "  --one-graph         an arm holding the board before fixed sensors, one of them given: solved by the still-\n"
-    "                      pose graph with the board a frame on the tool (trust and the jackknife as for any rig;\n"
-    "                      in progress, the arm's own graph is the default)\n"
+    "                      pose graph with the board a frame on the tool and sensors on the arm's links or a\n"
+    "                      head's each a frame on its chain (from the joints; trust and the jackknife as for any\n"
+    "                      rig; in progress, the arm's own graph is the default)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
@@ -447,22 +448,29 @@ std::vector<std::string> withholdAndWrite(const vocal::CommandLine& args, const 
 }
 
 // --one-graph (issue 44, in progress): an arm holding the board before fixed sensors, one of them given (the
-// reference), solved by the still-pose graph with the board a frame on the tool (from the joints or tf):
-// trust, the jackknife and the still-pose outputs as for any rig.
+// reference), solved by the still-pose graph with the board a frame on the tool (from the joints or tf) and,
+// with the joints, sensors on the arm's links or a head's each a frame on its chain: trust, the jackknife and
+// the still-pose outputs as for any rig.
 int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm,
                      const vocal::HandEyeFrames& frames, const vocal::HandEyeAssociation& association, const vocal::HandEyeOptions& arm_options,
                      const vocal::SpreadTolerance& tolerance) {
   int reference = -1;
   for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
-    if (frames.on_tool[s] || !frames.link_chains[s].empty()) {
-      throw vocal::InputError("option --one-graph: sensor '" + frames.sensors[s].name + "' moves with the arm; for now the one graph takes an "
-                              "arm holding the board before fixed sensors only");
-    }
-    if (reference < 0 && frames.given_poses[s]) reference = static_cast<int>(s);
+    if (reference < 0 && !frames.on_tool[s] && frames.given_poses[s]) reference = static_cast<int>(s);
   }
-  if (arm.eye_in_hand || reference < 0 || !(rig.target.width > 0.0 && rig.target.height > 0.0)) {
-    throw vocal::InputError("option --one-graph: for now the one graph takes an arm holding the board (its size given) before fixed sensors, "
-                            "one of them with its pose given (the reference)");
+  if (arm.eye_in_hand) {
+    throw vocal::InputError("option --one-graph: the board stands fixed while the arm moves the sensors on it; for now the one graph takes an "
+                            "arm holding the board before fixed sensors: calibrate this rig without --one-graph");
+  }
+  if (reference < 0 || !(rig.target.width > 0.0 && rig.target.height > 0.0)) {
+    throw vocal::InputError("option --one-graph: for now the one graph needs the board's size (target: width, height) and a sensor beside the "
+                            "arm whose pose the rig gives (the reference): calibrate this rig without --one-graph");
+  }
+  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+    if (frames.on_tool[s] && !arm_options.arm_joints) {
+      throw vocal::InputError("option --one-graph: sensor '" + frames.sensors[s].name + "' moves with the arm, whose tool comes from tf; for now "
+                              "the one graph places a sensor on the arm from its joints only (name them in the rig: 'joints:' or 'urdf:')");
+    }
   }
   const std::vector<vocal::SensorSpec> specs = frames.sensors;
   vocal::CalibrationOptions options;
@@ -479,16 +487,30 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
     mounts.joints = arm_options.arm_joints->joints;
     mounts.tolerances = arm_options.arm_joints->tolerances;
     mounts.board_chain = arm_options.arm_joints->chain;
+    // A sensor on the tool moves with the board's chain; one on another link (a forearm, a head) with its own.
+    mounts.chains.assign(specs.size(), {});
+    mounts.known_mounts.assign(specs.size(), std::nullopt);
+    for (std::size_t s = 0; s < specs.size(); ++s) {
+      if (!frames.on_tool[s]) continue;
+      mounts.chains[s] = frames.link_chains[s].empty() ? mounts.board_chain : frames.link_chains[s];
+      mounts.known_mounts[s] = frames.given_poses[s];
+    }
   }
   for (std::size_t k = 0; k < association.stations.size(); ++k) {
     const vocal::HandEyeStation& station = association.stations[k];
-    if (arm_options.arm_joints) {  // readJoints() begins with the tool's chain
-      mounts.board_readings[static_cast<int>(k)].assign(station.joint_positions.begin(), station.joint_positions.begin() + mounts.board_chain.size());
+    if (arm_options.arm_joints) {
+      mounts.board_readings[static_cast<int>(k)] = vocal::chainReadings(arm_options.arm_joints->readJoints(), station.joint_positions, mounts.board_chain);
     } else {
       mounts.board_tool_poses[static_cast<int>(k)] = station.base_from_tool;
     }
   }
-  const std::vector<vocal::TargetObservation> observations = vocal::stillPoseObservations(association.stations, rig.target.pattern);
+  std::vector<vocal::TargetObservation> observations = vocal::stillPoseObservations(association.stations, rig.target.pattern);
+  if (arm_options.arm_joints) {
+    for (vocal::TargetObservation& o : observations)
+      if (mounts.jointed(o.sensor))
+        o.joint_positions = vocal::chainReadings(arm_options.arm_joints->readJoints(), association.stations.at(o.target_pose).joint_positions,
+                                                 mounts.chains[o.sensor]);
+  }
   const vocal::CalibrationResult result = vocal::calibrateRigWithTrust(specs, observations, options);
   std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
               arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());

@@ -232,5 +232,8 @@ struct ArmJoints {
 // `chain` followed by each of `others`' joints not already listed: the joints a graph over several chains
 // from one base reads (ArmJoints::read).
 std::vector<int> jointsOfChains(const std::vector<int>& chain, const std::vector<std::vector<int>>& others);
+// The readings of `chain`'s joints, in its order, from `readings` of the joints `read` lists (jointsOfChains).
+// Throws InputError where one of them is not read.
+std::vector<double> chainReadings(const std::vector<int>& read, const std::vector<double>& readings, const std::vector<int>& chain);
 
 }  // namespace vocal
