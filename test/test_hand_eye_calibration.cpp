@@ -188,6 +188,7 @@ TEST(HandEyeCalibration, TheBoardOnAToolFromTfIsAFrameOfTheStillPoseGraph) {
   graph.reference_pose = arm.camera;
   graph.board_edges.enabled = true;
   graph.board_edges.width = 0.36, graph.board_edges.height = 0.27;
+  graph.board_edges.camera_pose = true;  // the camera's views as their whole poses, as calibrate_rig --one-graph holds them
   for (std::size_t k = 0; k < stations.size(); ++k) graph.mounts.board_tool_poses[static_cast<int>(k)] = stations[k].base_from_tool;
   const std::vector<vocal::SensorSpec> specs = {
       {"camera", vocal::SensorType::kCamera, "camera"}, {"lidar", vocal::SensorType::kLidar3d, "lidar"}, {"rgbd", vocal::SensorType::kRgbd, "rgbd"}};

@@ -16,6 +16,7 @@
 #include "vocal/calibration/joint_chain.h"
 #include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
+#include "vocal/calibration/solver/camera_pose_on_board_residual.h"
 #include "vocal/calibration/solver/on_board_plane.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
@@ -166,6 +167,37 @@ TEST(RigGraphResiduals, CameraOutlineIsThePredictedEdgesDistanceToTheBoards) {
   const std::vector<Eigen::Vector3d> outline = vocal::patternOutline(width, height);
   ASSERT_EQ(outline.size(), 12u);
   for (const Eigen::Vector3d& p : outline) EXPECT_NEAR(vocal::distanceToOutline(p.x(), p.y(), 0.5 * width, 0.5 * height), 0.0, 1e-12);
+}
+
+// A camera's whole PnP pose on the board: zero where the print's place puts the pattern where the view saw
+// it; the print 5 mm / -3 mm off along the board's x / y and turned 10 mrad about its normal, read with the
+// print at the centre, is 10 rotation sigmas of 1 mrad and sqrt(34) translation sigmas of 1 mm; its prior
+// is its place in the prior's sigmas.
+TEST(RigGraphResiduals, CameraPoseOnBoardIsTheViewAgainstThePrintOnTheBoard) {
+  const Scene scene;
+  const Eigen::Vector3d print(0.005, -0.003, 0.01);
+  vocal::PlaneMeasurement view;
+  view.sensor_from_pattern = scene.camera.inverse() * scene.board * Eigen::Translation3d(print.x(), print.y(), 0.0) *
+                             Eigen::AngleAxisd(print.z(), Eigen::Vector3d::UnitZ());
+  view.pose_covariance = 1e-6 * Eigen::Matrix<double, 6, 6>::Identity();
+  const vocal::CameraPoseOnBoardResidual residual(view);
+  const Blocks x(scene.camera), b(scene.board);
+  Eigen::Matrix<double, 6, 1> r;
+  ASSERT_TRUE(residual(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), print.data(), r.data()));
+  EXPECT_LT(r.norm(), 1e-6);
+  const Eigen::Vector3d centred = Eigen::Vector3d::Zero();
+  ASSERT_TRUE(residual(x.q.coeffs().data(), x.t.data(), b.q.coeffs().data(), b.t.data(), centred.data(), r.data()));
+  EXPECT_NEAR(r.head<3>().norm(), 10.0, 1e-3);
+  EXPECT_NEAR(r.tail<3>().norm(), std::sqrt(34.0), 1e-3);
+  // The turn is about the board's normal (the pattern's z: the rotation error is the pattern's own).
+  EXPECT_NEAR(std::abs(r.head<3>().normalized().z()), 1.0, 1e-6);
+
+  const vocal::PrintPlacePrior prior{0.01, 0.02};
+  Eigen::Vector3d p;
+  ASSERT_TRUE(prior(print.data(), p.data()));
+  EXPECT_NEAR(p[0], 0.5, 1e-12);
+  EXPECT_NEAR(p[1], -0.3, 1e-12);
+  EXPECT_NEAR(p[2], 0.5, 1e-12);
 }
 
 // Cauchy's loss spread over a block: the square is c^2 log(1 + (r / c)^2) on either branch, the sign kept.

@@ -478,6 +478,9 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
   options.reference_pose = *frames.given_poses[reference];
   options.board_edges.enabled = true;
   options.board_edges.width = rig.target.width, options.board_edges.height = rig.target.height;
+  // Each camera view as its whole PnP pose, as the arm's graph takes it: with the board on the tool its
+  // place within its plane is the arm's, and the camera's own fixes it far better than its outline.
+  options.board_edges.camera_pose = true;
   options.intrinsics = arm_options.intrinsics;
   options.trust.isolate = !args.has("no-isolation");
   vocal::JointedMounts& mounts = options.mounts;
@@ -526,6 +529,15 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
     printPoseRow(specs[s].name, result.sensors[s].reference_from_sensor, result.sensors[s].standard_deviation,
                  static_cast<int>(s) == reference ? " (held at the pose the rig gives)" : result.sensors[s].isolated ? " (isolated)" : "");
   if (result.board_mount) printPoseRow("board", *result.board_mount, result.board_mount_sigma, (" (in " + arm.tool_frame + ")").c_str());
+  std::printf("the print on the board: %+.1f / %+.1f mm from its centre along its x / y, turned %+.1f mrad (where range sensors see the "
+              "board's edges; else held at the centre)\n", 1000 * result.print_on_board.x(), 1000 * result.print_on_board.y(),
+              1000 * result.print_on_board.z());
+  if (result.misdetected_views > 0) {
+    std::printf("%d camera view%s held by %s plane only: the board over %.0f mm / %.0f mrad from where the started rig put it "
+                "(a pattern found shifted by a square, or something else seen)\n", result.misdetected_views,
+                result.misdetected_views == 1 ? "" : "s", result.misdetected_views == 1 ? "its" : "their", 1000 * vocal::kMisdetectedViewDistance,
+                1000 * vocal::kMisdetectedViewAngle);
+  }
   const std::optional<vocal::PoseJackknife> spread =
       printSpreadAndVerdicts(specs, reference, observations, vocal::withIsolatedSensors(options, result), result, tolerance);
   const std::vector<std::string> withheld = withholdAndWrite(args, rig, specs, reference, result, spread, nullptr, tolerance);

@@ -23,8 +23,10 @@
 #include "vocal/calibration/point_statistics.h"
 #include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
+#include "vocal/calibration/solver/camera_pose_on_board_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
 #include "vocal/calibration/solver/link_from_joints_cost.h"
+#include "vocal/calibration/solver/misdetected_view.h"
 #include "vocal/calibration/solver/on_board_plane.h"
 #include "vocal/calibration/solver/beam_radius_prior.h"
 #include "vocal/calibration/solver/outline_points_residual.h"
@@ -237,21 +239,55 @@ SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const
   return &placed;
 }
 
+// A camera's views as whole poses (BoardEdgeOptions::camera_pose): the print's place on the board (a block)
+// and, where given, a count of the views too far from the start to be held so.
+struct CameraPoses {
+  double* print = nullptr;
+  int* misdetected = nullptr;
+};
+
+// A camera view's whole pose (the pattern in the camera) against the board's block and the print's place on
+// it, numbered as the board's block has its corners: found the other way round, turned half-way (the
+// board's start came from another view, or turned to agree with the first pose's on a moving frame). False,
+// adding nothing, where the view lies over kMisdetectedView* from where the started camera and board put it.
+bool addCameraPoseResidual(ceres::Problem* problem, const PlaneMeasurement& found, const CalibrationOptions& options, SensorState* sensor,
+                           SensorState* board, double* print) {
+  const Eigen::Isometry3d sensor_start = poseFromTranslationQuaternion(sensor->translation, sensor->rotation.normalized());
+  Eigen::Quaterniond pattern_q;
+  Eigen::Vector3d pattern_t;
+  patternOnBoard(board->rotation.coeffs().data(), board->translation.data(), print, &pattern_q, &pattern_t);
+  const Eigen::Isometry3d predicted = sensor_start.inverse() * poseFromTranslationQuaternion(pattern_t, pattern_q);
+  const PlaneMeasurement measurement = rotationAngle(found.sensor_from_pattern.inverse() * predicted) > 0.5 * M_PI ? turnedHalfway(found) : found;
+  const Eigen::Isometry3d error = measurement.sensor_from_pattern.inverse() * predicted;
+  if (error.translation().norm() > kMisdetectedViewDistance || rotationAngle(error) > kMisdetectedViewAngle) return false;
+  addSensorResidual<CameraPoseOnBoardResidual, 6, 4, 3, 3>(problem, CameraPoseOnBoardResidual(measurement),
+                                                          new ceres::HuberLoss(options.huber_sigmas * std::sqrt(6.0)), sensor,
+                                                          {board->rotation.coeffs().data(), board->translation.data(), print});
+  return true;
+}
+
 // An observation's residuals on its pose's plane (or, with board edges, its board), for a sensor whose
 // state is `sensor`. Huber on each whitened block: down-weighted once its residuals pass huber_sigmas
-// standard deviations on average.
+// standard deviations on average. A camera's view, with `poses.print`, as its whole pose where it agrees
+// with the start, else by its plane alone; without (or with its intrinsics refined) by its plane and outline.
 void addObservationResiduals(ceres::Problem* problem, const TargetObservation& o, SensorType type, const CalibrationOptions& options,
                              SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                             const JointOffsets& joints, double* intrinsics, double* beam) {
+                             const JointOffsets& joints, double* intrinsics, double* beam, const CameraPoses& poses) {
   const BoardEdgeOptions& edges = options.board_edges;
   PlaneState* plane = edges.enabled ? nullptr : &planes->at(o.target_pose);
   SensorState* board = edges.enabled ? &boards->at(o.target_pose) : nullptr;
   if (SensorState* placed = placedOf(problem, o, joints, sensor)) sensor = placed;
   if (!o.plane_measurements.empty()) {
     for (const PlaneMeasurement& measurement : o.plane_measurements) {
+      const bool whole_pose = board && poses.print && !intrinsics;
+      if (whole_pose && addCameraPoseResidual(problem, measurement, options, sensor, board, poses.print)) continue;
       addPlaneResidual<PlaneMeasurementResidual, 3>(problem, PlaneMeasurementResidual(measurement),
                                                     new ceres::HuberLoss(options.huber_sigmas * std::sqrt(3.0)), sensor, plane, board,
                                                     intrinsics);
+      if (whole_pose) {  // misdetected: a pattern found shifted by a square still lies in the board's plane, not on its outline
+        if (poses.misdetected) ++*poses.misdetected;
+        continue;
+      }
       if (intrinsics) addIntrinsicsEvidence(problem, measurement, intrinsics);
       if (board && intrinsics) {
         for (const Eigen::Vector3d& q : patternOutline(edges.width, edges.height)) {
@@ -302,11 +338,12 @@ ceres::Solver::Options solverOptions(const CalibrationOptions& options) {
 // refined with it where `free_extras`, else held.
 std::unique_ptr<ceres::Problem> fitAlone(const std::vector<const TargetObservation*>& its, SensorType type, const CalibrationOptions& options,
                                          SensorState* sensor, std::map<int, PlaneState>* planes, std::map<int, SensorState>* boards,
-                                         const JointOffsets& joints, double* intrinsics, bool free_extras, double* beam) {
+                                         const JointOffsets& joints, double* intrinsics, bool free_extras, double* beam, double* print) {
+  const CameraPoses poses{print, nullptr};
   auto alone = std::make_unique<ceres::Problem>();
   for (const TargetObservation* o : its) {
     if (!planes->count(o->target_pose)) continue;
-    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints, intrinsics, beam);
+    addObservationResiduals(alone.get(), *o, type, options, sensor, planes, boards, joints, intrinsics, beam, poses);
   }
   if (alone->NumResidualBlocks() == 0) return nullptr;
   if (intrinsics && free_extras) addIntrinsicsPrior(alone.get(), intrinsics, options.intrinsics);
@@ -802,13 +839,20 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::vector<Eigen::Vector2d> beam_state(sensor_count, Eigen::Vector2d::Zero());
   const auto beamOf = [&](int s) { return edges.enabled && sensors[s].type == SensorType::kLaser2d ? beam_state[s].data() : nullptr; };
 
+  // With cameras' whole poses (BoardEdgeOptions::camera_pose): the print's place on the board.
+  Eigen::Vector3d print_state = Eigen::Vector3d::Zero();
+  double* const print = edges.enabled && edges.camera_pose ? print_state.data() : nullptr;
+  int misdetected_views = 0;
+
   ceres::Problem problem;
   for (const TargetObservation& o : observations) {
     if (!plane_state.count(o.target_pose)) continue;  // only 2D lasers (or isolated sensors) saw it: no plane
     if (rejected.count({o.sensor, o.target_pose}) || isolated[o.sensor]) continue;
     addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state,
-                            intrinsicsOf(o.sensor), beamOf(o.sensor));
+                            intrinsicsOf(o.sensor), beamOf(o.sensor), CameraPoses{print, &misdetected_views});
   }
+  if (print && problem.HasParameterBlock(print))
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PrintPlacePrior, 3, 3>(new PrintPlacePrior), nullptr, print);
   for (int s = 0; s < sensor_count; ++s) {
     if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
     if (beamOf(s) && problem.HasParameterBlock(beamOf(s))) addBeamRadiusPrior(&problem, beamOf(s));
@@ -881,7 +925,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     // None: it shares no pose the others fixed, and its closed form stays. Too few: it stays unplaced.
     if ((static_cast<int>(its.size()) < kLeastSharedPoses && !isLaser(s)) || unplaced[s]) continue;
     isolated_problems[s] =
-        fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state, intrinsicsOf(s), true, beamOf(s));
+        fitAlone(its, sensors[s].type, options, &sensor_state[s], &plane_state, &board_state, joint_state, intrinsicsOf(s), true, beamOf(s), print);
   }
   for (const auto& entry : board_state) {  // with edges: the solved boards' planes
     const Eigen::Vector3d normal = entry.second.rotation.normalized() * Eigen::Vector3d::UnitZ();
@@ -901,6 +945,8 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   }
   result.joints = joint_results;
   if (board_mount_start) result.board_mount = poseFromTranslationQuaternion(board_mount.translation, board_mount.rotation.normalized());
+  result.print_on_board = print_state;
+  result.misdetected_views = misdetected_views;
   for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
   for (const auto& entry : board_state) {
     Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
@@ -1106,8 +1152,10 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   Eigen::Vector2d beam = as_solved.beam_radius;
   const bool laser_ends = options.board_edges.enabled && sensors.at(s).type == SensorType::kLaser2d;
   const JointOffsets joint_state{&solved.mounts, &joint_offsets, &reading_corrections, &origins, &placed_at_poses};
+  Eigen::Vector3d print = solved.print_on_board;  // as solved, held
   if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, joint_state,
-                as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr)) {
+                as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr,
+                options.board_edges.enabled && options.board_edges.camera_pose ? print.data() : nullptr)) {
     return std::nullopt;
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

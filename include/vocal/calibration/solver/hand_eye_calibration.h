@@ -30,6 +30,7 @@
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/joint_chain.h"
 #include "vocal/calibration/solver/intrinsics_refinement.h"
+#include "vocal/calibration/solver/misdetected_view.h"
 
 namespace vocal {
 
@@ -109,11 +110,6 @@ struct HandEyeOptions {
   // Each camera's focal lengths refined with the poses (intrinsics_refinement.h), its views moved with them.
   IntrinsicsRefinementOptions intrinsics;
 };
-
-// How far a camera view's board may lie from where the started rig puts it before the view is taken for
-// a misdetection and left out (HandEyeResult::misdetected_views).
-constexpr double kMisdetectedViewDistance = 0.015;  // metres
-constexpr double kMisdetectedViewAngle = 0.05;      // radians
 
 // A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
 struct HandEyeClosedForm {
