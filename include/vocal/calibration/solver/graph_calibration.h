@@ -166,13 +166,13 @@ struct CalibrationResult {
   // The board behind joints (JointedMounts::board_chain): its mount in the chain's last link, and its standard
   // deviations (translation along and rotation about the link's axes; zero where the mount is known).
   std::optional<Eigen::Isometry3d> board_mount;
+  Vector6d board_mount_sigma = Vector6d::Zero();
   // With BoardEdgeOptions::camera_pose: the print's place on the board (dx, dy metres along its axes, a turn
   // about its normal in radians; camera_pose_on_board_residual.h) as solved; zero otherwise.
   Eigen::Vector3d print_on_board = Eigen::Vector3d::Zero();
   // ... and the camera views held by their plane only: their whole pose over kMisdetectedView*
   // (misdetected_view.h) from where the started rig put it.
   int misdetected_views = 0;
-  Vector6d board_mount_sigma = Vector6d::Zero();
   bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
 
