@@ -169,7 +169,7 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
          << "  rotation_stddev: [" << sd[3] << ", " << sd[4] << ", " << sd[5] << "]  # rad, about x y z\n";
     const Eigen::Vector3d& print = result.print_on_board;
     file << "  print: [" << print.x() << ", " << print.y() << ", " << print.z()
-         << "]  # the pattern on the board: m along its x and y from its centre, rad about its normal (zero: nothing saw its edges)\n";
+         << "]  # the pattern on the board: m along its x and y from its centre, rad about its normal (zero: not solved, or nothing saw its edges)\n";
   }
   if (!result.mounts.chains.empty() || !result.mounts.board_chain.empty()) {
     // Each joint a sensor or the board is behind: its zero offset (added to the encoder's reading), and robot_calibration's block of them.

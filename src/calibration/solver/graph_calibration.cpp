@@ -239,6 +239,9 @@ SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const
   return &placed;
 }
 
+// Whether camera views are held by their whole poses (BoardEdgeOptions::camera_pose; the board a pose needs its edges).
+bool wholeCameraPoses(const CalibrationOptions& options) { return options.board_edges.enabled && options.board_edges.camera_pose; }
+
 // A camera's views as whole poses (BoardEdgeOptions::camera_pose): the print's place on the board (a block)
 // and, where given, a count of the views too far from the start to be held so.
 struct CameraPoses {
@@ -841,7 +844,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
 
   // With cameras' whole poses (BoardEdgeOptions::camera_pose): the print's place on the board.
   Eigen::Vector3d print_state = Eigen::Vector3d::Zero();
-  double* const print = edges.enabled && edges.camera_pose ? print_state.data() : nullptr;
+  double* const print = wholeCameraPoses(options) ? print_state.data() : nullptr;
   int misdetected_views = 0;
 
   ceres::Problem problem;
@@ -1155,7 +1158,7 @@ std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<Senso
   Eigen::Vector3d print = solved.print_on_board;  // as solved, held
   if (!fitAlone(pointers, sensors.at(s).type, options, &state, &planes, &boards, joint_state,
                 as_solved.intrinsicsRefined() ? intrinsics.data() : nullptr, false, laser_ends ? beam.data() : nullptr,
-                options.board_edges.enabled && options.board_edges.camera_pose ? print.data() : nullptr)) {
+                wholeCameraPoses(options) ? print.data() : nullptr)) {
     return std::nullopt;
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
