@@ -230,6 +230,50 @@ TEST(RealRigCalibration, CameraOnAFrankaWristWithDefaultFlags) {
   EXPECT_NE(launch.str().find(" panda_EE camera_color_optical_frame\"/>"), std::string::npos) << launch.str();
 }
 
+// The same Franka session through the still-pose graph (calibrate_rig --one-graph): the base the rig frame,
+// the board lying still in it, the camera on the tool tf reports, each view weighted by what the views
+// disagree by beyond their noise (the arm's kinematics, the lens): the camera within 0.2 mm / 0.2 mrad of
+// the arm's own graph and 2 mm / 0.2 degrees of the authors', published in the tool frame, the board's parent named.
+TEST(RealRigCalibration, CameraOnAFrankaWristThroughTheOneGraph) {
+  const std::string data = vocal_test::realRigFolder("franka_eye_in_hand", "session.bag");
+  if (data.empty()) GTEST_SKIP() << "real rig recording not present";
+  const std::string command = "calibrate_rig " + std::string(VOCAL_SOURCE_DIR) + "/config/franka_eye_in_hand_rig.yaml " + data + "/session.bag --quiet";
+  const std::string arm_folder = vocal_test::makeTempFolder("real_rig_franka_arm"), one_folder = vocal_test::makeTempFolder("real_rig_franka_one");
+  const RunResult arm = vocal_test::runTool(command + " --output-dir " + arm_folder);
+  ASSERT_EQ(arm.exit_code, 0) << arm.output;
+  const RunResult one = vocal_test::runTool(command + " --one-graph --output-dir " + one_folder);
+  EXPECT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_NE(one.output.find("one graph: the board lying still in panda_link0 (the rig frame), the sensors on panda_EE (from tf), 8 still poses\n"),
+            std::string::npos)
+      << one.output;
+  EXPECT_NE(one.output.find("the camera views disagree beyond the corners' noise and the arm's repeatability by"), std::string::npos) << one.output;
+  const auto cameraIn = [](const std::string& folder) {
+    const YAML::Node camera = YAML::LoadFile(folder + "/calibration.yaml")["sensors"][0];
+    const auto t = camera["translation"].as<std::vector<double>>();
+    const auto q = camera["rotation"].as<std::vector<double>>();
+    return vocal::poseFromTranslationQuaternion(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+  };
+  const YAML::Node result = YAML::LoadFile(one_folder + "/calibration.yaml");
+  EXPECT_EQ(result["sensors"][0]["parent"].as<std::string>(), "panda_EE");
+  EXPECT_TRUE(result["sensors"][0]["published"].as<bool>());
+  EXPECT_EQ(result["board"]["parent"].as<std::string>(), "panda_link0");
+  const Eigen::Isometry3d found = cameraIn(one_folder), by_arm = cameraIn(arm_folder);
+  const Eigen::Isometry3d reference = vocal::poseFromTranslationQuaternion(
+      Eigen::Vector3d(0.0577, -0.0339, -0.0423), Eigen::Quaterniond(0.70320, 0.00076, 0.00411, 0.71098).normalized());
+  const double metres = (found.translation() - reference.translation()).norm(), radians = vocal::rotationAngle(reference.inverse() * found);
+  const double from_arm_metres = (found.translation() - by_arm.translation()).norm(), from_arm_radians = vocal::rotationAngle(by_arm.inverse() * found);
+  std::cerr << "wrist camera through the one graph: " << 1000 * metres << " mm, " << radians * 180 / M_PI << " deg from the authors' result; "
+            << 1000 * from_arm_metres << " mm, " << 1000 * from_arm_radians << " mrad from the arm's graph\n";
+  EXPECT_LT(metres, 0.002);
+  EXPECT_LT(radians, 0.2 * M_PI / 180);
+  EXPECT_LT(from_arm_metres, 0.0002);
+  EXPECT_LT(from_arm_radians, 0.0002);
+  std::ifstream launch_file(one_folder + "/calibration.launch");
+  std::stringstream launch;
+  launch << launch_file.rdbuf();
+  EXPECT_NE(launch.str().find(" panda_EE camera_color_optical_frame\"/>"), std::string::npos) << launch.str();
+}
+
 // The folder's pairs are checked before anything is written: an image without its cloud is named.
 TEST(RealRigCalibration, StillPosesToBagNamesAPoseWithoutItsCloud) {
   const std::string folder = vocal_test::makeTempFolder("still_poses_missing");

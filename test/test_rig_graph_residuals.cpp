@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -21,6 +22,7 @@
 #include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
+#include "vocal/calibration/solver/unmodelled_view_scatter.h"
 #include "vocal/calibration/solver/link_from_joints_cost.h"
 #include "vocal/calibration/solver/weak_board_prior.h"
 #include "vocal/core/se3.h"
@@ -286,4 +288,61 @@ TEST(RigGraphResiduals, ASensorBehindJointsIsTiedToItsChainTimesItsMount) {
   Eigen::Matrix<double, 6, 1> r;
   ASSERT_TRUE(link_tie->Evaluate(blocks, r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-6);
+}
+
+// The views' scatter an arm's session measures (unmodelled_view_scatter.h): a camera on a reported tool
+// over a board lying still, three views a still pose. Views that differ from the solution by their PnP
+// noise alone: none. Views that share a 3 mm / 3 mrad error per axis within each still pose (a real arm's
+// kinematics): that error per axis, within a third; and withViewScatter widens each view by it times its
+// pose's view count.
+TEST(RigGraphResiduals, TheViewsScatterIsWhatAStillPosesViewsShareBeyondTheirNoise) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const Eigen::Isometry3d mount = Eigen::Translation3d(0.05, -0.03, -0.04) * Eigen::AngleAxisd(1.57, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d board = Eigen::Translation3d(0.5, 0.0, 0.0) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX());
+  vocal::CalibrationResult solved;
+  solved.sensors.resize(1);
+  solved.sensors[0].reference_from_sensor = mount;
+  solved.board_mount = board;
+  solved.mounts.board_fixed = true;
+  solved.mounts.on_reported_tool = {true};
+  const std::vector<vocal::SensorSpec> sensors = {{"wrist_camera", vocal::SensorType::kCamera, "wrist"}};
+  const double pnp_sigma = 1e-4;  // the views' PnP noise, per axis (rad, m)
+  for (const double shared : {0.0, 0.003}) {
+    SCOPED_TRACE("shared error " + std::to_string(shared));
+    std::vector<vocal::TargetObservation> observations;
+    for (int k = 0; k < 15; ++k) {
+      const Eigen::Isometry3d tool = Eigen::Translation3d(0.4 + 0.02 * k, 0.1 * std::sin(k), 0.5) *
+                                     Eigen::AngleAxisd(M_PI + 0.1 * std::cos(k), Eigen::Vector3d(0.2, 1.0, 0.1 * k).normalized());
+      solved.mounts.tool_poses[k] = tool;
+      const Eigen::Vector3d turn(shared * unit(rng), shared * unit(rng), shared * unit(rng));
+      const Eigen::Vector3d shift(shared * unit(rng), shared * unit(rng), shared * unit(rng));
+      vocal::TargetObservation o;
+      o.sensor = 0, o.target_pose = k;
+      for (int v = 0; v < 3; ++v) {
+        vocal::PlaneMeasurement view;
+        const Eigen::Vector3d w = turn + pnp_sigma * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+        const Eigen::Vector3d dt = shift + pnp_sigma * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+        const Eigen::Isometry3d truth = (tool * mount).inverse() * board;
+        view.sensor_from_pattern.linear() = truth.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+        view.sensor_from_pattern.translation() = truth.translation() + dt;
+        view.pose_covariance = pnp_sigma * pnp_sigma * Eigen::Matrix<double, 6, 6>::Identity();
+        o.plane_measurements.push_back(view);
+      }
+      observations.push_back(o);
+    }
+    const vocal::ViewScatter scatter = vocal::unmodelledViewScatter(sensors, observations, solved);
+    if (shared == 0.0) {
+      EXPECT_EQ(scatter.translation, 0.0);
+      EXPECT_EQ(scatter.rotation, 0.0);
+      continue;
+    }
+    EXPECT_NEAR(scatter.translation, shared, shared / 3);
+    EXPECT_NEAR(scatter.rotation, shared, shared / 3);
+    const std::vector<vocal::TargetObservation> widened = vocal::withViewScatter(observations, sensors, scatter);
+    EXPECT_NEAR(widened[0].plane_measurements[0].pose_covariance(0, 0),
+                pnp_sigma * pnp_sigma + 3 * scatter.rotation * scatter.rotation, 1e-12);
+    EXPECT_NEAR(widened[0].plane_measurements[0].pose_covariance(5, 5),
+                pnp_sigma * pnp_sigma + 3 * scatter.translation * scatter.translation, 1e-12);
+  }
 }

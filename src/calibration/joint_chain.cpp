@@ -131,9 +131,15 @@ std::vector<double> chainReadings(const std::vector<int>& read, const std::vecto
   return out;
 }
 
+Eigen::Isometry3d JointedMounts::mountFrameAt(int sensor, int k, const std::vector<double>& joint_positions) const {
+  if (jointed(sensor)) return chainPose(joints, chains[sensor], joint_positions);
+  if (onReportedTool(sensor)) return tool_poses.at(k);
+  return Eigen::Isometry3d::Identity();
+}
+
 const std::optional<Eigen::Isometry3d>& JointedMounts::knownMount(int sensor) const {
   static const std::optional<Eigen::Isometry3d> none;
-  return jointed(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;
+  return moves(sensor) && sensor < static_cast<int>(known_mounts.size()) ? known_mounts[sensor] : none;
 }
 
 }  // namespace vocal

@@ -62,10 +62,11 @@ const char kUsage[] =
     "                      driver's calibration)\n"
     "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
     "                      graph and the others solved without it, so that it moves none of them)\n"
-    "  --one-graph         an arm holding the board before fixed sensors, one of them given: solved by the still-\n"
-    "                      pose graph with the board a frame on the tool and sensors on the arm's links or a\n"
-    "                      head's each a frame on its chain (from the joints; trust and the jackknife as for any\n"
-    "                      rig; in progress, the arm's own graph is the default)\n"
+    "  --one-graph         an arm's session solved by the still-pose graph: the board on the tool before fixed\n"
+    "                      sensors, one of them given, or lying still in the base under sensors on the arm (eye-\n"
+    "                      in-hand: the base the rig frame); sensors on the arm's links or a head's each a frame\n"
+    "                      on its chain or on the tool tf reports (trust and the jackknife as for any rig; in\n"
+    "                      progress, the arm's own graph is the default)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
     "                      launch file (by default they are withheld and the exit status is 1)\n"
     "  --max-held-mb MB    the session's memory budget for target data (default 512; 0: none): past it, messages in\n"
@@ -448,9 +449,10 @@ std::vector<std::string> withholdAndWrite(const vocal::CommandLine& args, const 
 }
 
 // --one-graph (issue 44, in progress): an arm holding the board before fixed sensors, one of them given (the
-// reference), solved by the still-pose graph with the board a frame on the tool (from the joints or tf) and,
-// with the joints, sensors on the arm's links or a head's each a frame on its chain: trust, the jackknife and
-// the still-pose outputs as for any rig.
+// reference), or moving sensors over a board lying still in its base (eye-in-hand; the base the rig frame),
+// solved by the still-pose graph: the board a frame on the tool (from the joints or tf) or in the base, the
+// sensors on the arm's links or a head's each a frame on its chain (or on the tool tf reports): trust, the
+// jackknife and the still-pose outputs as for any rig.
 int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm,
                      const vocal::HandEyeFrames& frames, const vocal::HandEyeAssociation& association, const vocal::HandEyeOptions& arm_options,
                      const vocal::SpreadTolerance& tolerance) {
@@ -458,24 +460,23 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
   for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
     if (reference < 0 && !frames.on_tool[s] && frames.given_poses[s]) reference = static_cast<int>(s);
   }
+  // (The rig gives the board's size, or for a rig of cameras alone the pattern's extent stands for it.)
+  const bool board_size = rig.target.width > 0.0 && rig.target.height > 0.0;
   if (arm.eye_in_hand) {
-    throw vocal::InputError("option --one-graph: the board stands fixed while the arm moves the sensors on it; for now the one graph takes an "
-                            "arm holding the board before fixed sensors: calibrate this rig without --one-graph");
-  }
-  if (reference < 0 || !(rig.target.width > 0.0 && rig.target.height > 0.0)) {
+    for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
+      if (!frames.on_tool[s]) {
+        throw vocal::InputError("option --one-graph: sensor '" + frames.sensors[s].name + "' stands fixed beside a board that stands fixed too, "
+                                "so no still pose tells it anything: calibrate it in a session with the board on the arm or by hand");
+      }
+    }
+  } else if (reference < 0 || !board_size) {
     throw vocal::InputError("option --one-graph: for now the one graph needs the board's size (target: width, height) and a sensor beside the "
                             "arm whose pose the rig gives (the reference): calibrate this rig without --one-graph");
   }
-  for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
-    if (frames.on_tool[s] && !arm_options.arm_joints) {
-      throw vocal::InputError("option --one-graph: sensor '" + frames.sensors[s].name + "' moves with the arm, whose tool comes from tf; for now "
-                              "the one graph places a sensor on the arm from its joints only (name them in the rig: 'joints:' or 'urdf:')");
-    }
-  }
   const std::vector<vocal::SensorSpec> specs = frames.sensors;
   vocal::CalibrationOptions options;
-  options.reference_sensor = reference;
-  options.reference_pose = *frames.given_poses[reference];
+  options.reference_sensor = arm.eye_in_hand ? -1 : reference;
+  if (!arm.eye_in_hand) options.reference_pose = *frames.given_poses[reference];
   options.board_edges.enabled = true;
   options.board_edges.width = rig.target.width, options.board_edges.height = rig.target.height;
   // Each camera view as its whole PnP pose, as the arm's graph takes it: with the board on the tool its
@@ -486,25 +487,35 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
   vocal::JointedMounts& mounts = options.mounts;
   mounts.tool_translation_sigma = arm_options.tool_translation_sigma, mounts.tool_rotation_sigma = arm_options.tool_rotation_sigma;
   mounts.tool_loss_sigmas = arm_options.loss_sigmas;
+  mounts.board_fixed = arm.eye_in_hand;
   if (arm_options.arm_joints) {
     mounts.joints = arm_options.arm_joints->joints;
     mounts.tolerances = arm_options.arm_joints->tolerances;
-    mounts.board_chain = arm_options.arm_joints->chain;
-    // A sensor on the tool moves with the board's chain; one on another link (a forearm, a head) with its own.
+    if (!arm.eye_in_hand) mounts.board_chain = arm_options.arm_joints->chain;
+    // A sensor on the tool moves with the tool's chain; one on another link (a forearm, a head) with its own.
     mounts.chains.assign(specs.size(), {});
     mounts.known_mounts.assign(specs.size(), std::nullopt);
     for (std::size_t s = 0; s < specs.size(); ++s) {
       if (!frames.on_tool[s]) continue;
-      mounts.chains[s] = frames.link_chains[s].empty() ? mounts.board_chain : frames.link_chains[s];
+      mounts.chains[s] = frames.link_chains[s].empty() ? arm_options.arm_joints->chain : frames.link_chains[s];
       mounts.known_mounts[s] = frames.given_poses[s];
     }
+  } else {
+    // Sensors on the tool at the poses tf reported for it.
+    mounts.on_reported_tool = frames.on_tool;
+    mounts.known_mounts.assign(specs.size(), std::nullopt);
+    for (std::size_t s = 0; s < specs.size(); ++s)
+      if (frames.on_tool[s]) mounts.known_mounts[s] = frames.given_poses[s];
   }
+  mounts.tool_frame = arm.tool_frame;  // the frame sensors on the reported tool are in, and the board on it
   for (std::size_t k = 0; k < association.stations.size(); ++k) {
     const vocal::HandEyeStation& station = association.stations[k];
     if (arm_options.arm_joints) {
-      mounts.board_readings[static_cast<int>(k)] = vocal::chainReadings(arm_options.arm_joints->readJoints(), station.joint_positions, mounts.board_chain);
+      if (!arm.eye_in_hand)
+        mounts.board_readings[static_cast<int>(k)] = vocal::chainReadings(arm_options.arm_joints->readJoints(), station.joint_positions, mounts.board_chain);
     } else {
-      mounts.board_tool_poses[static_cast<int>(k)] = station.base_from_tool;
+      mounts.tool_poses[static_cast<int>(k)] = station.base_from_tool;
+      if (!arm.eye_in_hand) mounts.board_tool_poses[static_cast<int>(k)] = station.base_from_tool;
     }
   }
   std::vector<vocal::TargetObservation> observations = vocal::stillPoseObservations(association.stations, rig.target.pattern);
@@ -515,8 +526,13 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
                                                  mounts.chains[o.sensor]);
   }
   const vocal::CalibrationResult result = vocal::calibrateRigWithTrust(specs, observations, options);
-  std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
-              arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
+  if (arm.eye_in_hand) {
+    std::printf("one graph: the board lying still in %s (the rig frame), the sensors on %s (%s), %zu still poses\n", rig.reference_frame.c_str(),
+                arm.tool_frame.c_str(), arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
+  } else {
+    std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
+                arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
+  }
   if (arm_options.arm_joints) printJointOffsets(result);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw", "sigma t (mm) / r (mrad)");
   const auto printPoseRow = [](const std::string& name, const Eigen::Isometry3d& pose, const vocal::Vector6d& sigma, const char* note) {
@@ -525,13 +541,26 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
     std::printf("%-12s %10.5f %10.5f %10.5f %10.6f %10.6f %10.6f %10.6f   %.2f / %.2f%s\n", name.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(),
                 q.z(), q.w(), 1000 * sigma.head<3>().norm(), 1000 * sigma.tail<3>().norm(), note);
   };
-  for (std::size_t s = 0; s < specs.size(); ++s)
-    printPoseRow(specs[s].name, result.sensors[s].reference_from_sensor, result.sensors[s].standard_deviation,
-                 static_cast<int>(s) == reference ? " (held at the pose the rig gives)" : result.sensors[s].isolated ? " (isolated)" : "");
-  if (result.board_mount) printPoseRow("board", *result.board_mount, result.board_mount_sigma, (" (in " + arm.tool_frame + ")").c_str());
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    const std::string parent = vocal::sensorParent(result, s, rig.reference_frame);
+    const std::string note = static_cast<int>(s) == reference ? " (held at the pose the rig gives)"
+                             : result.sensors[s].isolated     ? " (isolated)"
+                             : parent != rig.reference_frame  ? " (in " + parent + ")"
+                                                              : "";
+    printPoseRow(specs[s].name, result.sensors[s].reference_from_sensor, result.sensors[s].standard_deviation, note.c_str());
+  }
+  if (result.board_mount) {
+    printPoseRow("board", *result.board_mount, result.board_mount_sigma,
+                 (" (in " + (arm.eye_in_hand ? rig.reference_frame : arm.tool_frame) + ")").c_str());
+  }
   std::printf("the print on the board: %+.1f / %+.1f mm from its centre along its x / y, turned %+.1f mrad (where range sensors see the "
               "board's edges; else held at the centre)\n", 1000 * result.print_on_board.x(), 1000 * result.print_on_board.y(),
               1000 * result.print_on_board.z());
+  if (result.view_scatter && result.view_scatter->translation > 0.0) {
+    std::printf("the camera views disagree beyond the corners' noise and the arm's repeatability by %.2f mm / %.2f mrad per axis (the arm's "
+                "kinematics, the camera's intrinsics, the print): each view weighted by it\n", 1000 * result.view_scatter->translation,
+                1000 * result.view_scatter->rotation);
+  }
   if (result.misdetected_views > 0) {
     std::printf("%d camera view%s held by %s plane only: the board over %.0f mm / %.0f mrad from where the started rig put it "
                 "(a pattern found shifted by a square, or something else seen)\n", result.misdetected_views,

@@ -211,9 +211,30 @@ struct JointedMounts {
   std::map<int, Eigen::Isometry3d> board_tool_poses;
   double tool_translation_sigma = 1e-4, tool_rotation_sigma = 1e-4, tool_loss_sigmas = 5.0;
   std::optional<Eigen::Isometry3d> known_board_mount;
+  // The board lies still in the rig frame, an arm's base, while the arm moves the sensors that see it
+  // (eye-in-hand): one pose there, each still pose's board held to it within the tool sigmas above (a board
+  // nudged moves itself). No sensor's pose is given (CalibrationOptions::reference_sensor -1): the base the
+  // joints or the reported tool poses are in is the rig frame, and the first moving joint of each chain is
+  // held, as the board takes up its offset.
+  bool board_fixed = false;
+  // Per sensor (or none): on the arm's tool whose pose the arm reports (tf), at tool_poses' pose for each
+  // still pose (base <- tool, held within the tool sigmas as the board's), its mount in tool_frame an unknown.
+  std::vector<bool> on_reported_tool;
+  std::map<int, Eigen::Isometry3d> tool_poses;
+  std::string tool_frame;
 
   bool jointed(int sensor) const { return sensor >= 0 && sensor < static_cast<int>(chains.size()) && !chains[sensor].empty(); }
-  bool boardMoves() const { return !board_chain.empty() || !board_tool_poses.empty(); }
+  bool onReportedTool(int sensor) const {
+    return sensor >= 0 && sensor < static_cast<int>(on_reported_tool.size()) && on_reported_tool[sensor];
+  }
+  // Whether a sensor is somewhere else at each still pose (behind joints, or on the reported tool).
+  bool moves(int sensor) const { return jointed(sensor) || onReportedTool(sensor); }
+  bool boardMoves() const { return !board_chain.empty() || !board_tool_poses.empty() || board_fixed; }
+  // The board's frame at still pose k where it is on the reported tool or fixed in the rig frame.
+  Eigen::Isometry3d boardToolPose(int k) const { return board_fixed ? Eigen::Isometry3d::Identity() : board_tool_poses.at(k); }
+  // Where a sensor's mount frame was (rig frame) at still pose k read as `joint_positions` (its chain's): its
+  // chain's last link at the joints' offsets, the reported tool, or the rig frame itself (a rigid sensor).
+  Eigen::Isometry3d mountFrameAt(int sensor, int k, const std::vector<double>& joint_positions) const;
   const std::optional<Eigen::Isometry3d>& knownMount(int sensor) const;
 };
 

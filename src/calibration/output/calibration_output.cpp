@@ -156,13 +156,16 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
          << "    observations: " << c.observations << "\n";
   }
   if (result.board_mount) {
-    // The board on a frame that moves (an arm's tool): its mount there, the solver's sigma.
+    // The board on a frame that moves (an arm's tool), or lying still in the base: its mount there, the solver's sigma.
     const Eigen::Vector3d t = result.board_mount->translation();
     const Eigen::Quaterniond q(result.board_mount->rotation());
     const Vector6d& sd = result.board_mount_sigma;
     const std::vector<int>& chain = result.mounts.board_chain;
-    file << "board:  # the board's mount on the frame that holds it (with the tool from tf: that tool frame)\n";
-    if (!chain.empty()) file << "  parent: " << result.mounts.joints.at(chain.back()).child << "\n";
+    const std::string parent = result.mounts.board_fixed ? reference_frame
+                               : !chain.empty()           ? result.mounts.joints.at(chain.back()).child
+                                                          : result.mounts.tool_frame;
+    file << "board:  # the board's mount on the frame that holds it, or in the base where it lay still\n";
+    if (!parent.empty()) file << "  parent: " << parent << "\n";
     file << "  translation: [" << t.x() << ", " << t.y() << ", " << t.z() << "]\n"
          << "  rotation: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n"
          << "  translation_stddev: [" << sd[0] << ", " << sd[1] << ", " << sd[2] << "]  # m, the solver's\n"
@@ -170,6 +173,10 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
     const Eigen::Vector3d& print = result.print_on_board;
     file << "  print: [" << print.x() << ", " << print.y() << ", " << print.z()
          << "]  # the pattern on the board: m along its x and y from its centre, rad about its normal (zero: not solved, or nothing saw its edges)\n";
+  }
+  if (result.view_scatter) {
+    file << "unmodelled: {translation_m: " << result.view_scatter->translation << ", rotation_rad: " << result.view_scatter->rotation
+         << "}  # per axis, added to every camera view's covariance (zero: the views' noise and the arm's repeatability explained them)\n";
   }
   if (!result.mounts.chains.empty() || !result.mounts.board_chain.empty()) {
     // Each joint a sensor or the board is behind: its zero offset (added to the encoder's reading), and robot_calibration's block of them.
@@ -214,6 +221,7 @@ std::string jointOriginText(const JointCalibration& calibration) {
 }
 
 std::string sensorParent(const CalibrationResult& result, std::size_t s, const std::string& reference_frame) {
+  if (result.mounts.onReportedTool(static_cast<int>(s))) return result.mounts.tool_frame;
   if (!result.mounts.jointed(static_cast<int>(s))) return reference_frame;
   return result.mounts.joints.at(result.mounts.chains[s].back()).child;
 }

@@ -25,6 +25,7 @@
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/camera_pose_on_board_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
+#include "vocal/calibration/solver/hand_eye_closed_form.h"
 #include "vocal/calibration/solver/link_from_joints_cost.h"
 #include "vocal/calibration/solver/misdetected_view.h"
 #include "vocal/calibration/solver/on_board_plane.h"
@@ -32,6 +33,7 @@
 #include "vocal/calibration/solver/outline_points_residual.h"
 #include "vocal/calibration/solver/scan_ends.h"
 #include "vocal/calibration/solver/tool_pose_residual.h"
+#include "vocal/calibration/solver/unmodelled_view_scatter.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
 #include "vocal/calibration/solver/plane_measurement_residual.h"
 #include "vocal/calibration/solver/point_plane_residual.h"
@@ -223,18 +225,26 @@ void tieToChain(ceres::Problem* problem, const JointOffsets& joints, const std::
 // joints' readings put its mount `sensor`), tied to its chain at o's readings times its mount, as the arm's
 // graph ties its links to theirs; the views' residuals see it as a rigid sensor's pose. Null for a rigid sensor.
 SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const JointOffsets& joints, SensorState* sensor) {
-  if (!joints.mounts || !joints.mounts->jointed(o.sensor)) return nullptr;
-  const std::vector<JointDescription>& described = joints.mounts->joints;
-  const std::vector<int>& chain = joints.mounts->chains[o.sensor];
+  if (!joints.mounts || !joints.mounts->moves(o.sensor)) return nullptr;
+  const JointedMounts& mounts = *joints.mounts;
   const auto [entry, added] = joints.placed->try_emplace({o.sensor, o.target_pose});
   SensorState& placed = entry->second;
   if (added) {
     const Eigen::Isometry3d mount = poseFromTranslationQuaternion(sensor->translation, sensor->rotation.normalized());
-    const Eigen::Isometry3d start = chainPose(described, chain, o.joint_positions, *joints.offsets) * mount;
+    const Eigen::Isometry3d frame = mounts.jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions, *joints.offsets)
+                                                             : mounts.tool_poses.at(o.target_pose);
+    const Eigen::Isometry3d start = frame * mount;
     placed = {Eigen::Quaterniond(start.rotation()), start.translation()};
   }
   if (problem->HasParameterBlock(placed.translation.data())) return &placed;
-  tieToChain(problem, joints, chain, o.joint_positions, o.target_pose, &placed, sensor);
+  if (mounts.jointed(o.sensor)) {
+    tieToChain(problem, joints, mounts.chains[o.sensor], o.joint_positions, o.target_pose, &placed, sensor);
+  } else {  // on the reported tool: where it was less its mount is the tool the arm reported, as the board on it
+    const ToolPoseResidual reported(mounts.tool_poses.at(o.target_pose), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
+                              new ceres::CauchyLoss(mounts.tool_loss_sigmas), placed.rotation.coeffs().data(), placed.translation.data(),
+                              sensor->rotation.coeffs().data(), sensor->translation.data());
+  }
   problem->SetManifold(placed.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   return &placed;
 }
@@ -434,10 +444,12 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     if (joint.type == JointType::kFixed || !(high[j] >= low[j])) return false;
     return high[j] - low[j] >= mounts.tolerances.minMotion(joint);
   };
-  std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false), before_board(joint_count, false);
+  std::vector<bool> solvable(joint_count, false), in_a_chain(joint_count, false), before_board(joint_count, false), first(joint_count, false);
   std::vector<std::string> fixed_after(joint_count);  // what ties a solvable joint down on the far side
   // A chain in the graph: a sensor's, or the board's; `known`: what ends it has a known mount.
   const auto judge = [&](const std::vector<int>& chain, bool known, const std::string& known_mount) {
+    const auto first_moving = std::find_if(chain.begin(), chain.end(), [&](int j) { return mounts.joints[j].type != JointType::kFixed; });
+    if (first_moving != chain.end()) first[*first_moving] = true;
     bool later_moved = false;
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       in_a_chain[*it] = true;
@@ -463,6 +475,8 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       joints[j].held = "a fixed joint";
     } else if (!in_a_chain[j]) {
       joints[j].held = "no calibrated sensor is behind it";
+    } else if (first[j] && mounts.board_fixed) {
+      joints[j].held = "the first joint from the base, whose frame is the rig's: the board lying still in it takes up its offset";
     } else if (!solvable[j] && before_board[j]) {
       joints[j].held = "no joint after it moved over the session, so the board's mount takes up its offset: move the joints after it "
                        "between still poses, or give the board's mount";
@@ -470,7 +484,8 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       joints[j].held = "no joint after it moved over the session, so the mount of the sensor behind it takes up its offset: move the "
                        "joints after it between still poses, or give the sensor's mount";
     } else {
-      joints[j].fixed_by = "the reference's given pose (the rig frame) and " + fixed_after[j];
+      joints[j].fixed_by = std::string(mounts.board_fixed ? "the board lying still in the base frame" : "the reference's given pose (the rig frame)") +
+                           " and " + fixed_after[j];
     }
   }
   return joints;
@@ -539,10 +554,18 @@ void fitScale(const std::vector<std::pair<double, double>>& pairs, double* slope
 }
 }  // namespace
 
-CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
-                               const CalibrationOptions& options) {
+namespace {
+CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                           const CalibrationOptions& options) {
   const int sensor_count = static_cast<int>(sensors.size());
-  if (options.reference_sensor < 0 || options.reference_sensor >= sensor_count) {
+  const JointedMounts& mounts = options.mounts;
+  // The board lying still in an arm's base: the base is the rig frame, no sensor the reference.
+  const bool base_is_reference = mounts.board_fixed;
+  if (base_is_reference && options.reference_sensor != -1) {
+    throw InputError("calibration: the board lies still in the arm's base frame, which is then the rig frame: no sensor is the reference "
+                     "(reference_sensor -1), but sensor index " + std::to_string(options.reference_sensor) + " was given");
+  }
+  if (!base_is_reference && (options.reference_sensor < 0 || options.reference_sensor >= sensor_count)) {
     throw InputError("calibration: reference sensor index " + std::to_string(options.reference_sensor) + " is not one of the " +
                      std::to_string(sensor_count) + " sensors");
   }
@@ -562,18 +585,27 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     }
     isolated[s] = true;
   }
-  // Sensors behind joints: their mounts are the unknowns, each observation's pose composed through the chain.
-  const JointedMounts& mounts = options.mounts;
+  // Sensors behind joints or on the reported tool: their mounts are the unknowns, each observation's pose
+  // composed through the chain or the tool.
   if (!mounts.chains.empty() && static_cast<int>(mounts.chains.size()) != sensor_count) {
     throw InputError("calibration: the joints name chains for " + std::to_string(mounts.chains.size()) + " sensors of " +
                      std::to_string(sensor_count));
   }
-  const auto jointed = [&](int s) { return mounts.jointed(s); };
+  if (!mounts.on_reported_tool.empty() && static_cast<int>(mounts.on_reported_tool.size()) != sensor_count) {
+    throw InputError("calibration: the reported tool names " + std::to_string(mounts.on_reported_tool.size()) + " sensors of " +
+                     std::to_string(sensor_count));
+  }
+  // Whether a sensor is somewhere else at each still pose (behind joints, or on the reported tool).
+  const auto jointed = [&](int s) { return mounts.moves(s); };
   for (int s = 0; s < sensor_count; ++s) {
+    if (mounts.jointed(s) && mounts.onReportedTool(s)) {
+      throw InputError("calibration: sensor '" + sensors[s].name + "' is both behind joints and on the reported tool");
+    }
     if (!jointed(s)) continue;
     if (s == options.reference_sensor) {
       throw InputError("calibration: the reference sensor '" + sensors[s].name + "' is behind joints; give the pose of a sensor mounted rigidly");
     }
+    if (!mounts.jointed(s)) continue;
     for (const int j : mounts.chains[s]) {
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: sensor '" + sensors[s].name + "''s chain names no joint");
     }
@@ -586,8 +618,9 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     for (const int j : mounts.board_chain) {
       if (j < 0 || j >= static_cast<int>(mounts.joints.size())) throw InputError("calibration: the board's chain names no joint");
     }
-    if (!mounts.board_chain.empty() && !mounts.board_tool_poses.empty()) {
-      throw InputError("calibration: the board's frame comes from the arm's joints or from its reported tool poses, not both");
+    if (!mounts.board_chain.empty() + !mounts.board_tool_poses.empty() + mounts.board_fixed > 1) {
+      throw InputError("calibration: the board's frame comes from the arm's joints, from its reported tool poses or is the base frame: "
+                       "one of them, not several");
     }
   }
   std::vector<double> joint_offsets;
@@ -597,9 +630,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::map<std::pair<int, int>, SensorState> placed_at_poses;  // a std::map too
   const JointOffsets joint_state{&mounts, &joint_offsets, &reading_corrections, &origin_corrections, &placed_at_poses};
   // The chain's pose (rig frame) when o was made, the offsets at their initial values: the identity for a rigid mount.
-  const auto chainAt = [&](const TargetObservation& o) {
-    return jointed(o.sensor) ? chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) : Eigen::Isometry3d::Identity();
-  };
+  const auto chainAt = [&](const TargetObservation& o) { return mounts.mountFrameAt(o.sensor, o.target_pose, o.joint_positions); };
   // Planes fitted per (sensor, target pose).
   std::vector<std::map<int, Plane>> planes(sensor_count);
   std::vector<std::map<int, Eigen::Vector3d>> centres(sensor_count);  // the board's centre as each saw it
@@ -615,7 +646,11 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       centres[o.sensor][o.target_pose] = boardCentreSeen(o);
     }
     ++observation_count[o.sensor];
-    if (jointed(o.sensor)) {
+    if (mounts.onReportedTool(o.sensor) && !mounts.tool_poses.count(o.target_pose)) {
+      throw InputError("calibration: sensor '" + sensors[o.sensor].name + "' is on the arm's tool, but still pose " + std::to_string(o.target_pose) +
+                       " has no tool pose the arm reported");
+    }
+    if (mounts.jointed(o.sensor)) {
       bool finite = o.joint_positions.size() == mounts.chains[o.sensor].size();
       for (const double q : o.joint_positions) finite = finite && std::isfinite(q);
       if (!finite) {
@@ -624,7 +659,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
                          std::to_string(o.joint_positions.size()) + " finite joint positions");
       }
     }
-    if (mounts.boardMoves() && mounts.board_chain.empty() && !mounts.board_tool_poses.count(o.target_pose)) {
+    if (mounts.boardMoves() && mounts.board_chain.empty() && !mounts.board_fixed && !mounts.board_tool_poses.count(o.target_pose)) {
       throw InputError("calibration: the board is on the arm's tool, but still pose " + std::to_string(o.target_pose) +
                        " has no tool pose the arm reported");
     }
@@ -667,25 +702,51 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     return shared;
   };
   auto isLaser = [&](int s) { return sensors[s].type == SensorType::kLaser2d; };
-  if (isLaser(options.reference_sensor)) {
+  if (!base_is_reference && isLaser(options.reference_sensor)) {
     throw InputError("calibration: the reference sensor '" + sensors[options.reference_sensor].name +
                      "' is a 2D laser; choose a sensor that sees the target's plane");
   }
   std::vector<Eigen::Isometry3d> initial(sensor_count, Eigen::Isometry3d::Identity());
   std::vector<bool> placed(sensor_count, false);
   std::vector<bool> unplaced(sensor_count, false);  // isolated, and its views cannot place it
-  placed[options.reference_sensor] = true;
-  initial[options.reference_sensor] = options.reference_pose;
+  int placed_count = 0;
+  if (!base_is_reference) {
+    placed[options.reference_sensor] = true;
+    initial[options.reference_sensor] = options.reference_pose;
+    placed_count = 1;
+  } else {
+    // The base the rig frame: each camera on the arm started from the hand-eye closed form over its views.
+    for (int s = 0; s < sensor_count; ++s) {
+      if (isolated[s] || !jointed(s) || sensors[s].type != SensorType::kCamera) continue;
+      std::vector<Eigen::Isometry3d> frames, views;
+      for (const auto& [k, plane] : planes[s]) {
+        const TargetObservation& o = *observation_of.at({s, k});
+        if (o.plane_measurements.empty()) continue;
+        frames.push_back(chainAt(o));
+        views.push_back(o.plane_measurements.front().sensor_from_pattern);
+      }
+      if (static_cast<int>(frames.size()) < kLeastSharedPoses) continue;
+      initial[s] = mounts.knownMount(s) ? *mounts.knownMount(s) : openCvHandEye(frames, views, kParkHandEye);
+      placed[s] = true;
+      ++placed_count;
+    }
+    if (placed_count == 0) {
+      throw InputError("calibration: the board lies still in the arm's base frame, but no camera on the arm saw it at " +
+                       std::to_string(kLeastSharedPoses) + " still poses or more: a camera's views of the board start the sensors on "
+                       "the arm (a range sensor's planes alone leave the board's place in its plane open)");
+    }
+  }
   int plane_sensors = 0;
   const auto absent = [&](int s) { return observation_count[s] == 0; };  // isolated (else thrown above), never seen
   for (int s = 0; s < sensor_count; ++s) plane_sensors += !isLaser(s) && !absent(s);
-  for (int added = 1; added < plane_sensors; ++added) {
+  for (int added = placed_count; added < plane_sensors; ++added) {
     int best_parent = -1, best_child = -1;
     std::size_t best_shared = 0;
     // An isolated sensor is placed from the others but places none of them, after every other; so is
-    // one behind joints (its pose differs per still pose).
+    // one behind joints (its pose differs per still pose), unless the base is the rig frame and only
+    // sensors on the arm place others.
     for (int a = 0; a < sensor_count; ++a) {
-      if (!placed[a] || isolated[a] || jointed(a)) continue;
+      if (!placed[a] || isolated[a] || (jointed(a) && !base_is_reference)) continue;
       for (int b = 0; b < sensor_count; ++b) {
         if (placed[b] || isLaser(b)) continue;
         const std::size_t shared = sharedPoses(a, b).size();
@@ -708,11 +769,14 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     std::vector<Plane> in_parent, in_child;
     BoardCentres centres;
     // A child behind joints: the parent's views carried into the chain's last link at each pose (joint
-    // offsets at their initial values), where its mount is fixed.
-    const bool child_jointed = jointed(best_child);
+    // offsets at their initial values), where its mount is fixed; a parent on the arm's: carried into the rig frame.
+    const bool child_jointed = jointed(best_child), moving = child_jointed || jointed(best_parent);
     for (int k : sharedPoses(best_parent, best_child)) {
-      const Eigen::Isometry3d link_from_parent =
-          child_jointed ? chainAt(*observation_of.at({best_child, k})).inverse() * initial[best_parent] : Eigen::Isometry3d::Identity();
+      Eigen::Isometry3d link_from_parent = Eigen::Isometry3d::Identity();
+      if (moving) {
+        link_from_parent = chainAt(*observation_of.at({best_parent, k})) * initial[best_parent];
+        if (child_jointed) link_from_parent = chainAt(*observation_of.at({best_child, k})).inverse() * link_from_parent;
+      }
       in_parent.push_back(transformPlane(link_from_parent, planes[best_parent][k]));
       in_child.push_back(planes[best_child][k]);
       if (edges.enabled) {
@@ -732,7 +796,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
       continue;
     }
     try {
-      initial[best_child] = (child_jointed ? Eigen::Isometry3d::Identity() : initial[best_parent]) *
+      initial[best_child] = (moving ? Eigen::Isometry3d::Identity() : initial[best_parent]) *
                             alignPlanes(in_parent, in_child,
                                         "calibration of '" + sensors[best_child].name + "' against '" + sensors[best_parent].name + "'",
                                         edges.enabled ? &centres : nullptr);
@@ -777,7 +841,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   std::optional<Eigen::Isometry3d> board_mount_start;
   if (mounts.boardMoves() && !rig_boards.empty()) {
     const auto boardChainAt = [&](int k) {  // the frame: the arm's chain at the pose's readings, or its reported tool
-      return mounts.board_chain.empty() ? mounts.board_tool_poses.at(k) : chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k));
+      return mounts.board_chain.empty() ? mounts.boardToolPose(k) : chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k));
     };
     std::vector<Eigen::Isometry3d> mounted;
     for (auto& [k, board] : rig_boards) {
@@ -854,8 +918,13 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     addObservationResiduals(&problem, o, sensors[o.sensor].type, options, &sensor_state[o.sensor], &plane_state, &board_state, joint_state,
                             intrinsicsOf(o.sensor), beamOf(o.sensor), CameraPoses{print, &misdetected_views});
   }
-  if (print && problem.HasParameterBlock(print))
+  if (print && problem.HasParameterBlock(print)) {
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PrintPlacePrior, 3, 3>(new PrintPlacePrior), nullptr, print);
+    // Only cameras in the graph: nothing sees the board's edges, the print's place is the board's own.
+    bool edges_seen = false;
+    for (int s = 0; s < sensor_count; ++s) edges_seen = edges_seen || (!isolated[s] && !absent(s) && sensors[s].type != SensorType::kCamera);
+    if (!edges_seen) problem.SetParameterBlockConstant(print);
+  }
   for (int s = 0; s < sensor_count; ++s) {
     if (intrinsicsOf(s) && problem.HasParameterBlock(intrinsicsOf(s))) addIntrinsicsPrior(&problem, intrinsicsOf(s), options.intrinsics);
     if (beamOf(s) && problem.HasParameterBlock(beamOf(s))) addBeamRadiusPrior(&problem, beamOf(s));
@@ -871,7 +940,7 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
         tieToChain(&problem, joint_state, mounts.board_chain, mounts.board_readings.at(k), k, &board, &board_mount);
         continue;
       }
-      const ToolPoseResidual reported(mounts.board_tool_poses.at(k), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
+      const ToolPoseResidual reported(mounts.boardToolPose(k), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
                                new ceres::CauchyLoss(mounts.tool_loss_sigmas), board.rotation.coeffs().data(), board.translation.data(),
                                board_mount.rotation.coeffs().data(), board_mount.translation.data());
@@ -904,8 +973,10 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<WeakBoardPrior, 6, 4, 3>(new WeakBoardPrior{entry.second.rotation, entry.second.translation}),
                              nullptr, entry.second.rotation.coeffs().data(), entry.second.translation.data());
   }
-  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
-  problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
+  if (!base_is_reference) {
+    problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].rotation.coeffs().data());
+    problem.SetParameterBlockConstant(sensor_state[options.reference_sensor].translation.data());
+  }
   for (int s = 0; s < sensor_count; ++s) {
     if (!mounts.knownMount(s) || !problem.HasParameterBlock(sensor_state[s].translation.data())) continue;
     problem.SetParameterBlockConstant(sensor_state[s].rotation.coeffs().data());
@@ -1069,6 +1140,30 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
   return result;
 }
 
+}  // namespace
+
+CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                               const CalibrationOptions& options) {
+  // An arm's session, camera views as whole poses: where they disagree beyond their noise and the arm's
+  // (a real arm's kinematics, a real lens), solved again with each weighted by that, as the arm's graph does.
+  if (!options.mounts.boardMoves() || !wholeCameraPoses(options)) return solveRig(sensors, observations, options);
+  const auto solvedWith = [&](const ViewScatter& scatter) {
+    CalibrationResult result = scatter.translation > 0.0 ? solveRig(sensors, withViewScatter(observations, sensors, scatter), options)
+                                                         : solveRig(sensors, observations, options);
+    result.view_scatter = scatter;
+    return result;
+  };
+  if (options.view_scatter) return solvedWith(*options.view_scatter);  // as a solve of every view measured it
+  CalibrationResult result = solveRig(sensors, observations, options);
+  if (!result.trusted) return result;
+  const ViewScatter scatter = unmodelledViewScatter(sensors, observations, result);
+  if (scatter.translation <= 0.0) {
+    result.view_scatter = scatter;
+    return result;
+  }
+  return solvedWith(scatter);
+}
+
 double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {
   constexpr double kFloor = 1e-4;
   if (points.size() < 3) return kFloor;
@@ -1123,8 +1218,7 @@ const TargetObservation& CalibrationResult::viewAsSolved(const TargetObservation
 
 Eigen::Isometry3d CalibrationResult::rigFromSensorAt(const TargetObservation& o) const {
   const Eigen::Isometry3d& pose = sensors.at(o.sensor).reference_from_sensor;
-  if (!mounts.jointed(o.sensor)) return pose;
-  return chainPose(mounts.joints, mounts.chains[o.sensor], o.joint_positions) * pose;
+  return mounts.mountFrameAt(o.sensor, o.target_pose, o.joint_positions) * pose;
 }
 
 std::optional<Eigen::Isometry3d> fitSensorToSolvedBoards(const std::vector<SensorSpec>& sensors,

@@ -19,6 +19,7 @@
 #include "vocal/calibration/solver/beam_range_view_residual.h"
 #include "vocal/calibration/solver/camera_view_residual.h"
 #include "vocal/calibration/solver/free_joint_origins.h"
+#include "vocal/calibration/solver/hand_eye_closed_form.h"
 #include "vocal/calibration/solver/link_from_joints_cost.h"
 #include "vocal/calibration/solver/outline_view_residual.h"
 #include "vocal/calibration/solver/pairwise_initialization.h"
@@ -26,6 +27,7 @@
 #include "vocal/calibration/solver/reading_corrections_residual.h"
 #include "vocal/calibration/solver/scan_ends.h"
 #include "vocal/calibration/solver/tool_pose_residual.h"
+#include "vocal/calibration/solver/unmodelled_view_scatter.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -176,31 +178,14 @@ int turnLikePredicted(std::vector<HandEyeStation>* stations, const ArmRig& rig, 
 // a camera on the tool and tool <- base for a fixed one), from each station's first view of it.
 Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int camera, bool camera_on_tool,
                                 cv::HandEyeCalibrationMethod method) {
-  std::vector<cv::Mat> tool_rotations, tool_translations, board_rotations, board_translations;
-  auto rotationMat = [](const Eigen::Matrix3d& r) {
-    cv::Mat m(3, 3, CV_64F);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) m.at<double>(i, j) = r(i, j);
-    return m;
-  };
-  auto vectorMat = [](const Eigen::Vector3d& v) { return cv::Mat((cv::Mat_<double>(3, 1) << v.x(), v.y(), v.z())); };
+  std::vector<Eigen::Isometry3d> tools, views;
   for (const HandEyeStation& s : stations) {
     const PlaneMeasurement* view = firstView(s, camera);
     if (!view) continue;
-    const Eigen::Isometry3d tool = camera_on_tool ? s.base_from_tool : s.base_from_tool.inverse();
-    tool_rotations.push_back(rotationMat(tool.linear()));
-    tool_translations.push_back(vectorMat(tool.translation()));
-    board_rotations.push_back(rotationMat(view->sensor_from_pattern.linear()));
-    board_translations.push_back(vectorMat(view->sensor_from_pattern.translation()));
+    tools.push_back(camera_on_tool ? s.base_from_tool : s.base_from_tool.inverse());
+    views.push_back(view->sensor_from_pattern);
   }
-  cv::Mat rotation, translation;
-  cv::calibrateHandEye(tool_rotations, tool_translations, board_rotations, board_translations, rotation, translation, method);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) pose.linear()(i, j) = rotation.at<double>(i, j);
-    pose.translation()[i] = translation.at<double>(i);
-  }
-  return pose;
+  return vocal::openCvHandEye(tools, views, method);
 }
 
 // A camera view's error against the camera's pose and the board in its parent frame where the arm
@@ -229,14 +214,12 @@ Eigen::Matrix<double, 6, 1> sigmasOf(ceres::Covariance& covariance, PoseState& s
 // What the cameras' views disagree by beyond their PnP covariance and the arm's repeatability: a real
 // arm's kinematic model, the camera's intrinsics and the print are off by millimetres, far beyond either,
 // and alike for every image of one still pose. So per still pose and camera, the mean of its views'
-// errors against its modelled covariance (the views' PnP covariance over their count, plus the arm's);
-// when the median still pose's is over twice what 6 degrees of freedom give (chi-square median 5.35),
-// the still poses' median squared mean error per axis (rotation, translation); zero otherwise. The
-// median: one poor arm pose among several does not raise it.
+// errors against its modelled covariance (the views' PnP covariance over their count, plus the arm's):
+// ViewScatterSamples (unmodelled_view_scatter.h, the still-pose graph's too).
 std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector<HandEyeStation>& stations,
                                             const std::vector<Eigen::Isometry3d>& poses, const Eigen::Isometry3d& board,
                                             const HandEyeOptions& options) {
-  std::vector<double> chi2, rotation, translation;
+  ViewScatterSamples samples;
   for (const HandEyeStation& s : stations) {
     for (std::size_t camera = 0; camera < rig.sensors.size(); ++camera) {
       if (rig.sensors[camera].type != SensorType::kCamera) continue;
@@ -257,22 +240,11 @@ std::pair<double, double> unmodelledScatter(const ArmRig& rig, const std::vector
       if (n == 0) continue;
       mean /= n;
       covariance /= static_cast<double>(n) * n;  // of the mean of n independent views
-      covariance.topLeftCorner<3, 3>() += std::pow(options.tool_rotation_sigma, 2) * Eigen::Matrix3d::Identity();
-      covariance.bottomRightCorner<3, 3>() +=
-          (std::pow(options.tool_translation_sigma, 2) + std::pow(options.tool_rotation_sigma * lever, 2)) * Eigen::Matrix3d::Identity();
-      chi2.push_back(mean.dot(covariance.ldlt().solve(mean)));
-      rotation.push_back(mean.head<3>().squaredNorm() / 3.0);
-      translation.push_back(mean.tail<3>().squaredNorm() / 3.0);
+      samples.add(mean, covariance, options.tool_rotation_sigma, options.tool_translation_sigma, lever);
     }
   }
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
-  constexpr double kChiSquareMedian6 = 5.35;
-  if (chi2.empty() || median(chi2) <= 2.0 * kChiSquareMedian6) return {0.0, 0.0};
-  // A squared normal's median is 0.455 of its mean.
-  return {std::sqrt(median(rotation) / 0.455), std::sqrt(median(translation) / 0.455)};
+  const ViewScatter scatter = samples.scatter();
+  return {scatter.rotation, scatter.translation};
 }
 
 // The unknowns and the problem that holds them (for the covariance).

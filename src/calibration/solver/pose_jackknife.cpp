@@ -52,7 +52,7 @@ PoseJackknife jackknifeOverPoses(const std::vector<SensorSpec>& sensors, const s
     };
     for (std::size_t s = 0; s < sensors.size(); ++s) {
       move[s] = moved(full.sensors[s].reference_from_sensor, result->sensors[s].reference_from_sensor);
-      if (!full.mounts.jointed(static_cast<int>(s))) continue;
+      if (!full.mounts.moves(static_cast<int>(s))) continue;
       // Behind joints the mount and the offsets trade off; what matters is where the sensor is: its move in
       // the rig frame at the still pose where it moved most.
       move[s].setZero();

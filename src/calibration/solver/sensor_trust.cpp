@@ -123,7 +123,7 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
   PlacementChange change;
   constexpr std::size_t kLeast = 4;  // poses in each part
   // Behind joints the sensor is somewhere else at every pose: no one placement to split.
-  if (its.size() < 2 * kLeast || options.mounts.jointed(sensor)) return change;
+  if (its.size() < 2 * kLeast || options.mounts.moves(sensor)) return change;
   const SensorTrustOptions& trust = options.trust;
   // Each view's centre and normal once, not once per split.
   std::vector<ViewInSensor> views;
@@ -161,6 +161,7 @@ double disagreementRatio(const SensorCalibration& sensor, const SensorTrustOptio
 }
 
 CalibrationOptions withIsolatedSensors(CalibrationOptions options, const CalibrationResult& result) {
+  if (result.view_scatter) options.view_scatter = result.view_scatter;
   options.isolated_sensors.clear();
   for (std::size_t s = 0; s < result.sensors.size(); ++s)
     if (result.sensors[s].isolated) options.isolated_sensors.push_back(static_cast<int>(s));
@@ -182,13 +183,16 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
   for (const TargetObservation& o : observations)
     if (o.sensor >= 0 && o.sensor < sensor_count) poses[o.sensor].insert(o.target_pose);
   std::vector<int> most_shared(sensor_count, 0);
-  for (int s = 0; s < sensor_count; ++s)
+  for (int s = 0; s < sensor_count; ++s) {
+    // The board lying still in the arm's base is where the arm's poses put it: shared with every pose.
+    if (options.mounts.board_fixed) most_shared[s] = static_cast<int>(poses[s].size());
     for (int other = 0; other < sensor_count; ++other) {
       if (other == s || sensors[other].type == SensorType::kLaser2d) continue;
       int shared = 0;
       for (const int k : poses[s]) shared += poses[other].count(k);
       most_shared[s] = std::max(most_shared[s], shared);
     }
+  }
   std::vector<bool> too_few(sensor_count, false);
   for (int s = 0; s < sensor_count; ++s)
     too_few[s] = !unseen[s] && s != options.reference_sensor && sensors[s].type != SensorType::kLaser2d && most_shared[s] < kLeastSharedPoses;

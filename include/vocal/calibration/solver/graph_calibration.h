@@ -66,6 +66,13 @@ struct SensorTrustOptions {
   double max_scale = 0.01;
 };
 
+// What an arm's whole-pose camera views disagree by beyond their PnP covariance and the arm's
+// repeatability, per axis (unmodelled_view_scatter.h).
+struct ViewScatter {
+  double rotation = 0.0;     // radians
+  double translation = 0.0;  // metres
+};
+
 struct CalibrationOptions {
   int reference_sensor = 0;
   Eigen::Isometry3d reference_pose = Eigen::Isometry3d::Identity();  // the reference sensor in the rig frame
@@ -88,6 +95,10 @@ struct CalibrationOptions {
   SensorTrustOptions trust;
   JointedMounts mounts;
   IntrinsicsRefinementOptions intrinsics;
+  // An arm's session with whole camera poses: the views' scatter as a solve of all of them measured it
+  // (CalibrationResult::view_scatter), taken as it is by the re-solves of trust and the jackknife rather
+  // than measured again (a second solve each). Unset: measured.
+  std::optional<ViewScatter> view_scatter;
 };
 
 // Still poses a plane-seeing sensor must share with the others to be placed (three planes fix a pose).
@@ -173,6 +184,10 @@ struct CalibrationResult {
   // ... and the camera views held by their plane only: their whole pose over kMisdetectedView*
   // (misdetected_view.h) from where the started rig put it.
   int misdetected_views = 0;
+  // An arm's session with whole camera poses: what the views disagreed by beyond their PnP covariance and
+  // the arm's repeatability (unmodelled_view_scatter.h), each view weighted by it in a second solve; zero
+  // where the model explained them. Unset for other rigs.
+  std::optional<ViewScatter> view_scatter;
   bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
 

@@ -26,8 +26,8 @@ double disagreementRatio(const SensorCalibration& sensor, const SensorTrustOptio
 CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
                                         const CalibrationOptions& options);
 
-// The options that reproduce `result`'s graph (its isolated sensors), for re-solves of the same session
-// (the pose jackknife).
+// The options that reproduce `result`'s graph (its isolated sensors, and an arm's views' scatter as it
+// measured it), for re-solves of the same session (the pose jackknife, trust's trials).
 CalibrationOptions withIsolatedSensors(CalibrationOptions options, const CalibrationResult& result);
 
 }  // namespace vocal
