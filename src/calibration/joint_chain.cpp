@@ -131,6 +131,10 @@ std::vector<double> chainReadings(const std::vector<int>& read, const std::vecto
   return out;
 }
 
+Eigen::Isometry3d JointedMounts::boardFrameAt(int k) const {
+  return board_chain.empty() ? boardToolPose(k) : chainPose(joints, board_chain, board_readings.at(k));
+}
+
 Eigen::Isometry3d JointedMounts::mountFrameAt(int sensor, int k, const std::vector<double>& joint_positions) const {
   if (jointed(sensor)) return chainPose(joints, chains[sensor], joint_positions);
   if (onReportedTool(sensor)) return tool_poses.at(k);

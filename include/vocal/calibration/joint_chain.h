@@ -232,6 +232,8 @@ struct JointedMounts {
   bool boardMoves() const { return !board_chain.empty() || !board_tool_poses.empty() || board_fixed; }
   // The board's frame at still pose k where it is on the reported tool or fixed in the rig frame.
   Eigen::Isometry3d boardToolPose(int k) const { return board_fixed ? Eigen::Isometry3d::Identity() : board_tool_poses.at(k); }
+  // ... or on the board's chain at that pose's readings (the joints' offsets as they stand): where its mount sits.
+  Eigen::Isometry3d boardFrameAt(int k) const;
   // Where a sensor's mount frame was (rig frame) at still pose k read as `joint_positions` (its chain's): its
   // chain's last link at the joints' offsets, the reported tool, or the rig frame itself (a rigid sensor).
   Eigen::Isometry3d mountFrameAt(int sensor, int k, const std::vector<double>& joint_positions) const;

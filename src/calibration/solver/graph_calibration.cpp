@@ -221,9 +221,21 @@ void tieToChain(ceres::Problem* problem, const JointOffsets& joints, const std::
   problem->AddResidualBlock(linkFromJointsCost(&described, chain, readings, true), nullptr, blocks);
 }
 
+// A frame's block at a still pose (`frame`: the board on the arm's tool, or a sensor on it) held, less its
+// mount, where the arm reported the tool (`tool`), within its repeatability under Cauchy: a pose millimetres
+// off moves itself, not the result.
+void holdToReportedTool(ceres::Problem* problem, const JointedMounts& mounts, const Eigen::Isometry3d& tool, SensorState* frame,
+                        SensorState* mount) {
+  const ToolPoseResidual reported(tool, mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
+  problem->AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
+                            new ceres::CauchyLoss(mounts.tool_loss_sigmas), frame->rotation.coeffs().data(), frame->translation.data(),
+                            mount->rotation.coeffs().data(), mount->translation.data());
+}
+
 // Where a sensor behind joints was (rig frame) when it made `o`: a block of its own (started where the
 // joints' readings put its mount `sensor`), tied to its chain at o's readings times its mount, as the arm's
-// graph ties its links to theirs; the views' residuals see it as a rigid sensor's pose. Null for a rigid sensor.
+// graph ties its links to theirs (on the reported tool: held to that tool times its mount); the views'
+// residuals see it as a rigid sensor's pose. Null for a rigid sensor.
 SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const JointOffsets& joints, SensorState* sensor) {
   if (!joints.mounts || !joints.mounts->moves(o.sensor)) return nullptr;
   const JointedMounts& mounts = *joints.mounts;
@@ -239,11 +251,8 @@ SensorState* placedOf(ceres::Problem* problem, const TargetObservation& o, const
   if (problem->HasParameterBlock(placed.translation.data())) return &placed;
   if (mounts.jointed(o.sensor)) {
     tieToChain(problem, joints, mounts.chains[o.sensor], o.joint_positions, o.target_pose, &placed, sensor);
-  } else {  // on the reported tool: where it was less its mount is the tool the arm reported, as the board on it
-    const ToolPoseResidual reported(mounts.tool_poses.at(o.target_pose), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
-    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
-                              new ceres::CauchyLoss(mounts.tool_loss_sigmas), placed.rotation.coeffs().data(), placed.translation.data(),
-                              sensor->rotation.coeffs().data(), sensor->translation.data());
+  } else {  // on the reported tool, as the board on it
+    holdToReportedTool(problem, mounts, mounts.tool_poses.at(o.target_pose), &placed, sensor);
   }
   problem->SetManifold(placed.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());
   return &placed;
@@ -596,12 +605,12 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
                      std::to_string(sensor_count));
   }
   // Whether a sensor is somewhere else at each still pose (behind joints, or on the reported tool).
-  const auto jointed = [&](int s) { return mounts.moves(s); };
+  const auto moves = [&](int s) { return mounts.moves(s); };
   for (int s = 0; s < sensor_count; ++s) {
     if (mounts.jointed(s) && mounts.onReportedTool(s)) {
       throw InputError("calibration: sensor '" + sensors[s].name + "' is both behind joints and on the reported tool");
     }
-    if (!jointed(s)) continue;
+    if (!moves(s)) continue;
     if (s == options.reference_sensor) {
       throw InputError("calibration: the reference sensor '" + sensors[s].name + "' is behind joints; give the pose of a sensor mounted rigidly");
     }
@@ -682,7 +691,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
     std::vector<std::map<int, Plane>> voting = planes;
     // Nor do sensors behind joints: their planes move with the joints, not only with the board.
     for (int s = 0; s < sensor_count; ++s)
-      if (isolated[s] || jointed(s)) voting[s].clear();
+      if (isolated[s] || moves(s)) voting[s].clear();
     rejected = rejectInconsistentObservations(voting, options.consensus, &centres);
     for (const auto& r : rejected) planes[r.first].erase(r.second);
   }
@@ -717,7 +726,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   } else {
     // The base the rig frame: each camera on the arm started from the hand-eye closed form over its views.
     for (int s = 0; s < sensor_count; ++s) {
-      if (isolated[s] || !jointed(s) || sensors[s].type != SensorType::kCamera) continue;
+      if (isolated[s] || !moves(s) || sensors[s].type != SensorType::kCamera) continue;
       std::vector<Eigen::Isometry3d> frames, views;
       for (const auto& [k, plane] : planes[s]) {
         const TargetObservation& o = *observation_of.at({s, k});
@@ -746,7 +755,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
     // one behind joints (its pose differs per still pose), unless the base is the rig frame and only
     // sensors on the arm place others.
     for (int a = 0; a < sensor_count; ++a) {
-      if (!placed[a] || isolated[a] || (jointed(a) && !base_is_reference)) continue;
+      if (!placed[a] || isolated[a] || (moves(a) && !base_is_reference)) continue;
       for (int b = 0; b < sensor_count; ++b) {
         if (placed[b] || isLaser(b)) continue;
         const std::size_t shared = sharedPoses(a, b).size();
@@ -770,12 +779,12 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
     BoardCentres centres;
     // A child behind joints: the parent's views carried into the chain's last link at each pose (joint
     // offsets at their initial values), where its mount is fixed; a parent on the arm's: carried into the rig frame.
-    const bool child_jointed = jointed(best_child), moving = child_jointed || jointed(best_parent);
+    const bool child_moves = moves(best_child), moving = child_moves || moves(best_parent);
     for (int k : sharedPoses(best_parent, best_child)) {
       Eigen::Isometry3d link_from_parent = Eigen::Isometry3d::Identity();
       if (moving) {
         link_from_parent = chainAt(*observation_of.at({best_parent, k})) * initial[best_parent];
-        if (child_jointed) link_from_parent = chainAt(*observation_of.at({best_child, k})).inverse() * link_from_parent;
+        if (child_moves) link_from_parent = chainAt(*observation_of.at({best_child, k})).inverse() * link_from_parent;
       }
       in_parent.push_back(transformPlane(link_from_parent, planes[best_parent][k]));
       in_child.push_back(planes[best_child][k]);
@@ -814,7 +823,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   std::map<int, Plane> rig_planes;
   for (const bool behind_joints : {false, true}) {
     for (int s = 0; s < sensor_count; ++s) {
-      if (isolated[s] || jointed(s) != behind_joints) continue;
+      if (isolated[s] || moves(s) != behind_joints) continue;
       for (const auto& entry : planes[s]) {
         if (!rig_planes.count(entry.first)) rig_planes[entry.first] = transformPlane(initialAt(s, entry.first), entry.second);
       }
@@ -827,7 +836,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   for (int s = 0; s < sensor_count && edges.enabled; ++s)
     if (!isLaser(s) && !isolated[s]) board_sources.push_back(s);
   std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return sensors[s].type == SensorType::kCamera; });
-  std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return !jointed(s); });
+  std::stable_partition(board_sources.begin(), board_sources.end(), [&](int s) { return !moves(s); });
   for (int s : board_sources) {
     for (const auto& entry : planes[s]) {
       if (rig_boards.count(entry.first)) continue;
@@ -840,15 +849,12 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   // the first (the outline is the same either way).
   std::optional<Eigen::Isometry3d> board_mount_start;
   if (mounts.boardMoves() && !rig_boards.empty()) {
-    const auto boardChainAt = [&](int k) {  // the frame: the arm's chain at the pose's readings, or its reported tool
-      return mounts.board_chain.empty() ? mounts.boardToolPose(k) : chainPose(mounts.joints, mounts.board_chain, mounts.board_readings.at(k));
-    };
     std::vector<Eigen::Isometry3d> mounted;
     for (auto& [k, board] : rig_boards) {
-      Eigen::Isometry3d mount = boardChainAt(k).inverse() * board;
+      Eigen::Isometry3d mount = mounts.boardFrameAt(k).inverse() * board;
       if (!mounted.empty() && rotationAngle(mounted.front().inverse() * mount) > 0.5 * M_PI) {
         board = board * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
-        mount = boardChainAt(k).inverse() * board;
+        mount = mounts.boardFrameAt(k).inverse() * board;
       }
       mounted.push_back(mount);
     }
@@ -940,10 +946,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
         tieToChain(&problem, joint_state, mounts.board_chain, mounts.board_readings.at(k), k, &board, &board_mount);
         continue;
       }
-      const ToolPoseResidual reported(mounts.boardToolPose(k), mounts.tool_rotation_sigma, mounts.tool_translation_sigma);
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MountedToolPoseResidual, 6, 4, 3, 4, 3>(new MountedToolPoseResidual{reported}),
-                               new ceres::CauchyLoss(mounts.tool_loss_sigmas), board.rotation.coeffs().data(), board.translation.data(),
-                               board_mount.rotation.coeffs().data(), board_mount.translation.data());
+      holdToReportedTool(&problem, mounts, mounts.boardToolPose(k), &board, &board_mount);
     }
     if (problem.HasParameterBlock(board_mount.rotation.coeffs().data())) {
       problem.SetManifold(board_mount.rotation.coeffs().data(), new ceres::EigenQuaternionManifold());

@@ -191,12 +191,7 @@ Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int
 // A camera view's error against the camera's pose and the board in its parent frame where the arm
 // reported the frames they move with (ArmRig::boardInSensorParent), as (w, dt) of the view's perturbation.
 Eigen::Matrix<double, 6, 1> viewError(const Eigen::Isometry3d& board_in_parent, const PlaneMeasurement& view, const Eigen::Isometry3d& pose) {
-  const Eigen::Isometry3d predicted = pose.inverse() * board_in_parent;
-  Eigen::Matrix<double, 6, 1> error;
-  const Eigen::AngleAxisd turn(view.sensor_from_pattern.linear().transpose() * predicted.linear());
-  error.head<3>() = turn.angle() * turn.axis();
-  error.tail<3>() = predicted.translation() - view.sensor_from_pattern.translation();
-  return error;
+  return viewPoseError(view, pose.inverse() * board_in_parent);
 }
 
 // Translation and rotation sigmas of a pose block pair from the covariance (Ceres's quaternion tangent

@@ -10,9 +10,7 @@
 
 namespace vocal {
 
-namespace {
-// A view's error as CameraViewResidual takes it, unwhitened: (w, dt) from the measured pose to the predicted.
-Eigen::Matrix<double, 6, 1> viewError(const PlaneMeasurement& view, const Eigen::Isometry3d& predicted) {
+Eigen::Matrix<double, 6, 1> viewPoseError(const PlaneMeasurement& view, const Eigen::Isometry3d& predicted) {
   const Eigen::AngleAxisd turn(view.sensor_from_pattern.linear().transpose() * predicted.linear());
   Eigen::Matrix<double, 6, 1> error;
   error.head<3>() = turn.angle() * turn.axis();
@@ -20,6 +18,7 @@ Eigen::Matrix<double, 6, 1> viewError(const PlaneMeasurement& view, const Eigen:
   return error;
 }
 
+namespace {
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
@@ -55,16 +54,7 @@ ViewScatter unmodelledViewScatter(const std::vector<SensorSpec>& sensors, const 
     if (!solved.board_mount || solved.sensors.at(o.sensor).isolated) continue;
     // Both where the arm put them (the reported tool, the joints' readings with the offsets as solved), not
     // the still pose's blocks, which the views pull within the arm's repeatability and beyond.
-    Eigen::Isometry3d board = *solved.board_mount;
-    if (!mounts.board_chain.empty()) {
-      const auto readings = mounts.board_readings.find(o.target_pose);
-      if (readings == mounts.board_readings.end()) continue;
-      board = chainPose(mounts.joints, mounts.board_chain, readings->second) * board;
-    } else if (!mounts.board_fixed) {
-      const auto tool = mounts.board_tool_poses.find(o.target_pose);
-      if (tool == mounts.board_tool_poses.end()) continue;
-      board = tool->second * board;
-    }
+    const Eigen::Isometry3d board = mounts.boardFrameAt(o.target_pose) * *solved.board_mount;
     const Eigen::Isometry3d predicted = solved.rigFromSensorAt(o).inverse() * board * print;
     Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
     Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
@@ -72,7 +62,7 @@ ViewScatter unmodelledViewScatter(const std::vector<SensorSpec>& sensors, const 
     for (const PlaneMeasurement& found : o.plane_measurements) {
       const bool reversed = rotationAngle(found.sensor_from_pattern.inverse() * predicted) > 0.5 * M_PI;
       const PlaneMeasurement view = reversed ? turnedHalfway(found) : found;
-      const Eigen::Matrix<double, 6, 1> error = viewError(view, predicted);
+      const Eigen::Matrix<double, 6, 1> error = viewPoseError(view, predicted);
       // Held by its plane only in the solve (misdetected_view.h): not the scatter of the views it weighs.
       if (error.tail<3>().norm() > kMisdetectedViewDistance || error.head<3>().norm() > kMisdetectedViewAngle) continue;
       mean += error;

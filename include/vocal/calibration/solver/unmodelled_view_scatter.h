@@ -15,6 +15,10 @@
 
 namespace vocal {
 
+// A camera view's error against the pose the unknowns predict (camera <- pattern), as CameraViewResidual
+// takes it unwhitened: (w, dt) of the view's perturbation R exp([w]x), t + dt.
+Eigen::Matrix<double, 6, 1> viewPoseError(const PlaneMeasurement& view, const Eigen::Isometry3d& predicted);
+
 // Per still pose and camera, the mean of its views' errors (w, dt) against the solution and their modelled
 // covariance (the views' PnP covariance over their count): with the arm's repeatability (`rotation_sigma`,
 // `translation_sigma`, its turn moving the board seen by `lever` metres) added, the scatter beyond them
