@@ -46,6 +46,12 @@ std::vector<vocal::HandEyeStation> stationsOf(const vocal::SimulatedArm& arm, st
   return vocal::simulateHandEyeStations(arm, kPattern, wristCamera(), 3, pixel_noise, &rng, camera_info);
 }
 
+// A pose as calibration.yaml and ground_truth.yaml write it: translation, rotation [qx qy qz qw].
+Eigen::Isometry3d poseOf(const YAML::Node& n) {
+  const std::vector<double> t = n["translation"].as<std::vector<double>>(), q = n["rotation"].as<std::vector<double>>();
+  return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+}
+
 void expectWithin(const PoseError& e, double metres, double radians, const std::string& what) {
   EXPECT_LT(e.metres, metres) << what << ": " << 1000 * e.metres << " mm";
   EXPECT_LT(e.radians, radians) << what << ": " << 1000 * e.radians << " mrad";
@@ -464,11 +470,6 @@ TEST(HandEyeSession, SimulatedArmSessionsCalibratedByCalibrateRig) {
         << r.output;
     const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
     const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
-    const auto poseOf = [](const YAML::Node& n) {
-      const auto t = n["translation"].as<std::vector<double>>();
-      const auto q = n["rotation"].as<std::vector<double>>();
-      return vocal::poseFromTranslationQuaternion({t[0], t[1], t[2]}, Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
-    };
     const YAML::Node camera = result["sensors"][0];
     EXPECT_EQ(camera["parent"].as<std::string>(), truth["camera"]["parent"].as<std::string>());
     expectWithin(errorOf(poseOf(camera), poseOf(truth["camera"]["pose"])), 0.001, 0.001, "camera");
@@ -493,6 +494,48 @@ TEST(HandEyeSession, SimulatedArmSessionsCalibratedByCalibrateRig) {
       EXPECT_EQ(sensor["parent"].as<std::string>(), "arm_base");
     }
     EXPECT_EQ(result["sensors"].size(), setup == "eye-to-hand" ? 4u : 1u);
+    const auto poor = result["poor_arm_poses"].as<std::vector<int>>();
+    EXPECT_NE(std::find(poor.begin(), poor.end(), 5), poor.end());
+  }
+}
+
+// The same sessions (one pose reported 5 mm off; eye-to-hand through the compressed transport) through the
+// one graph (calibrate_rig --one-graph --report --overlays): the camera and the board within 1 mm / 1 mrad
+// of the truth, the poor pose named with where to look and in calibration.yaml, OpenCV's five closed forms
+// beside the result (Park's within 2 mm / 0.2 deg of it), each pose's fit in the report, and an overlay per
+// still pose drawn from the compressed images.
+TEST(HandEyeSession, SimulatedArmSessionsThroughTheOneGraph) {
+  for (const std::string setup : {"eye-in-hand", "eye-to-hand"}) {
+    SCOPED_TRACE(setup);
+    const std::string folder = vocal_test::makeTempFolder("hand_eye_one_graph_" + setup);
+    vocal_test::RunResult r = vocal_test::runTool("simulate_calibration_session " + folder + " --" + setup + " --poor-pose 5 --seed 3" +
+                                                  (setup == "eye-to-hand" ? " --compressed --beside" : ""));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = vocal_test::runTool("calibrate_rig " + folder + "/rig.yaml " + folder + "/session.bag --quiet --one-graph --report --overlays --output-dir " +
+                            folder);
+    const std::size_t laser_withheld = r.output.find("withheld: sensor 'arm_laser'");
+    EXPECT_EQ(r.exit_code, laser_withheld == std::string::npos ? 0 : 1) << r.output;
+    EXPECT_EQ(r.output.find("withheld: sensor "), laser_withheld) << r.output;
+    EXPECT_NE(r.output.find("poor arm pose 5 (1700000012.0-1700000013.0 s): to fit the others what the arm holds had to move "), std::string::npos)
+        << r.output;
+    const std::size_t report = r.output.find("\n  pose  5  ");
+    ASSERT_NE(report, std::string::npos) << r.output;
+    EXPECT_NE(r.output.substr(report + 1, r.output.find('\n', report + 1) - report - 1).find("  poor"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("OpenCV's calibrateHandEye on the same poses, for arm_camera, against this result:"), std::string::npos) << r.output;
+    const std::size_t park = r.output.find("\n  Park ");
+    ASSERT_NE(park, std::string::npos) << r.output;
+    double park_mm = 0.0, park_deg = 0.0;
+    ASSERT_EQ(std::sscanf(r.output.c_str() + park, "\n  Park %lf mm / %lf deg", &park_mm, &park_deg), 2) << r.output.substr(park, 60);
+    EXPECT_LT(park_mm, 2.0);
+    EXPECT_LT(park_deg, 0.2);
+    EXPECT_NE(r.output.find("overlays: 12 PNGs"), std::string::npos) << r.output;
+    const YAML::Node truth = YAML::LoadFile(folder + "/ground_truth.yaml");
+    const YAML::Node result = YAML::LoadFile(folder + "/calibration.yaml");
+    const YAML::Node camera = result["sensors"][0];
+    EXPECT_EQ(camera["parent"].as<std::string>(), truth["camera"]["parent"].as<std::string>());
+    expectWithin(errorOf(poseOf(camera), poseOf(truth["camera"]["pose"])), 0.001, 0.001, "camera");
+    EXPECT_EQ(result["board"]["parent"].as<std::string>(), truth["board"]["parent"].as<std::string>());
+    expectWithin(errorOf(poseOf(result["board"]), poseOf(truth["board"]["pose"])), 0.001, 0.001, "board");
     const auto poor = result["poor_arm_poses"].as<std::vector<int>>();
     EXPECT_NE(std::find(poor.begin(), poor.end(), 5), poor.end());
   }

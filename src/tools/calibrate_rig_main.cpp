@@ -20,6 +20,7 @@
 #include "vocal/calibration/output/calibration_output.h"
 #include "vocal/calibration/output/camera_imu_output.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/arm_pose_fit.h"
 #include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/calibration/solver/pose_jackknife.h"
 #include "vocal/calibration/solver/sensor_trust.h"
@@ -63,8 +64,8 @@ const char kUsage[] =
     "  --no-isolation      only name a sensor that disagrees with the others (by default it is taken out of the\n"
     "                      graph and the others solved without it, so that it moves none of them)\n"
     "  --one-graph         an arm's session solved by the still-pose graph: the board on the tool before fixed\n"
-    "                      sensors, one of them given, or lying still in the base under sensors on the arm (eye-\n"
-    "                      in-hand: the base the rig frame); sensors on the arm's links or a head's each a frame\n"
+    "                      sensors (one of them given, or none: the base the rig frame), or lying still in the\n"
+    "                      base under sensors on the arm; sensors on the arm's links or a head's each a frame\n"
     "                      on its chain or on the tool tf reports (trust and the jackknife as for any rig; in\n"
     "                      progress, the arm's own graph is the default)\n"
     "  --publish-uncertain also write sensors whose spread across poses is over the tolerance into the URDF and\n"
@@ -448,12 +449,47 @@ std::vector<std::string> withholdAndWrite(const vocal::CommandLine& args, const 
   return withheld;
 }
 
+// The one graph's arm poses: OpenCV's closed forms beside the result for the first camera they apply to,
+// each poor pose named with where to look in the recording, and with --report every pose's fit.
+void printArmPoseFits(const vocal::CommandLine& args, const vocal::HandEyeAssociation& association, const std::vector<vocal::SensorSpec>& specs,
+                      const std::vector<vocal::TargetObservation>& observations, const vocal::CalibrationResult& result) {
+  const std::map<int, vocal::ArmPoseFit> fits = vocal::armPoseFits(specs, observations, result);
+  for (const auto& [k, fit] : fits) {
+    if (!fit.poor) continue;
+    std::printf("poor arm pose %d (%.1f-%.1f s): to fit the others what the arm holds had to move %.2f mm / %.2f mrad from where the arm "
+                "put it, %.0f sigma of its repeatability (the arm's pose, or the camera's view of the board there, is off); it does not "
+                "pull the result\n", k + 1, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * fit.shift,
+                1000 * fit.turn, fit.departure);
+  }
+  for (std::size_t s = 0; s < specs.size(); ++s) {
+    const int camera = static_cast<int>(s);
+    if (specs[s].type != vocal::SensorType::kCamera || result.sensors[s].isolated || !vocal::handEyeClosedFormApplies(result.mounts, camera))
+      continue;
+    const vocal::HandEyeViews seen = vocal::handEyeViews(result.mounts, observations, camera);
+    if (seen.frames.size() < 3) continue;
+    const Eigen::Isometry3d& solved = result.sensors[s].reference_from_sensor;
+    std::printf("OpenCV's calibrateHandEye on the same poses, for %s, against this result:\n", specs[s].name.c_str());
+    for (const vocal::HandEyeClosedForm& c : vocal::openCvHandEyeMethods(seen.frames, seen.views)) {
+      std::printf("  %-10s %6.2f mm / %.3f deg\n", c.method.c_str(), 1000 * (c.camera.translation() - solved.translation()).norm(),
+                  vocal::rotationAngle(solved.inverse() * c.camera) * 180 / M_PI);
+    }
+    break;
+  }
+  if (!args.has("report")) return;
+  std::printf("arm poses (bag stamps), how far the solve moved what the arm holds, and the camera views against the solution:\n");
+  for (const auto& [k, fit] : fits) {
+    std::printf("  pose %2d  %.2f-%.2f s  %zu views  moved %.3f mm / %.3f mrad (%.1f sigma)  board off %.2f mm / %.2f mrad%s\n", k + 1,
+                association.stations[k].first_stamp, association.stations[k].last_stamp, association.stations[k].views.size(),
+                1000 * fit.shift, 1000 * fit.turn, fit.departure, 1000 * fit.view_distance, 1000 * fit.view_angle, fit.poor ? "  poor" : "");
+  }
+}
+
 // --one-graph (issue 44, in progress): an arm holding the board before fixed sensors, one of them given (the
-// reference), or moving sensors over a board lying still in its base (eye-in-hand; the base the rig frame),
-// solved by the still-pose graph: the board a frame on the tool (from the joints or tf) or in the base, the
-// sensors on the arm's links or a head's each a frame on its chain (or on the tool tf reports): trust, the
-// jackknife and the still-pose outputs as for any rig.
-int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm,
+// reference) or none (the base the rig frame), or moving sensors over a board lying still in its base
+// (eye-in-hand; the base the rig frame), solved by the still-pose graph: the board a frame on the tool (from
+// the joints or tf) or in the base, the sensors on the arm's links or a head's each a frame on its chain (or
+// on the tool tf reports): trust, the jackknife and the still-pose outputs as for any rig.
+int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription& rig, const std::string& bag, const vocal::HandEyeRig& arm,
                      const vocal::HandEyeFrames& frames, const vocal::HandEyeAssociation& association, const vocal::HandEyeOptions& arm_options,
                      const vocal::SpreadTolerance& tolerance) {
   int reference = -1;
@@ -469,14 +505,14 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
                                 "so no still pose tells it anything: calibrate it in a session with the board on the arm or by hand");
       }
     }
-  } else if (reference < 0 || !board_size) {
-    throw vocal::InputError("option --one-graph: for now the one graph needs the board's size (target: width, height) and a sensor beside the "
-                            "arm whose pose the rig gives (the reference): calibrate this rig without --one-graph");
+  } else if (!board_size) {
+    throw vocal::InputError("option --one-graph: the board on the arm needs its size (target: width, height) to be placed on the tool");
   }
   const std::vector<vocal::SensorSpec> specs = frames.sensors;
   vocal::CalibrationOptions options;
+  // No fixed sensor's pose given (or the board lying still): the arm's base is the rig frame.
   options.reference_sensor = arm.eye_in_hand ? -1 : reference;
-  if (!arm.eye_in_hand) options.reference_pose = *frames.given_poses[reference];
+  if (options.reference_sensor >= 0) options.reference_pose = *frames.given_poses[reference];
   options.board_edges.enabled = true;
   options.board_edges.width = rig.target.width, options.board_edges.height = rig.target.height;
   // Each camera view as its whole PnP pose, as the arm's graph takes it: with the board on the tool its
@@ -530,8 +566,9 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
     std::printf("one graph: the board lying still in %s (the rig frame), the sensors on %s (%s), %zu still poses\n", rig.reference_frame.c_str(),
                 arm.tool_frame.c_str(), arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
   } else {
-    std::printf("one graph: the board a frame on %s (%s), %zu still poses\n", arm.tool_frame.c_str(),
-                arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size());
+    std::printf("one graph: the board a frame on %s (%s), %zu still poses%s\n", arm.tool_frame.c_str(),
+                arm_options.arm_joints ? "from the arm's joints" : "from tf", association.stations.size(),
+                reference < 0 ? (", no sensor's pose given: " + rig.reference_frame + ", the arm's base, is the rig frame").c_str() : "");
   }
   if (arm_options.arm_joints) printJointOffsets(result);
   std::printf("%-12s %10s %10s %10s %10s %10s %10s %10s   %s\n", "sensor", "x", "y", "z", "qx", "qy", "qz", "qw", "sigma t (mm) / r (mrad)");
@@ -567,11 +604,20 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
                 result.misdetected_views == 1 ? "" : "s", result.misdetected_views == 1 ? "its" : "their", 1000 * vocal::kMisdetectedViewDistance,
                 1000 * vocal::kMisdetectedViewAngle);
   }
+  printArmPoseFits(args, association, specs, observations, result);
   const std::optional<vocal::PoseJackknife> spread =
       printSpreadAndVerdicts(specs, reference, observations, vocal::withIsolatedSensors(options, result), result, tolerance);
   const std::vector<std::string> withheld = withholdAndWrite(args, rig, specs, reference, result, spread, nullptr, tolerance);
   const bool any_withheld = std::any_of(withheld.begin(), withheld.end(), [](const std::string& why) { return !why.empty(); });
-  return any_withheld ? 1 : 0;
+  if (args.has("output-dir") && args.has("overlays"))
+    printOverlaySummary(rig, vocal::writeCalibrationOverlays(bag, rig, observations, result, args.text("output-dir", "")));
+  // The IMUs through their cameras, in the frame each camera is mounted in (its link, or the tool).
+  const bool imu_withheld = finishImus(args, rig, bag, [&](int s, std::string* why, std::string* parent) {
+    *why = withheld[s].empty() ? std::string() : "withheld: " + withheld[s];
+    *parent = vocal::sensorParent(result, s, rig.reference_frame);
+    return withheld[s].empty() ? std::optional<Eigen::Isometry3d>(result.sensors[s].reference_from_sensor) : std::nullopt;
+  });
+  return any_withheld || imu_withheld ? 1 : 0;
 }
 
 int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig, const vocal::HandEyeRig& arm, vocal::CalibrationSession& session,
@@ -597,7 +643,7 @@ int runHandEye(const vocal::CommandLine& args, const vocal::RigDescription& rig,
               "tool pose)\n",
               association.stations.size(), association.still_spans, association.views_in_motion, association.views_without_tool);
   const vocal::HandEyeFrames frames = vocal::handEyeFrames(rig, arm);
-  if (args.has("one-graph")) return runArmInOneGraph(args, rig, arm, frames, association, options, tolerance);
+  if (args.has("one-graph")) return runArmInOneGraph(args, rig, bag, arm, frames, association, options, tolerance);
   const vocal::HandEyeResult result = vocal::calibrateArmRig(frames.solverSensors(), !arm.eye_in_hand, association.stations, options);
   if (options.arm_joints) {
     std::printf("joint offsets (added to each reading), sigma, and the range the arm's still poses covered:\n");

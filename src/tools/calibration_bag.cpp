@@ -6,6 +6,7 @@
 #include <deque>
 #include <future>
 #include <map>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -494,7 +495,7 @@ std::vector<CameraImage> readCameraImagesNear(const std::string& bag_path, const
   rosbag::Bag bag;
   openBag(&bag, bag_path, rosbag::bagmode::Read);
   std::vector<CameraImage> images(requests.size());
-  std::vector<sensor_msgs::Image::ConstPtr> nearest(requests.size());
+  std::vector<std::unique_ptr<rosbag::MessageInstance>> nearest(requests.size());  // read once chosen: a JPEG decodes slowly
   try {
     std::map<std::string, std::vector<std::size_t>> requests_on;  // image topic -> requests
     std::map<int, CameraImage> info_of;  // per camera: its model and lens, found: its camera_info is usable
@@ -513,22 +514,30 @@ std::vector<CameraImage> readCameraImagesNear(const std::string& bag_path, const
     for (const auto& entry : requests_on) topics.push_back(entry.first);
     rosbag::View view(bag, rosbag::TopicQuery(topics));
     for (const rosbag::MessageInstance& m : view) {
-      const auto image = m.instantiate<sensor_msgs::Image>();
-      if (!image) continue;
-      const double stamp = image->header.stamp.toSec();
+      // Raw, or through image_transport's compressed transport (the header alike).
+      const auto compressed = m.instantiate<sensor_msgs::CompressedImage>();
+      const auto raw = compressed ? nullptr : m.instantiate<sensor_msgs::Image>();
+      if (!compressed && !raw) continue;
+      const double stamp = (compressed ? compressed->header.stamp : raw->header.stamp).toSec();
       for (std::size_t r : requests_on.at(m.getTopic())) {
         if (!nearest[r] || std::abs(stamp - requests[r].stamp) < std::abs(images[r].stamp - requests[r].stamp)) {
-          nearest[r] = image;
+          nearest[r] = std::make_unique<rosbag::MessageInstance>(m);
           images[r].stamp = stamp;
         }
       }
     }
+    for (std::size_t r = 0; r < requests.size(); ++r) {
+      images[r].found = images[r].found && nearest[r];
+      if (!images[r].found) continue;
+      const std::string& topic = rig.sensors[requests[r].sensor].image_topic;
+      if (const auto compressed = nearest[r]->instantiate<sensor_msgs::CompressedImage>()) {
+        images[r].image = fromCompressedColorImage(*compressed, topic);
+      } else {
+        images[r].image = fromColorImage(*nearest[r]->instantiate<sensor_msgs::Image>(), topic);
+      }
+    }
   } catch (const rosbag::BagException& e) {
     throw InputError(bag_path + ": read failed (" + e.what() + ")");
-  }
-  for (std::size_t r = 0; r < requests.size(); ++r) {
-    images[r].found = images[r].found && nearest[r];
-    if (images[r].found) images[r].image = fromColorImage(*nearest[r], rig.sensors[requests[r].sensor].image_topic);
   }
   return images;
 }

@@ -74,12 +74,13 @@ OverlayReport writeCalibrationOverlays(const std::string& bag_path, const RigDes
     } catch (const InputError&) {
       board.corners.clear();  // drawn without the board; no agreement counted
     }
-    const Eigen::Isometry3d camera_from_reference = result.sensors[view.sensor].reference_from_sensor.inverse();
+    // Where each sensor was at this still pose (behind joints or on an arm's tool: its mount frame there).
+    const Eigen::Isometry3d camera_from_reference = result.rigFromSensorAt(view).inverse();
     std::vector<OverlayLayer> layers;
     std::optional<double> worst_on_board;  // of the layers, on the board the camera found
     for (const TargetObservation& o : associated) {
       if (o.target_pose != view.target_pose || o.sensor == view.sensor) continue;
-      const Eigen::Isometry3d camera_from_sensor = camera_from_reference * result.sensors[o.sensor].reference_from_sensor;
+      const Eigen::Isometry3d camera_from_sensor = camera_from_reference * result.rigFromSensorAt(o);
       OverlayLayer layer{rig.sensors[o.sensor].spec.name, layerColour(o.sensor), {}};
       std::vector<Eigen::Vector3d> points;
       points.reserve(o.points.size());

@@ -21,6 +21,7 @@
 #include "vocal/calibration/extraction/board_outline.h"
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/arm_pose_fit.h"
 #include "vocal/calibration/solver/beam_range_residual.h"
 #include "vocal/calibration/solver/camera_outline_residual.h"
 #include "vocal/calibration/solver/camera_pose_on_board_residual.h"
@@ -45,6 +46,10 @@
 namespace vocal {
 
 namespace {
+// The least turn (radians) between the board's frames in a camera's mount frame over its views for the
+// hand-eye closed form to start it: the closed form's rotation comes from the turns between poses.
+constexpr double kLeastHandEyeTurn = 0.1;
+
 // A camera view's board outline (patternOutline) in the camera's frame, placed by its PnP pose.
 std::vector<Eigen::Vector3d> cameraOutline(const PlaneMeasurement& view, const BoardEdgeOptions& edges) {
   std::vector<Eigen::Vector3d> outline = patternOutline(edges.width, edges.height);
@@ -428,7 +433,7 @@ void setStandardDeviations(ceres::Problem* problem, const std::vector<int>& list
 // can be solved: a joint's offset turns (shifts) everything after it in the chain, which the mount at
 // the chain's end takes up exactly unless a joint after it moved over the session.
 std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, const std::vector<TargetObservation>& observations,
-                                                   const std::vector<bool>& isolated) {
+                                                   const std::vector<bool>& isolated, bool base_is_rig_frame) {
   const std::size_t joint_count = mounts.joints.size();
   std::vector<double> low(joint_count, std::numeric_limits<double>::infinity()), high(joint_count, -std::numeric_limits<double>::infinity());
   const auto cover = [&](const std::vector<int>& chain, const std::vector<double>& positions) {
@@ -475,6 +480,18 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
     judge(mounts.board_chain, mounts.known_board_mount.has_value(), "the board's known mount");
     for (const int j : mounts.board_chain) before_board[j] = true;
   }
+  // The arm's base the rig frame with the board on its chain: the first moving joint of that chain turns the
+  // board at every pose about its axis, and the sensors fixed in the base with it, unless a sensor on a
+  // chain without that joint (a head's) sees the board too.
+  int board_first = -1;
+  if (base_is_rig_frame && !mounts.board_chain.empty()) {
+    for (const int j : mounts.board_chain)
+      if (board_first < 0 && mounts.joints[j].type != JointType::kFixed) board_first = j;
+    for (std::size_t s = 0; s < mounts.chains.size() && board_first >= 0; ++s) {
+      const std::vector<int>& chain = mounts.chains[s];
+      if (mounts.jointed(static_cast<int>(s)) && !isolated[s] && std::find(chain.begin(), chain.end(), board_first) == chain.end()) board_first = -1;
+    }
+  }
   for (std::size_t j = 0; j < joint_count; ++j) {
     const JointDescription& joint = mounts.joints[j];
     joints[j].offset = joint.offset;
@@ -486,6 +503,9 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       joints[j].held = "no calibrated sensor is behind it";
     } else if (first[j] && mounts.board_fixed) {
       joints[j].held = "the first joint from the base, whose frame is the rig's: the board lying still in it takes up its offset";
+    } else if (static_cast<int>(j) == board_first) {
+      joints[j].held = "the first joint from the base, whose frame is the rig's: the sensors fixed in it take up its offset (give one "
+                       "sensor's pose, the reference, to solve it)";
     } else if (!solvable[j] && before_board[j]) {
       joints[j].held = "no joint after it moved over the session, so the board's mount takes up its offset: move the joints after it "
                        "between still poses, or give the board's mount";
@@ -493,7 +513,9 @@ std::vector<JointCalibration> jointOffsetsSolvable(const JointedMounts& mounts, 
       joints[j].held = "no joint after it moved over the session, so the mount of the sensor behind it takes up its offset: move the "
                        "joints after it between still poses, or give the sensor's mount";
     } else {
-      joints[j].fixed_by = std::string(mounts.board_fixed ? "the board lying still in the base frame" : "the reference's given pose (the rig frame)") +
+      joints[j].fixed_by = std::string(mounts.board_fixed        ? "the board lying still in the base frame"
+                                       : base_is_rig_frame        ? "the base frame (the rig's)"
+                                                                  : "the reference's given pose (the rig frame)") +
                            " and " + fixed_after[j];
     }
   }
@@ -568,9 +590,9 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
                            const CalibrationOptions& options) {
   const int sensor_count = static_cast<int>(sensors.size());
   const JointedMounts& mounts = options.mounts;
-  // The board lying still in an arm's base: the base is the rig frame, no sensor the reference.
-  const bool base_is_reference = mounts.board_fixed;
-  if (base_is_reference && options.reference_sensor != -1) {
+  // No sensor's pose given and the board on the arm or lying still in its base: the base is the rig frame.
+  const bool base_is_reference = options.baseIsRigFrame();
+  if (mounts.board_fixed && options.reference_sensor != -1) {
     throw InputError("calibration: the board lies still in the arm's base frame, which is then the rig frame: no sensor is the reference "
                      "(reference_sensor -1), but sensor index " + std::to_string(options.reference_sensor) + " was given");
   }
@@ -724,25 +746,29 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
     initial[options.reference_sensor] = options.reference_pose;
     placed_count = 1;
   } else {
-    // The base the rig frame: each camera on the arm started from the hand-eye closed form over its views.
+    // The base the rig frame: each camera on the arm over the board lying still (eye-in-hand), or fixed in
+    // the base before the board on the arm (eye-to-hand), started from the hand-eye closed form over its
+    // views; one that moves while the board does too (a head's before the arm's board) is placed from those
+    // by the spanning tree below.
     for (int s = 0; s < sensor_count; ++s) {
-      if (isolated[s] || !moves(s) || sensors[s].type != SensorType::kCamera) continue;
-      std::vector<Eigen::Isometry3d> frames, views;
-      for (const auto& [k, plane] : planes[s]) {
-        const TargetObservation& o = *observation_of.at({s, k});
-        if (o.plane_measurements.empty()) continue;
-        frames.push_back(chainAt(o));
-        views.push_back(o.plane_measurements.front().sensor_from_pattern);
-      }
-      if (static_cast<int>(frames.size()) < kLeastSharedPoses) continue;
-      initial[s] = mounts.knownMount(s) ? *mounts.knownMount(s) : openCvHandEye(frames, views, kParkHandEye);
+      if (isolated[s] || sensors[s].type != SensorType::kCamera || !handEyeClosedFormApplies(mounts, s)) continue;
+      std::set<int> kept;
+      for (const auto& entry : planes[s]) kept.insert(entry.first);
+      const HandEyeViews seen = handEyeViews(mounts, observations, s, &kept);
+      if (static_cast<int>(seen.frames.size()) < kLeastSharedPoses || seen.turned < kLeastHandEyeTurn) continue;
+      initial[s] = mounts.knownMount(s) ? *mounts.knownMount(s) : openCvHandEye(seen.frames, seen.views, kParkHandEye);
       placed[s] = true;
       ++placed_count;
     }
-    if (placed_count == 0) {
+    if (placed_count == 0 && mounts.board_fixed) {
       throw InputError("calibration: the board lies still in the arm's base frame, but no camera on the arm saw it at " +
                        std::to_string(kLeastSharedPoses) + " still poses or more: a camera's views of the board start the sensors on "
                        "the arm (a range sensor's planes alone leave the board's place in its plane open)");
+    }
+    if (placed_count == 0) {
+      throw InputError("calibration: no sensor's pose is given, so the arm's base is the rig frame, but no camera saw the board on the "
+                       "arm at " + std::to_string(kLeastSharedPoses) + " still poses or more, turned between them: a camera's views "
+                       "start the others (give one sensor's pose, the reference, to start from it)");
     }
   }
   int plane_sensors = 0;
@@ -958,7 +984,7 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   }
   // Joint offsets: each solved where a joint after it in some sensor's chain moved over the session, else
   // held (the mount takes it up).
-  std::vector<JointCalibration> joint_results = jointOffsetsSolvable(mounts, observations, isolated);
+  std::vector<JointCalibration> joint_results = jointOffsetsSolvable(mounts, observations, isolated, base_is_reference);
   for (std::size_t j = 0; j < joint_offsets.size(); ++j) {
     if (problem.HasParameterBlock(&joint_offsets[j]) && !joint_results[j].held.empty()) problem.SetParameterBlockConstant(&joint_offsets[j]);
   }
@@ -1024,6 +1050,11 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   if (board_mount_start) result.board_mount = poseFromTranslationQuaternion(board_mount.translation, board_mount.rotation.normalized());
   result.print_on_board = print_state;
   result.misdetected_views = misdetected_views;
+  for (const auto& [key, placed] : placed_at_poses)
+    if (problem.HasParameterBlock(placed.translation.data()))
+      result.placed_at_poses[key] = poseFromTranslationQuaternion(placed.translation, placed.rotation.normalized());
+  for (const auto& [key, correction] : reading_corrections)
+    if (problem.HasParameterBlock(&correction)) result.reading_corrections[key] = correction;
   for (const auto& entry : plane_state) result.board_planes[entry.first] = {entry.second.normal, entry.second.offset};
   for (const auto& entry : board_state) {
     Eigen::Isometry3d board = Eigen::Isometry3d::Identity();
@@ -1143,10 +1174,10 @@ CalibrationResult solveRig(const std::vector<SensorSpec>& sensors, const std::ve
   return result;
 }
 
-}  // namespace
-
-CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
-                               const CalibrationOptions& options) {
+// solveRig; an arm's session with camera views as whole poses solved again with each view weighted by what
+// they disagree by beyond their noise.
+CalibrationResult solveWithViewScatter(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                                       const CalibrationOptions& options) {
   // An arm's session, camera views as whole poses: where they disagree beyond their noise and the arm's
   // (a real arm's kinematics, a real lens), solved again with each weighted by that, as the arm's graph does.
   if (!options.mounts.boardMoves() || !wholeCameraPoses(options)) return solveRig(sensors, observations, options);
@@ -1165,6 +1196,15 @@ CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std
     return result;
   }
   return solvedWith(scatter);
+}
+}  // namespace
+
+CalibrationResult calibrateRig(const std::vector<SensorSpec>& sensors, const std::vector<TargetObservation>& observations,
+                               const CalibrationOptions& options) {
+  CalibrationResult result = solveWithViewScatter(sensors, observations, options);
+  for (const auto& [k, fit] : armPoseFits(sensors, observations, result))
+    if (fit.poor) result.poor_arm_poses.push_back(k);
+  return result;
 }
 
 double estimatedPointSigma(const std::vector<Eigen::Vector3d>& points, SensorType type) {

@@ -12,7 +12,6 @@
 #include <Eigen/SVD>
 #include <ceres/ceres.h>
 #include <ceres/manifold.h>
-#include <opencv2/calib3d.hpp>
 
 #include "vocal/calibration/plane.h"
 #include "vocal/calibration/solver/beam_radius_prior.h"
@@ -174,10 +173,10 @@ int turnLikePredicted(std::vector<HandEyeStation>* stations, const ArmRig& rig, 
   return flipped;
 }
 
-// OpenCV's closed form for the main camera in its parent (cv::calibrateHandEye takes base <- tool for
-// a camera on the tool and tool <- base for a fixed one), from each station's first view of it.
-Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int camera, bool camera_on_tool,
-                                cv::HandEyeCalibrationMethod method) {
+// OpenCV's closed forms for the main camera in its parent (cv::calibrateHandEye takes base <- tool for
+// a camera on the tool and tool <- base for a fixed one), from each station's first view of it: all five
+// methods, or Park's alone.
+std::vector<HandEyeClosedForm> openCvHandEye(const std::vector<HandEyeStation>& stations, int camera, bool camera_on_tool, bool all_methods) {
   std::vector<Eigen::Isometry3d> tools, views;
   for (const HandEyeStation& s : stations) {
     const PlaneMeasurement* view = firstView(s, camera);
@@ -185,7 +184,8 @@ Eigen::Isometry3d openCvHandEye(const std::vector<HandEyeStation>& stations, int
     tools.push_back(camera_on_tool ? s.base_from_tool : s.base_from_tool.inverse());
     views.push_back(view->sensor_from_pattern);
   }
-  return vocal::openCvHandEye(tools, views, method);
+  if (all_methods) return openCvHandEyeMethods(tools, views);
+  return {{"Park", vocal::openCvHandEye(tools, views, kParkHandEye)}};
 }
 
 // A camera view's error against the camera's pose and the board in its parent frame where the arm
@@ -629,16 +629,7 @@ HandEyeResult solveArmRig(const ArmRig& rig, std::vector<HandEyeStation> station
   std::vector<HandEyeStation>& main_stations = motion.empty() ? stations : motion;
   result.flipped_views = numberCornersAlike(&main_stations, rig.main_camera);
   for (std::size_t k = 0; k < motion.size(); ++k) stations[k].views = motion[k].views;
-  const std::pair<const char*, cv::HandEyeCalibrationMethod> methods[] = {{"Tsai", cv::CALIB_HAND_EYE_TSAI},
-                                                                          {"Park", cv::CALIB_HAND_EYE_PARK},
-                                                                          {"Horaud", cv::CALIB_HAND_EYE_HORAUD},
-                                                                          {"Andreff", cv::CALIB_HAND_EYE_ANDREFF},
-                                                                          {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
-  for (const auto& [name, method] : methods) {
-    if (all_closed_forms || method == cv::CALIB_HAND_EYE_PARK) {
-      result.closed_forms.push_back({name, openCvHandEye(main_stations, rig.main_camera, !rig.board_on_tool, method)});
-    }
-  }
+  result.closed_forms = openCvHandEye(main_stations, rig.main_camera, !rig.board_on_tool, all_closed_forms);
   std::vector<Eigen::Isometry3d> starts(rig.sensors.size(), Eigen::Isometry3d::Identity());
   starts[rig.main_camera] = rig.sensors[rig.main_camera].given_pose.value_or(
       std::find_if(result.closed_forms.begin(), result.closed_forms.end(), [](const HandEyeClosedForm& c) { return c.method == "Park"; })->camera);

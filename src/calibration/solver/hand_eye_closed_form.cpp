@@ -1,6 +1,10 @@
 #include "vocal/calibration/solver/hand_eye_closed_form.h"
 
+#include <algorithm>
+
 #include <opencv2/calib3d.hpp>
+
+#include "vocal/core/se3.h"
 
 namespace vocal {
 
@@ -29,6 +33,34 @@ Eigen::Isometry3d openCvHandEye(const std::vector<Eigen::Isometry3d>& base_from_
     pose.translation()[i] = translation.at<double>(i);
   }
   return pose;
+}
+
+std::vector<HandEyeClosedForm> openCvHandEyeMethods(const std::vector<Eigen::Isometry3d>& base_from_frame,
+                                                    const std::vector<Eigen::Isometry3d>& camera_from_board) {
+  const std::pair<const char*, cv::HandEyeCalibrationMethod> methods[] = {{"Tsai", cv::CALIB_HAND_EYE_TSAI},
+                                                                          {"Park", cv::CALIB_HAND_EYE_PARK},
+                                                                          {"Horaud", cv::CALIB_HAND_EYE_HORAUD},
+                                                                          {"Andreff", cv::CALIB_HAND_EYE_ANDREFF},
+                                                                          {"Daniilidis", cv::CALIB_HAND_EYE_DANIILIDIS}};
+  std::vector<HandEyeClosedForm> forms;
+  for (const auto& [name, method] : methods) forms.push_back({name, openCvHandEye(base_from_frame, camera_from_board, method)});
+  return forms;
+}
+
+bool handEyeClosedFormApplies(const JointedMounts& mounts, int camera) {
+  return mounts.boardMoves() && mounts.moves(camera) == mounts.board_fixed;
+}
+
+HandEyeViews handEyeViews(const JointedMounts& mounts, const std::vector<TargetObservation>& observations, int camera,
+                          const std::set<int>* poses) {
+  HandEyeViews out;
+  for (const TargetObservation& o : observations) {
+    if (o.sensor != camera || o.plane_measurements.empty() || (poses && !poses->count(o.target_pose))) continue;
+    out.frames.push_back(mounts.boardFrameAt(o.target_pose).inverse() * mounts.mountFrameAt(camera, o.target_pose, o.joint_positions));
+    out.views.push_back(o.plane_measurements.front().sensor_from_pattern);
+  }
+  for (const Eigen::Isometry3d& frame : out.frames) out.turned = std::max(out.turned, rotationAngle(out.frames.front().inverse() * frame));
+  return out;
 }
 
 }  // namespace vocal

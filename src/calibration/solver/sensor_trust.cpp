@@ -184,8 +184,8 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     if (o.sensor >= 0 && o.sensor < sensor_count) poses[o.sensor].insert(o.target_pose);
   std::vector<int> most_shared(sensor_count, 0);
   for (int s = 0; s < sensor_count; ++s) {
-    // The board lying still in the arm's base is where the arm's poses put it: shared with every pose.
-    if (options.mounts.board_fixed) most_shared[s] = static_cast<int>(poses[s].size());
+    // With the arm's base the rig frame the board is where the arm's poses put it: shared with every pose.
+    if (options.baseIsRigFrame()) most_shared[s] = static_cast<int>(poses[s].size());
     for (int other = 0; other < sensor_count; ++other) {
       if (other == s || sensors[other].type == SensorType::kLaser2d) continue;
       int shared = 0;

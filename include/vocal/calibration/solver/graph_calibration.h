@@ -99,6 +99,10 @@ struct CalibrationOptions {
   // (CalibrationResult::view_scatter), taken as it is by the re-solves of trust and the jackknife rather
   // than measured again (a second solve each). Unset: measured.
   std::optional<ViewScatter> view_scatter;
+
+  // No sensor's pose given and the board on the arm (its tool, its chain) or lying still in its base: the
+  // base the arm's poses are in is the rig frame (reference_sensor -1).
+  bool baseIsRigFrame() const { return reference_sensor < 0 && mounts.boardMoves(); }
 };
 
 // Still poses a plane-seeing sensor must share with the others to be placed (three planes fix a pose).
@@ -188,6 +192,12 @@ struct CalibrationResult {
   // the arm's repeatability (unmodelled_view_scatter.h), each view weighted by it in a second solve; zero
   // where the model explained them. Unset for other rigs.
   std::optional<ViewScatter> view_scatter;
+  // An arm's session, as solved: where each sensor the arm carries was (rig frame) per (sensor, still pose),
+  // and each still pose's reading corrections per (still pose, joint) (arm_pose_fit.h reads them).
+  std::map<std::pair<int, int>, Eigen::Isometry3d> placed_at_poses;
+  std::map<std::pair<int, int>, double> reading_corrections;
+  // ... and the still poses the arm had to move beyond its repeatability to fit the others (arm_pose_fit.h).
+  std::vector<int> poor_arm_poses;
   bool trusted = true;   // false: the solver failed or a sensor in the graph ran away from the closed form (see failure)
   std::string failure;   // names the sensor and how far it moved
 

@@ -27,6 +27,7 @@
 
 #include <Eigen/Geometry>
 
+#include "vocal/calibration/solver/hand_eye_closed_form.h"
 #include "vocal/calibration/calibration_types.h"
 #include "vocal/calibration/joint_chain.h"
 #include "vocal/calibration/solver/intrinsics_refinement.h"
@@ -109,12 +110,6 @@ struct HandEyeOptions {
   std::optional<ArmJoints> arm_joints;
   // Each camera's focal lengths refined with the poses (intrinsics_refinement.h), its views moved with them.
   IntrinsicsRefinementOptions intrinsics;
-};
-
-// A closed-form estimate of OpenCV's on the same poses (cv::calibrateHandEye).
-struct HandEyeClosedForm {
-  std::string method;  // Tsai, Park, Horaud, Andreff, Daniilidis
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  // as HandEyeResult::camera()
 };
 
 // A sensor that moved part-way through an arm's session (bumped, a loose mount): its placement from the
