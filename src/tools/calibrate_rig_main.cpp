@@ -450,15 +450,16 @@ std::vector<std::string> withholdAndWrite(const vocal::CommandLine& args, const 
 }
 
 // The one graph's arm poses: OpenCV's closed forms beside the result for the first camera they apply to,
-// each poor pose named with where to look in the recording, and with --report every pose's fit.
+// each poor pose named with where to look in the recording, and with --report every pose's fit; numbered
+// from 0 as the still-pose graph's other outputs (trust, overlays) number them.
 void printArmPoseFits(const vocal::CommandLine& args, const vocal::HandEyeAssociation& association, const std::vector<vocal::SensorSpec>& specs,
                       const std::vector<vocal::TargetObservation>& observations, const vocal::CalibrationResult& result) {
   const std::map<int, vocal::ArmPoseFit> fits = vocal::armPoseFits(specs, observations, result);
   for (const auto& [k, fit] : fits) {
     if (!fit.poor) continue;
-    std::printf("poor arm pose %d (%.1f-%.1f s): to fit the others what the arm holds had to move %.2f mm / %.2f mrad from where the arm "
+    std::printf("poor still pose %d (%.1f-%.1f s): to fit the others what the arm holds had to move %.2f mm / %.2f mrad from where the arm "
                 "put it, %.0f sigma of its repeatability (the arm's pose, or the camera's view of the board there, is off); it does not "
-                "pull the result\n", k + 1, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * fit.shift,
+                "pull the result\n", k, association.stations[k].first_stamp, association.stations[k].last_stamp, 1000 * fit.shift,
                 1000 * fit.turn, fit.departure);
   }
   for (std::size_t s = 0; s < specs.size(); ++s) {
@@ -478,7 +479,7 @@ void printArmPoseFits(const vocal::CommandLine& args, const vocal::HandEyeAssoci
   if (!args.has("report")) return;
   std::printf("arm poses (bag stamps), how far the solve moved what the arm holds, and the camera views against the solution:\n");
   for (const auto& [k, fit] : fits) {
-    std::printf("  pose %2d  %.2f-%.2f s  %zu views  moved %.3f mm / %.3f mrad (%.1f sigma)  board off %.2f mm / %.2f mrad%s\n", k + 1,
+    std::printf("  pose %2d  %.2f-%.2f s  %zu views  moved %.3f mm / %.3f mrad (%.1f sigma)  board off %.2f mm / %.2f mrad%s\n", k,
                 association.stations[k].first_stamp, association.stations[k].last_stamp, association.stations[k].views.size(),
                 1000 * fit.shift, 1000 * fit.turn, fit.departure, 1000 * fit.view_distance, 1000 * fit.view_angle, fit.poor ? "  poor" : "");
   }

@@ -175,9 +175,9 @@ void writeCalibrationYaml(const std::string& path, const std::string& reference_
          << "]  # the pattern on the board: m along its x and y from its centre, rad about its normal (zero: not solved, or nothing saw its edges)\n";
   }
   if (result.mounts.boardMoves()) {  // an arm's session
-    file << "poor_arm_poses: [";  // numbered from 1, as printed
-    for (std::size_t i = 0; i < result.poor_arm_poses.size(); ++i) file << (i ? ", " : "") << result.poor_arm_poses[i] + 1;
-    file << "]  # still poses the arm had to move beyond its repeatability to fit the others: they do not pull the result\n";
+    file << "poor_still_poses: [";
+    for (std::size_t i = 0; i < result.poor_arm_poses.size(); ++i) file << (i ? ", " : "") << result.poor_arm_poses[i];
+    file << "]  # numbered from 0: still poses the arm had to move beyond its repeatability to fit the others (they do not pull the result)\n";
   }
   if (result.view_scatter) {
     file << "unmodelled: {translation_m: " << result.view_scatter->translation << ", rotation_rad: " << result.view_scatter->rotation

@@ -96,7 +96,11 @@ int otherPlaneSources(const std::vector<SensorSpec>& sensors, const CalibrationR
 // boards from the poses before and from those after each split. Found when the two parts place it beyond
 // the thresholds apart and each part alone fits its views far better than one placement fits them all
 // (their squared disagreements, in thresholds, at least four times smaller together): noise and poses
-// that constrain a part poorly move the placements, not the fit.
+// that constrain a part poorly move the placements, not the fit. On an arm's session the boards are where
+// the arm put them, within its repeatability, so "apart" is in the sensor's own sigmas (kMovedSigmas of the
+// two parts' difference, as the arm's graph judges a move) where those are under the thresholds.
+constexpr double kMovedSigmas = 5.0;  // HandEyeResult::kMovedSigmas
+
 struct PlacementChange {
   int pose = -1;  // the first pose after the change; -1: none
   double translation = 0.0, rotation = 0.0;  // between the two parts' placements
@@ -135,6 +139,9 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
   }
   const std::size_t n = its.size();
   const double whole = misfit(views, boards, 0, n, result.sensors[sensor].reference_from_sensor, trust);
+  // The sensor's sigmas where an arm placed the boards (zero: judged by the thresholds alone).
+  const Vector6d& sigma = result.sensors[sensor].standard_deviation;
+  const bool by_sigmas = options.mounts.boardMoves() && sigma.head<3>().norm() > 0.0 && sigma.tail<3>().norm() > 0.0;
   double best = 0.0;
   for (std::size_t split = kLeast; split + kLeast <= n; ++split) {
     const std::optional<Eigen::Isometry3d> a = fitSensorToSolvedBoards(sensors, {its.begin(), its.begin() + split}, result, options);
@@ -143,7 +150,11 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
     const double parts = misfit(views, boards, 0, split, *a, trust) + misfit(views, boards, split, n, *b, trust);
     const double improvement = whole / std::max(parts, 1e-12);
     const Eigen::Isometry3d apart = a->inverse() * *b;
-    const double moved = std::max(apart.translation().norm() / trust.max_distance, rotationAngle(apart) / trust.max_angle);
+    // Each part's sigma is the whole's times the root of its share; their difference's, both together.
+    const double parts_sigma = std::sqrt(static_cast<double>(n) / split + static_cast<double>(n) / (n - split));
+    const double limit_t = by_sigmas ? std::min(trust.max_distance, kMovedSigmas * parts_sigma * sigma.head<3>().norm()) : trust.max_distance;
+    const double limit_r = by_sigmas ? std::min(trust.max_angle, kMovedSigmas * parts_sigma * sigma.tail<3>().norm()) : trust.max_angle;
+    const double moved = std::max(apart.translation().norm() / limit_t, rotationAngle(apart) / limit_r);
     if (moved > 1.0 && improvement > 4.0 && improvement > best) {
       best = improvement;
       change.pose = its[split]->target_pose, change.translation = apart.translation().norm(), change.rotation = rotationAngle(apart);
