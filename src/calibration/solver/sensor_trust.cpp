@@ -270,6 +270,19 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     result = std::move(pick_result);
     changes[pick] = pick_change;
   }
+  // An arm's camera views were weighted by their scatter as the solve with every sensor measured it: a
+  // sensor taken out (bumped, say) dragged the boards and widened it. Measured again without it.
+  const bool taken_out = std::any_of(result.sensors.begin(), result.sensors.end(), [](const SensorCalibration& c) { return c.isolated; });
+  if (taken_out && result.view_scatter && result.view_scatter->translation > 0.0) {
+    CalibrationOptions again = withIsolatedSensors(seen_options, result);
+    again.view_scatter.reset();
+    try {
+      CalibrationResult measured = calibrateRig(sensors, observations, again);
+      if (measured.trusted) result = std::move(measured);
+    } catch (const InputError&) {
+      // kept as the trials solved it
+    }
+  }
   for (int s = 0; s < sensor_count; ++s) {
     SensorCalibration& sensor = result.sensors[s];
     if (s == options.reference_sensor) continue;
