@@ -497,8 +497,8 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
   for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
     if (reference < 0 && !frames.on_tool[s] && frames.given_poses[s]) reference = static_cast<int>(s);
   }
-  // (The rig gives the board's size, or for a rig of cameras alone the pattern's extent stands for it.)
-  const bool board_size = rig.target.width > 0.0 && rig.target.height > 0.0;
+  // (The board's size is always there: readRigDescription requires it, or for a rig of cameras alone takes
+  // the pattern's extent.)
   if (arm.eye_in_hand) {
     for (std::size_t s = 0; s < frames.sensors.size(); ++s) {
       if (!frames.on_tool[s]) {
@@ -506,8 +506,6 @@ int runArmInOneGraph(const vocal::CommandLine& args, const vocal::RigDescription
                                 "so no still pose tells it anything: calibrate it in a session with the board on the arm or by hand");
       }
     }
-  } else if (!board_size) {
-    throw vocal::InputError("option --one-graph: the board on the arm needs its size (target: width, height) to be placed on the tool");
   }
   const std::vector<vocal::SensorSpec> specs = frames.sensors;
   vocal::CalibrationOptions options;

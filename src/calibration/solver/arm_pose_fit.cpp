@@ -36,11 +36,12 @@ std::map<int, ArmPoseFit> armPoseFits(const std::vector<SensorSpec>& sensors, co
     }
   }
   // The sensors the arm carries: where the still pose's block put each against its mount frame there.
+  std::map<std::pair<int, int>, const TargetObservation*> observation_of;  // (sensor, still pose)
+  for (const TargetObservation& o : observations) observation_of[{o.sensor, o.target_pose}] = &o;
   for (const auto& [key, placed] : solved.placed_at_poses) {
-    const auto [s, k] = key;
-    const auto o = std::find_if(observations.begin(), observations.end(), [&](const TargetObservation& v) { return v.sensor == s && v.target_pose == k; });
-    if (o == observations.end() || !fits.count(k)) continue;
-    compareWithTool(placed, solved.rigFromSensorAt(*o), mounts, mounts.onReportedTool(s), &fits[k]);
+    const auto o = observation_of.find(key);
+    if (o == observation_of.end()) continue;
+    compareWithTool(placed, solved.rigFromSensorAt(*o->second), mounts, mounts.onReportedTool(key.first), &fits[key.second]);
   }
   // From the joints: how far each reading had to move, in its sigma.
   for (const auto& [key, correction] : solved.reading_corrections) {

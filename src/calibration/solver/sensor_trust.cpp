@@ -7,6 +7,7 @@
 #include <set>
 
 #include "vocal/calibration/point_statistics.h"
+#include "vocal/calibration/solver/hand_eye_calibration.h"
 #include "vocal/core/errors.h"
 #include "vocal/core/se3.h"
 
@@ -98,9 +99,8 @@ int otherPlaneSources(const std::vector<SensorSpec>& sensors, const CalibrationR
 // (their squared disagreements, in thresholds, at least four times smaller together): noise and poses
 // that constrain a part poorly move the placements, not the fit. On an arm's session the boards are where
 // the arm put them, within its repeatability, so "apart" is in the sensor's own sigmas (kMovedSigmas of the
-// two parts' difference, as the arm's graph judges a move) where those are under the thresholds.
-constexpr double kMovedSigmas = 5.0;  // HandEyeResult::kMovedSigmas
-
+// two parts' difference, HandEyeResult::kMovedSigmas, as the arm's graph judges a move) where those are
+// under the thresholds.
 struct PlacementChange {
   int pose = -1;  // the first pose after the change; -1: none
   double translation = 0.0, rotation = 0.0;  // between the two parts' placements
@@ -152,8 +152,8 @@ PlacementChange placementChange(const std::vector<SensorSpec>& sensors, const st
     const Eigen::Isometry3d apart = a->inverse() * *b;
     // Each part's sigma is the whole's times the root of its share; their difference's, both together.
     const double parts_sigma = std::sqrt(static_cast<double>(n) / split + static_cast<double>(n) / (n - split));
-    const double limit_t = by_sigmas ? std::min(trust.max_distance, kMovedSigmas * parts_sigma * sigma.head<3>().norm()) : trust.max_distance;
-    const double limit_r = by_sigmas ? std::min(trust.max_angle, kMovedSigmas * parts_sigma * sigma.tail<3>().norm()) : trust.max_angle;
+    const double limit_t = by_sigmas ? std::min(trust.max_distance, HandEyeResult::kMovedSigmas * parts_sigma * sigma.head<3>().norm()) : trust.max_distance;
+    const double limit_r = by_sigmas ? std::min(trust.max_angle, HandEyeResult::kMovedSigmas * parts_sigma * sigma.tail<3>().norm()) : trust.max_angle;
     const double moved = std::max(apart.translation().norm() / limit_t, rotationAngle(apart) / limit_r);
     if (moved > 1.0 && improvement > 4.0 && improvement > best) {
       best = improvement;
@@ -227,6 +227,7 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
   CalibrationResult result = full;
   std::vector<std::string> kept_in(sensor_count);  // per sensor: why it could not be taken out
   std::vector<PlacementChange> changes(sensor_count);
+  bool taken_out = false;  // by a round below
   // Each round solves the rig once without each sensor still in it: a sensor is at fault when it
   // disagrees with the others solved without it (or moved part-way), and of those, the one whose
   // removal leaves the rest agreeing best is taken out. Judging each against the rest solved without it
@@ -269,10 +270,11 @@ CalibrationResult calibrateRigWithTrust(const std::vector<SensorSpec>& sensors, 
     if (pick < 0) break;
     result = std::move(pick_result);
     changes[pick] = pick_change;
+    taken_out = true;
   }
   // An arm's camera views were weighted by their scatter as the solve with every sensor measured it: a
-  // sensor taken out (bumped, say) dragged the boards and widened it. Measured again without it.
-  const bool taken_out = std::any_of(result.sensors.begin(), result.sensors.end(), [](const SensorCalibration& c) { return c.isolated; });
+  // sensor taken out (bumped, say) dragged the boards and widened it. Measured again without it (those
+  // left out from the start, unseen or unplaceable, were out of that solve already).
   if (taken_out && result.view_scatter && result.view_scatter->translation > 0.0) {
     CalibrationOptions again = withIsolatedSensors(seen_options, result);
     again.view_scatter.reset();
